@@ -1,0 +1,330 @@
+//! The typed commands: one variant per command of the language, with its parameters.
+//!
+//! Numbers are already checked for type (real/integer) and sign where the sign is part of the
+//! syntax; checks that need the scene (does the material exist, is there room) happen when the
+//! session executes the command.
+
+use serde::{Deserialize, Serialize};
+
+/// Geometry of a wall: a plane `a x + b y + c z = d`, a spherical container (particles inside)
+/// or a spherical obstacle/indenter (particles outside).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum WallGeom {
+    Plane { normal: [f64; 3], d: f64 },
+    Sphere { centre: [f64; 3], radius: f64 },
+    Obstacle { centre: [f64; 3], radius: f64 },
+}
+
+/// Servo control of a wall: target force, maximum speed and gain (`SE F vmax g`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Servo {
+    pub force: f64,
+    pub vmax: f64,
+    pub gain: f64,
+}
+
+/// Options of `DWAll`/`AWAll` after the geometry.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WallOptions {
+    pub geom: Option<WallGeom>,
+    /// Translational velocity and, for spheres, radial velocity.
+    pub vel: Option<([f64; 3], f64)>,
+    pub material: Option<usize>,
+    pub servo: Option<Servo>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FixTarget {
+    All,
+    Particle(usize),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StressServo {
+    S0,
+    S1ms2,
+    S11,
+    S22,
+    S33,
+    Ring,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ContactsFilter {
+    Loaded,
+    All,
+    Gap,
+}
+
+/// What `PRint` can print.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrintItem {
+    Balls,
+    Chist,
+    Contacts(ContactsFilter),
+    Energy,
+    Entries,
+    Grid,
+    Info,
+    Map,
+    Partitions,
+    Stress,
+    Settings,
+    Walls,
+    Bonds,
+    Clusters,
+    History,
+}
+
+/// What `PLot` can draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PlotItem {
+    Ball,
+    Disks,
+    Bou,
+    Grid,
+    Cluster,
+    LCluster,
+    Cnd,
+    LCnd,
+    Couple,
+    Forces,
+    LForces,
+    MForces,
+    RDisp,
+    Rotation,
+    Save,
+    Velocity,
+    Wall,
+    History,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProbeKind {
+    E11,
+    E22,
+    E33,
+    E12,
+    E23,
+    E31,
+    E1m2,
+    E2m3,
+    E3m1,
+}
+
+/// `DAmping`: Rayleigh form (Lian) or restitution-calibrated viscoelastic dashpot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DampingSpec {
+    Rayleigh {
+        frac: f64,
+        freq: f64,
+        mass_off: bool,
+        stiff_off: bool,
+        ball_ball: bool,
+    },
+    /// `DAmping REStitution e [mtyp]`: all materials, or pairs involving `mtyp`.
+    Restitution { e: f64, material: Option<usize> },
+}
+
+/// A `SET` statement.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Setting {
+    Tol(Option<f64>),
+    Xres(Option<f64>),
+    Smin(Option<f64>),
+    Bridge(BridgeChoice),
+    Tangential(TangentialChoice),
+    Liquid(LiquidMode),
+    /// Make the listed axes periodic (`periodic` true) or open.
+    Boundary {
+        axes: [bool; 3],
+        periodic: bool,
+    },
+    OutDir(String),
+    View(View),
+    /// Take a last-good snapshot every n cycles during `Cycle` (0 = only at the start).
+    Snapshot(u64),
+    /// `SET HIStory n`: record the history every n cycles (0 = off).
+    History(u64),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BridgeChoice {
+    Fit,
+    Toroidal,
+    Laplace,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TangentialChoice {
+    Md,
+    NoSlip,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LiquidMode {
+    Lian,
+    Conserve,
+}
+
+/// Projection of plots: looking along an axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum View {
+    /// Side view: x to the right, z up (looking along +y).
+    Xz,
+    /// Side view: y to the right, z up.
+    Yz,
+    /// Top view: x to the right, y up.
+    Xy,
+}
+
+/// One command of the language.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    Agglomerate {
+        nagg: usize,
+        centre: [f64; 3],
+        radius: f64,
+    },
+    Agenerate {
+        size: usize,
+        material: usize,
+        nagg: usize,
+        origin: [f64; 3],
+        step: [f64; 3],
+    },
+    Awall {
+        n: usize,
+        opts: WallOptions,
+    },
+    Cgravity {
+        nagg: usize,
+        g: f64,
+    },
+    Cohesion {
+        gamma: f64,
+        material: usize,
+    },
+    Create {
+        pos: [f64; 3],
+        vel: [f64; 3],
+        spin: [f64; 3],
+        size: usize,
+        material: usize,
+    },
+    Cycle {
+        n: u64,
+        servo: Vec<(StressServo, f64)>,
+    },
+    Damping(DampingSpec),
+    Density {
+        rho: f64,
+        material: usize,
+    },
+    Dwall(WallOptions),
+    Fix {
+        flags: [bool; 6],
+        target: FixTarget,
+    },
+    Fmm {
+        r: f64,
+    },
+    Fro,
+    Fraction {
+        f: f64,
+    },
+    Friction {
+        mu: f64,
+        material: usize,
+    },
+    Gain {
+        g: f64,
+        edmax: f64,
+    },
+    Gravity {
+        g: [f64; 3],
+    },
+    Grid {
+        rates: [f64; 6],
+    },
+    Help {
+        topic: Option<String>,
+    },
+    Iset,
+    Liquid {
+        pvol: f64,
+        gsurf: f64,
+        theta_deg: f64,
+        eta: f64,
+    },
+    Log {
+        on: bool,
+        file: Option<String>,
+    },
+    Mode {
+        n: i64,
+    },
+    New,
+    Plot {
+        items: Vec<PlotItem>,
+    },
+    Pra {
+        nu: f64,
+        material: usize,
+    },
+    Print {
+        items: Vec<PrintItem>,
+    },
+    Probe {
+        kind: ProbeKind,
+    },
+    Radius {
+        r: f64,
+        size: usize,
+    },
+    Reset,
+    Restart {
+        file: Option<String>,
+    },
+    Rgenerate {
+        n: usize,
+        size: usize,
+        material: usize,
+        nagg: usize,
+    },
+    RgenerateSeed {
+        n: u64,
+    },
+    Rset,
+    Save {
+        file: Option<String>,
+    },
+    Set(Setting),
+    Start {
+        size: [f64; 3],
+        nbox: usize,
+        nball: usize,
+        nwall: usize,
+        log: bool,
+    },
+    Stop,
+    Velocity {
+        v1: [f64; 3],
+        v2: Option<[f64; 3]>,
+        ivd: bool,
+    },
+    Vmu {
+        r: f64,
+    },
+    Window {
+        bounds: [f64; 6],
+    },
+    Ymd {
+        e: f64,
+        material: usize,
+    },
+    Zero {
+        always: bool,
+    },
+    TwoD,
+}

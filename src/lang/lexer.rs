@@ -1,0 +1,145 @@
+//! Splits one line of the command language into tokens (nom).
+//!
+//! Lexical rules (doc/commands.md, `../shared/spec/commands.md`): separators are runs of
+//! blanks, tabs, commas, slashes and round brackets; `;` or `#` start a comment that runs to the
+//! end of the line. Every token keeps its column span so that errors can point at it.
+
+use nom::{
+    IResult, Parser,
+    bytes::complete::{take_till1, take_while},
+    character::complete::anychar,
+    combinator::{recognize, rest},
+    sequence::preceded,
+};
+
+/// One word or number of a command line, with its byte span in the line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Token {
+    pub text: String,
+    /// Byte offset of the first character in the line.
+    pub start: usize,
+    /// Byte offset one past the last character.
+    pub end: usize,
+}
+
+fn is_sep(c: char) -> bool {
+    c.is_whitespace() || matches!(c, ',' | '/' | '(' | ')')
+}
+
+fn is_comment(c: char) -> bool {
+    c == ';' || c == '#'
+}
+
+fn separators(input: &str) -> IResult<&str, &str> {
+    take_while(is_sep)(input)
+}
+
+fn word(input: &str) -> IResult<&str, &str> {
+    take_till1(|c| is_sep(c) || is_comment(c))(input)
+}
+
+fn comment(input: &str) -> IResult<&str, &str> {
+    recognize(preceded(anychar, rest)).parse(input)
+}
+
+/// Tokenises one line; a comment ends the line. Never fails: every character is either a
+/// separator, part of a word, or part of a comment.
+pub fn tokenize(line: &str) -> Vec<Token> {
+    let mut out = Vec::new();
+    let mut input = line;
+    loop {
+        let Ok((after_sep, _)) = separators(input) else {
+            break;
+        };
+        input = after_sep;
+        if input.is_empty() {
+            break;
+        }
+        if input.starts_with(is_comment) {
+            let _ = comment(input);
+            break;
+        }
+        match word(input) {
+            Ok((after, w)) => {
+                let start = line.len() - input.len();
+                out.push(Token {
+                    text: w.to_string(),
+                    start,
+                    end: start + w.len(),
+                });
+                input = after;
+            }
+            Err(_) => break,
+        }
+    }
+    out
+}
+
+/// Parses a real number in Rust or Fortran style (`1`, `-2e-7`, `1.2E+3`, `1.d-3`).
+/// Returns `None` for anything else (including `inf` and `nan`, which a user never means).
+pub fn parse_real(text: &str) -> Option<f64> {
+    let t: String = text
+        .chars()
+        .map(|c| if c == 'd' || c == 'D' { 'e' } else { c })
+        .collect();
+    let first = t.chars().next()?;
+    if !(first.is_ascii_digit() || first == '.' || first == '-' || first == '+') {
+        return None;
+    }
+    if !t
+        .chars()
+        .all(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | '+' | 'e' | 'E'))
+    {
+        return None;
+    }
+    let v: f64 = t.parse().ok()?;
+    v.is_finite().then_some(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(line: &str) -> Vec<String> {
+        tokenize(line).into_iter().map(|t| t.text).collect()
+    }
+
+    #[test]
+    fn separators_and_comments() {
+        assert_eq!(
+            texts("start 0.1,0.1 (0.1) 1000/2000 2 log"),
+            ["start", "0.1", "0.1", "0.1", "1000", "2000", "2", "log"]
+        );
+        assert_eq!(texts("  cycle 10 ; a comment"), ["cycle", "10"]);
+        assert_eq!(texts("# whole line"), Vec::<String>::new());
+        assert_eq!(texts(""), Vec::<String>::new());
+        assert_eq!(texts("pr c#comment"), ["pr", "c"]);
+    }
+
+    #[test]
+    fn spans_point_into_the_line() {
+        let line = "  rad  30e-6 1";
+        for t in tokenize(line) {
+            assert_eq!(&line[t.start..t.end], t.text);
+        }
+    }
+
+    #[test]
+    fn numbers() {
+        assert_eq!(parse_real("1"), Some(1.0));
+        assert_eq!(parse_real("-2e-7"), Some(-2e-7));
+        assert_eq!(parse_real("1.2E+3"), Some(1200.0));
+        assert_eq!(parse_real("1.d-3"), Some(1e-3));
+        assert_eq!(parse_real(".5"), Some(0.5));
+        assert_eq!(parse_real("abc"), None);
+        assert_eq!(parse_real("inf"), None);
+        assert_eq!(parse_real("1e999"), None);
+        assert_eq!(parse_real("1..2"), None);
+    }
+
+    #[test]
+    fn garbage_does_not_panic() {
+        let s = "\u{0}\u{1}\u{7f}é∑ ,,(( ;";
+        let _ = tokenize(s);
+    }
+}

@@ -1,0 +1,17 @@
+//! The command language: lexer, keyword matching, the command table and the parser.
+//! Data flows one way: text → [`parse::parse_line`] → [`command::Command`].
+
+pub mod args;
+pub mod command;
+pub mod doc;
+pub mod keyword;
+pub mod lexer;
+pub mod parse;
+pub mod table;
+
+pub use args::ParseError;
+pub use command::Command;
+pub use parse::{Parsed, parse_line};
+
+#[cfg(test)]
+mod tests;

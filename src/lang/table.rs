@@ -1,0 +1,1064 @@
+//! The one table of command definitions: name (with minimal abbreviation in upper case),
+//! parameters, help text, sub-keywords and the builder that reads the typed parameters.
+//! Help, completion and `doc/commands.md` are all generated from this table.
+
+use super::args::{Args, ParseError};
+use super::command::*;
+use super::keyword::{Keyword, kw};
+
+/// Reads the parameters of one command from the cursor.
+pub type Builder = fn(&mut Args) -> Result<Command, ParseError>;
+
+pub struct CommandDef {
+    /// Name with the minimal abbreviation in upper case.
+    pub name: &'static str,
+    /// Parameters as in Appendix B (lower case = numbers, upper case = keywords).
+    pub syntax: &'static str,
+    pub help: &'static str,
+    /// Keywords accepted after the command (for completion and the reference).
+    pub keywords: &'static [&'static str],
+    /// Whether the command is from Lian 1994 Appendix B (false: added by trubal).
+    pub appendix_b: bool,
+    pub build: Builder,
+}
+
+macro_rules! def {
+    ($name:expr, $syntax:expr, $kws:expr, $b:expr, $build:expr, $help:expr) => {
+        CommandDef {
+            name: $name,
+            syntax: $syntax,
+            help: $help,
+            keywords: $kws,
+            appendix_b: $b,
+            build: $build,
+        }
+    };
+}
+
+pub const PRINT_ITEMS: &[Keyword<PrintItem>] = &[
+    kw("Balls", PrintItem::Balls),
+    kw("BONds", PrintItem::Bonds),
+    kw("CHist", PrintItem::Chist),
+    kw("CLUsters", PrintItem::Clusters),
+    kw("Contacts", PrintItem::Contacts(ContactsFilter::Loaded)),
+    kw("ENErgy", PrintItem::Energy),
+    kw("ENTries", PrintItem::Entries),
+    kw("Grid", PrintItem::Grid),
+    kw("HIStory", PrintItem::History),
+    kw("Info", PrintItem::Info),
+    kw("Map", PrintItem::Map),
+    kw("Partitions", PrintItem::Partitions),
+    kw("SETtings", PrintItem::Settings),
+    kw("Stress", PrintItem::Stress),
+    kw("Walls", PrintItem::Walls),
+];
+
+const CONTACT_FILTERS: &[Keyword<ContactsFilter>] = &[
+    kw("All", ContactsFilter::All),
+    kw("Gap", ContactsFilter::Gap),
+];
+
+pub const PLOT_ITEMS: &[Keyword<PlotItem>] = &[
+    kw("BALl", PlotItem::Ball),
+    kw("DISks", PlotItem::Disks),
+    kw("BOU", PlotItem::Bou),
+    kw("GRId", PlotItem::Grid),
+    kw("CLUster", PlotItem::Cluster),
+    kw("LCLuster", PlotItem::LCluster),
+    kw("CND", PlotItem::Cnd),
+    kw("LCNd", PlotItem::LCnd),
+    kw("COUple", PlotItem::Couple),
+    kw("FORces", PlotItem::Forces),
+    kw("LFOrces", PlotItem::LForces),
+    kw("MFOrces", PlotItem::MForces),
+    kw("RDIsp", PlotItem::RDisp),
+    kw("ROTation", PlotItem::Rotation),
+    kw("SAVe", PlotItem::Save),
+    kw("VELocity", PlotItem::Velocity),
+    kw("WALL", PlotItem::Wall),
+    kw("HIStory", PlotItem::History),
+];
+
+const PROBES: &[Keyword<ProbeKind>] = &[
+    kw("E11", ProbeKind::E11),
+    kw("E22", ProbeKind::E22),
+    kw("E33", ProbeKind::E33),
+    kw("E12", ProbeKind::E12),
+    kw("E23", ProbeKind::E23),
+    kw("E31", ProbeKind::E31),
+    kw("E1M2", ProbeKind::E1m2),
+    kw("E2M3", ProbeKind::E2m3),
+    kw("E3M1", ProbeKind::E3m1),
+];
+
+const STRESS_SERVOS: &[Keyword<StressServo>] = &[
+    kw("S0", StressServo::S0),
+    kw("S1MS2", StressServo::S1ms2),
+    kw("S11", StressServo::S11),
+    kw("S22", StressServo::S22),
+    kw("S33", StressServo::S33),
+    kw("RING", StressServo::Ring),
+];
+
+#[derive(Clone, Copy)]
+enum WallKw {
+    P,
+    Sp,
+    Ob,
+    V,
+    M,
+    Se,
+}
+
+const WALL_KWS: &[Keyword<WallKw>] = &[
+    kw("P", WallKw::P),
+    kw("SP", WallKw::Sp),
+    kw("OB", WallKw::Ob),
+    kw("V", WallKw::V),
+    kw("M", WallKw::M),
+    kw("SE", WallKw::Se),
+];
+
+#[derive(Clone, Copy)]
+enum SetKw {
+    Tol,
+    Xres,
+    Smin,
+    Bridge,
+    Tangential,
+    Liquid,
+    Periodic,
+    Open,
+    OutDir,
+    View,
+    Snapshot,
+    History,
+}
+
+const SET_NAMES: &[Keyword<SetKw>] = &[
+    kw("TOL", SetKw::Tol),
+    kw("XRES", SetKw::Xres),
+    kw("SMIN", SetKw::Smin),
+    kw("BRIdge", SetKw::Bridge),
+    kw("TANgential", SetKw::Tangential),
+    kw("LIQuid", SetKw::Liquid),
+    kw("PERiodic", SetKw::Periodic),
+    kw("OPEn", SetKw::Open),
+    kw("OUTdir", SetKw::OutDir),
+    kw("VIEw", SetKw::View),
+    kw("SNApshot", SetKw::Snapshot),
+    kw("HIStory", SetKw::History),
+];
+
+const BRIDGES: &[Keyword<BridgeChoice>] = &[
+    kw("FIT", BridgeChoice::Fit),
+    kw("TOROIDAL", BridgeChoice::Toroidal),
+    kw("LAPLACE", BridgeChoice::Laplace),
+];
+const TANGENTIALS: &[Keyword<TangentialChoice>] = &[
+    kw("MD", TangentialChoice::Md),
+    kw("NOSLIP", TangentialChoice::NoSlip),
+];
+const LIQUID_MODES: &[Keyword<LiquidMode>] = &[
+    kw("LIAN", LiquidMode::Lian),
+    kw("CONSERVE", LiquidMode::Conserve),
+];
+const VIEWS: &[Keyword<View>] = &[kw("XZ", View::Xz), kw("YZ", View::Yz), kw("XY", View::Xy)];
+const AXES: &[Keyword<usize>] = &[kw("X", 0), kw("Y", 1), kw("Z", 2), kw("ALL", 3)];
+const ONOFF: &[Keyword<bool>] = &[kw("ON", true), kw("OFF", false)];
+const DEFAULT_KW: &[Keyword<()>] = &[kw("DEFault", ())];
+
+/// Every command, in alphabetical order of Appendix B plus trubal's additions.
+pub const COMMANDS: &[CommandDef] = &[
+    def!(
+        "2-D",
+        "",
+        &[],
+        true,
+        |_| Ok(Command::TwoD),
+        "Two-dimensional mode: particles move in the x-y plane only (z velocity and x,y spin held at zero); contact forces stay 3-D."
+    ),
+    def!(
+        "AGGlomerate",
+        "nagg xc yc zc RA",
+        &[],
+        true,
+        b_agglomerate,
+        "Define the spherical region of agglomerate nagg (1 or 2): centre (xc,yc,zc), radius RA. A generated particle is accepted only if it lies wholly inside (centre within RA - R)."
+    ),
+    def!(
+        "AGEnerate",
+        "isize imat iagg xo yo zo dx dy dz",
+        &[],
+        true,
+        b_agenerate,
+        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins."
+    ),
+    def!(
+        "AWAll",
+        "n [P a b c d | SP a b c d | OB a b c d] [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
+        &["P", "SP", "OB", "V", "M", "SE"],
+        true,
+        b_awall,
+        "Alter wall n: geometry (plane <-> sphere allowed), velocity, material or servo."
+    ),
+    def!(
+        "CGRavity",
+        "nagg g",
+        &[],
+        false,
+        b_cgravity,
+        "Centripetal gravity of magnitude g (m/s^2) toward the centre of agglomerate nagg's region for its particles; g = 0 removes it (Lian ch. 7 preparation)."
+    ),
+    def!(
+        "COHesion",
+        "gamma mtyp",
+        &[],
+        true,
+        b_cohesion,
+        "Surface energy per surface gamma (J/m^2) of material mtyp: pull-off force Pc = 3 pi gamma R*. Papers quoting the work of adhesion mean Gamma = 2 gamma. Unlike materials use sqrt(gamma1 gamma2)."
+    ),
+    def!(
+        "CReate",
+        "x y z vx vy vz wx wy wz isize mtyp",
+        &[],
+        true,
+        b_create,
+        "Create one particle at (x,y,z) with velocity and angular velocity, size type and material type. Refused if it overlaps another particle."
+    ),
+    def!(
+        "Cycle",
+        "n [S0 v] [S1MS2 v] [S11 v] [S22 v] [S33 v] [RING v]",
+        &["S0", "S1MS2", "S11", "S22", "S33", "RING"],
+        true,
+        b_cycle,
+        "Run n time steps. Stress-servo keywords (periodic strain control) are accepted by the parser."
+    ),
+    def!(
+        "DAmping",
+        "frac freq imass istiff iswitch | REStitution e [mtyp]",
+        &["REStitution"],
+        true,
+        b_damping,
+        "Rayleigh damping: fraction frac of critical at frequency freq (alpha = frac 2 pi freq on mass, beta = frac/(2 pi freq) on contact stiffness); imass/istiff = 1 switch the mass/contact part off; iswitch 1 = particle-particle, 0 = particle-wall. REStitution e: viscoelastic Hertz dashpot calibrated to give restitution e exactly."
+    ),
+    def!(
+        "Density",
+        "d mtyp",
+        &[],
+        true,
+        b_density,
+        "Mass density (kg/m^3) of material mtyp."
+    ),
+    def!(
+        "DWAll",
+        "P a b c d | SP a b c d | OB a b c d [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
+        &["P", "SP", "OB", "V", "M", "SE"],
+        true,
+        b_dwall,
+        "Define a wall: plane ax+by+cz=d (particles on the side the normal (a,b,c) points to), spherical container SP (centre a,b,c radius d, particles inside) or obstacle/indenter OB (particles outside). V: velocity (and radial velocity vr for spheres); M: material (default 1); SE: servo to normal/radial force F with max speed vmax and gain g."
+    ),
+    def!(
+        "Fix",
+        "ix iy iz irx iry irz iadd|All",
+        &["All"],
+        true,
+        b_fix,
+        "Hold velocity components constant (1 = fixed, 0 = free) for particle iadd or All. Does not zero them (see Zero)."
+    ),
+    def!(
+        "FMM",
+        "r",
+        &[],
+        true,
+        |a| Ok(Command::Fmm { r: a.real("r")? }),
+        "Multiply all applied particle forces by r."
+    ),
+    def!(
+        "FRO",
+        "",
+        &[],
+        true,
+        |_| Ok(Command::Fro),
+        "Set all angular velocities to zero."
+    ),
+    def!(
+        "FRAction",
+        "f",
+        &[],
+        true,
+        |a| Ok(Command::Fraction {
+            f: a.positive("f")?
+        }),
+        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766)."
+    ),
+    def!(
+        "FRiction",
+        "amu mtyp",
+        &[],
+        true,
+        b_friction,
+        "Friction coefficient of material mtyp (particles and walls); a pair uses the smaller of the two."
+    ),
+    def!(
+        "GAIN",
+        "g edmax",
+        &[],
+        true,
+        |a| Ok(Command::Gain {
+            g: a.real("g")?,
+            edmax: a.real("edmax")?
+        }),
+        "Gain and maximum strain rate of the periodic stress servo."
+    ),
+    def!(
+        "GRAvity",
+        "gx gy gz",
+        &[],
+        true,
+        |a| Ok(Command::Gravity {
+            g: a.vec3(["gx", "gy", "gz"])?
+        }),
+        "Uniform gravitational acceleration (m/s^2)."
+    ),
+    def!(
+        "GRID",
+        "ed11 ed22 ed33 ed12 ed23 ed31",
+        &[],
+        true,
+        b_grid,
+        "Strain rates of the periodic space."
+    ),
+    def!(
+        "HELP",
+        "[command]",
+        &[],
+        false,
+        b_help,
+        "List the commands, or describe one."
+    ),
+    def!(
+        "Iset",
+        "k iadd",
+        &[],
+        true,
+        |a| {
+            let _ = a.real("k")?;
+            let _ = a.real("iadd")?;
+            Ok(Command::Iset)
+        },
+        "Historical: poked raw memory. Use SET instead."
+    ),
+    def!(
+        "LIQuid",
+        "pvol gsurf gcon gvis",
+        &[],
+        true,
+        b_liquid,
+        "Liquid bridges: volume pvol % of the mean volume of the two spheres, surface tension gsurf (N/m), contact angle gcon (degrees), viscosity gvis (Pa s). Bridges form on first solid contact and rupture at S_c. pvol = 0 removes all bridges."
+    ),
+    def!(
+        "Log",
+        "ON|OFF [file]",
+        &["ON", "OFF"],
+        true,
+        b_log,
+        "Echo commands and output to a log file (TRUBAL.OUT unless a file is named)."
+    ),
+    def!(
+        "Mode",
+        "n",
+        &[],
+        true,
+        |a| Ok(Command::Mode {
+            n: a.int_in("n", 0, 1)?
+        }),
+        "Stress-servo mode: 0 velocity-increment control, 1 velocity control."
+    ),
+    def!(
+        "New",
+        "",
+        &[],
+        true,
+        |_| Ok(Command::New),
+        "Forget the current problem; Start or Restart must follow."
+    ),
+    def!(
+        "PLot",
+        "item ...",
+        &[
+            "BALl", "DISks", "BOU", "GRId", "CLUster", "LCLuster", "CND", "LCNd", "COUple",
+            "FORces", "LFOrces", "MFOrces", "RDIsp", "ROTation", "SAVe", "VELocity", "WALL",
+            "HIStory"
+        ],
+        true,
+        b_plot,
+        "Write a PNG picture of the items (overlaid). SAVe stores the reference state for RDIsp, ROTation, CND and the bond measures."
+    ),
+    def!(
+        "PRA",
+        "nu mtyp",
+        &[],
+        true,
+        b_pra,
+        "Poisson's ratio of material mtyp."
+    ),
+    def!(
+        "PRint",
+        "item ...",
+        &[
+            "Balls",
+            "BONds",
+            "CHist",
+            "CLUsters",
+            "Contacts",
+            "All",
+            "Gap",
+            "ENErgy",
+            "ENTries",
+            "Grid",
+            "HIStory",
+            "Info",
+            "Map",
+            "Partitions",
+            "SETtings",
+            "Stress",
+            "Walls"
+        ],
+        true,
+        b_print,
+        "Print the items (restricted by Window where it applies). With --json each item is one JSON object per line."
+    ),
+    def!(
+        "PRObe",
+        "E11|E22|E33|E12|E23|E31|E1M2|E2M3|E3M1",
+        &[
+            "E11", "E22", "E33", "E12", "E23", "E31", "E1M2", "E2M3", "E3M1"
+        ],
+        true,
+        |a| Ok(Command::Probe {
+            kind: a.keyword(PROBES, "probe")?
+        }),
+        "Apply a strain probe to the periodic cell and print the modulus."
+    ),
+    def!(
+        "RAdius",
+        "r isize",
+        &[],
+        true,
+        b_radius,
+        "Radius (m) of size type isize."
+    ),
+    def!(
+        "RESEt",
+        "",
+        &[],
+        true,
+        |_| Ok(Command::Reset),
+        "Set accumulated rotations to zero."
+    ),
+    def!(
+        "RESTart",
+        "[file]",
+        &[],
+        true,
+        b_restart,
+        "Load a saved state (default save.old). First command, or after New."
+    ),
+    def!(
+        "RGEnerate",
+        "n isize mtyp naggm | Seed n",
+        &["Seed"],
+        true,
+        b_rgenerate,
+        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; Seed n draws and discards n random numbers."
+    ),
+    def!(
+        "RSet",
+        "r iadd",
+        &[],
+        true,
+        |a| {
+            let _ = a.real("r")?;
+            let _ = a.real("iadd")?;
+            Ok(Command::Rset)
+        },
+        "Historical: poked raw memory. Use SET instead."
+    ),
+    def!(
+        "SAve",
+        "[file]",
+        &[],
+        true,
+        b_save,
+        "Save the whole state (default save.new)."
+    ),
+    def!(
+        "SET",
+        "name value",
+        &[
+            "TOL",
+            "XRES",
+            "SMIN",
+            "BRIdge",
+            "TANgential",
+            "LIQuid",
+            "PERiodic",
+            "OPEn",
+            "OUTdir",
+            "VIEw",
+            "SNApshot",
+            "HIStory"
+        ],
+        false,
+        b_set,
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n; HIStory n."
+    ),
+    def!(
+        "STArt",
+        "xmax ymax zmax nbox nball nwall [Log]",
+        &["Log"],
+        true,
+        b_start,
+        "Define the work-space [0,xmax]x[0,ymax]x[0,zmax], the grid hint nbox, and capacities nball, nwall. Must come first."
+    ),
+    def!(
+        "STOp",
+        "",
+        &[],
+        true,
+        |_| Ok(Command::Stop),
+        "End the session (the state is not saved)."
+    ),
+    def!(
+        "VELocity",
+        "v1x v1y v1z [v2x v2y v2z] ivd",
+        &[],
+        true,
+        b_velocity,
+        "Set the velocity of every particle of agglomerate 1 (and 2); ivd = 1 marks the impact: contacts made afterwards use the base surface energy."
+    ),
+    def!(
+        "VMU",
+        "r",
+        &[],
+        true,
+        |a| Ok(Command::Vmu { r: a.real("r")? }),
+        "Multiply the velocities of fixed degrees of freedom by r."
+    ),
+    def!(
+        "Window",
+        "x1 x2 y1 y2 z1 z2",
+        &[],
+        true,
+        b_window,
+        "Restrict printing to x1<=x<=x2, y1<=y<=y2, z1<=z<=z2."
+    ),
+    def!(
+        "YMD",
+        "ymod mtyp",
+        &[],
+        true,
+        b_ymd,
+        "Young's modulus (Pa) of material mtyp."
+    ),
+    def!(
+        "Zero",
+        "izf",
+        &[],
+        true,
+        |a| Ok(Command::Zero {
+            always: a.flag("izf")?
+        }),
+        "Zero all velocities; izf = 1 also after every cycle, 0 cancels."
+    ),
+];
+
+/// The command keywords, in table order (for matching and completion).
+pub fn command_keywords() -> Vec<Keyword<usize>> {
+    COMMANDS
+        .iter()
+        .enumerate()
+        .map(|(i, d)| kw(d.name, i))
+        .collect()
+}
+
+fn material(a: &mut Args) -> Result<usize, ParseError> {
+    a.index("mtyp")
+}
+
+fn b_agglomerate(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Agglomerate {
+        nagg: a.int_in("nagg", 1, 2)? as usize,
+        centre: a.vec3(["xc", "yc", "zc"])?,
+        radius: a.positive("RA")?,
+    })
+}
+
+fn b_agenerate(a: &mut Args) -> Result<Command, ParseError> {
+    let size = a.index("isize")?;
+    let material = material(a)?;
+    let nagg = a.int_in("iagg", 0, 2)? as usize;
+    let origin = a.vec3(["xo", "yo", "zo"])?;
+    let step = [a.positive("dx")?, a.positive("dy")?, a.positive("dz")?];
+    Ok(Command::Agenerate {
+        size,
+        material,
+        nagg,
+        origin,
+        step,
+    })
+}
+
+fn wall_options(a: &mut Args, opts: &mut WallOptions) -> Result<(), ParseError> {
+    while let Some(k) = a.try_keyword(WALL_KWS)? {
+        match k {
+            WallKw::P => {
+                let n = a.vec3(["a", "b", "c"])?;
+                let d = a.real("d")?;
+                opts.geom = Some(WallGeom::Plane { normal: n, d });
+            }
+            WallKw::Sp | WallKw::Ob => {
+                let c = a.vec3(["a", "b", "c"])?;
+                let r = a.positive("d (radius)")?;
+                opts.geom = Some(if matches!(k, WallKw::Sp) {
+                    WallGeom::Sphere {
+                        centre: c,
+                        radius: r,
+                    }
+                } else {
+                    WallGeom::Obstacle {
+                        centre: c,
+                        radius: r,
+                    }
+                });
+            }
+            WallKw::V => {
+                let v = a.vec3(["vx", "vy", "vz"])?;
+                let vr = if a.peek_is_number() {
+                    a.real("vr")?
+                } else {
+                    0.0
+                };
+                opts.vel = Some((v, vr));
+            }
+            WallKw::M => opts.material = Some(material(a)?),
+            WallKw::Se => {
+                opts.servo = Some(Servo {
+                    force: a.real("F")?,
+                    vmax: a.non_negative("vmax")?,
+                    gain: a.non_negative("g")?,
+                })
+            }
+        }
+    }
+    Ok(())
+}
+
+fn b_dwall(a: &mut Args) -> Result<Command, ParseError> {
+    let first = a.peek();
+    let mut opts = WallOptions::default();
+    wall_options(a, &mut opts)?;
+    if opts.geom.is_none() {
+        return Err(match first {
+            Some(t) => ParseError::at(
+                t,
+                "DWAll needs the geometry first: P a b c d, SP a b c d or OB a b c d",
+            ),
+            None => ParseError {
+                start: a.line_end,
+                end: a.line_end + 1,
+                message: "DWAll needs a geometry: P a b c d, SP a b c d or OB a b c d".into(),
+            },
+        });
+    }
+    Ok(Command::Dwall(opts))
+}
+
+fn b_awall(a: &mut Args) -> Result<Command, ParseError> {
+    let n = a.index("n")?;
+    let mut opts = WallOptions::default();
+    wall_options(a, &mut opts)?;
+    Ok(Command::Awall { n, opts })
+}
+
+fn b_cgravity(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Cgravity {
+        nagg: a.int_in("nagg", 1, 2)? as usize,
+        g: a.non_negative("g")?,
+    })
+}
+
+fn b_cohesion(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Cohesion {
+        gamma: a.non_negative("gamma")?,
+        material: material(a)?,
+    })
+}
+
+fn b_create(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Create {
+        pos: a.vec3(["x", "y", "z"])?,
+        vel: a.vec3(["vx", "vy", "vz"])?,
+        spin: a.vec3(["wx", "wy", "wz"])?,
+        size: a.index("isize")?,
+        material: material(a)?,
+    })
+}
+
+fn b_cycle(a: &mut Args) -> Result<Command, ParseError> {
+    let n = a.int_in("n", 0, i64::MAX / 2)? as u64;
+    let mut servo = Vec::new();
+    while let Some(k) = a.try_keyword(STRESS_SERVOS)? {
+        servo.push((k, a.real("v")?));
+    }
+    Ok(Command::Cycle { n, servo })
+}
+
+fn b_damping(a: &mut Args) -> Result<Command, ParseError> {
+    const RES: &[Keyword<()>] = &[kw("REStitution", ())];
+    if a.try_keyword(RES)?.is_some() {
+        let t = a.peek();
+        let e = a.real("e")?;
+        if !(e > 0.0 && e <= 1.0) {
+            return Err(ParseError::at(
+                t.expect("consumed"),
+                format!("restitution e must be in (0, 1], got {e}"),
+            ));
+        }
+        let material = if a.peek_is_number() {
+            Some(material(a)?)
+        } else {
+            None
+        };
+        return Ok(Command::Damping(DampingSpec::Restitution { e, material }));
+    }
+    Ok(Command::Damping(DampingSpec::Rayleigh {
+        frac: a.non_negative("frac")?,
+        freq: a.positive("freq")?,
+        mass_off: a.flag("imass")?,
+        stiff_off: a.flag("istiff")?,
+        ball_ball: a.flag("iswitch")?,
+    }))
+}
+
+fn b_density(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Density {
+        rho: a.positive("d")?,
+        material: material(a)?,
+    })
+}
+
+fn b_fix(a: &mut Args) -> Result<Command, ParseError> {
+    let mut flags = [false; 6];
+    for (f, n) in flags
+        .iter_mut()
+        .zip(["ix", "iy", "iz", "irx", "iry", "irz"])
+    {
+        *f = a.flag(n)?;
+    }
+    const ALL: &[Keyword<()>] = &[kw("All", ())];
+    let target = if a.try_keyword(ALL)?.is_some() {
+        FixTarget::All
+    } else {
+        FixTarget::Particle(a.index("iadd")?)
+    };
+    Ok(Command::Fix { flags, target })
+}
+
+fn b_friction(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Friction {
+        mu: a.non_negative("amu")?,
+        material: material(a)?,
+    })
+}
+
+fn b_grid(a: &mut Args) -> Result<Command, ParseError> {
+    let mut rates = [0.0; 6];
+    for (r, n) in rates
+        .iter_mut()
+        .zip(["ed11", "ed22", "ed33", "ed12", "ed23", "ed31"])
+    {
+        *r = a.real(n)?;
+    }
+    Ok(Command::Grid { rates })
+}
+
+fn b_help(a: &mut Args) -> Result<Command, ParseError> {
+    let topic = if a.at_end() {
+        None
+    } else {
+        Some(a.word("command")?)
+    };
+    Ok(Command::Help { topic })
+}
+
+fn b_liquid(a: &mut Args) -> Result<Command, ParseError> {
+    let pvol = a.non_negative("pvol")?;
+    let t = a.peek();
+    let gsurf = a.non_negative("gsurf")?;
+    if pvol > 0.0 && gsurf <= 0.0 {
+        return Err(ParseError::at(
+            t.expect("consumed"),
+            "gsurf (surface tension) must be positive when pvol > 0",
+        ));
+    }
+    let t = a.peek();
+    let theta_deg = a.real("gcon")?;
+    if !(0.0..90.0).contains(&theta_deg) {
+        return Err(ParseError::at(
+            t.expect("consumed"),
+            format!("contact angle gcon must be in [0, 90) degrees, got {theta_deg}"),
+        ));
+    }
+    let eta = a.non_negative("gvis")?;
+    Ok(Command::Liquid {
+        pvol,
+        gsurf,
+        theta_deg,
+        eta,
+    })
+}
+
+fn b_log(a: &mut Args) -> Result<Command, ParseError> {
+    let on = a.keyword(ONOFF, "ON or OFF")?;
+    let file = if a.at_end() {
+        None
+    } else {
+        Some(a.word("file")?)
+    };
+    Ok(Command::Log { on, file })
+}
+
+fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
+    let mut items = Vec::new();
+    while let Some(k) = a.try_keyword(PLOT_ITEMS)? {
+        items.push(k);
+    }
+    if items.is_empty() {
+        let msg = "PLot needs at least one item";
+        return Err(match a.peek() {
+            Some(t) => ParseError::at(
+                t,
+                format!(
+                    "{msg}: {}",
+                    super::keyword::match_keyword(&t.text, PLOT_ITEMS)
+                        .err()
+                        .map(|e| e.describe(&t.text, "plot item", PLOT_ITEMS))
+                        .unwrap_or_default()
+                ),
+            ),
+            None => ParseError {
+                start: a.line_end,
+                end: a.line_end + 1,
+                message: format!("{msg} (BALl, FORces, CND, SAVe, ...)"),
+            },
+        });
+    }
+    Ok(Command::Plot { items })
+}
+
+fn b_pra(a: &mut Args) -> Result<Command, ParseError> {
+    let t = a.peek();
+    let nu = a.real("nu")?;
+    if !(-1.0 < nu && nu < 0.5) {
+        return Err(ParseError::at(
+            t.expect("consumed"),
+            format!("Poisson's ratio must be in (-1, 0.5), got {nu}"),
+        ));
+    }
+    Ok(Command::Pra {
+        nu,
+        material: material(a)?,
+    })
+}
+
+fn b_print(a: &mut Args) -> Result<Command, ParseError> {
+    let mut items = Vec::new();
+    while let Some(k) = a.try_keyword(PRINT_ITEMS)? {
+        let k = match k {
+            PrintItem::Contacts(_) => match a.try_keyword(CONTACT_FILTERS)? {
+                Some(f) => PrintItem::Contacts(f),
+                None => k,
+            },
+            _ => k,
+        };
+        items.push(k);
+    }
+    if items.is_empty() {
+        return Err(match a.peek() {
+            Some(t) => ParseError::at(
+                t,
+                super::keyword::match_keyword(&t.text, PRINT_ITEMS)
+                    .err()
+                    .map(|e| e.describe(&t.text, "print item", PRINT_ITEMS))
+                    .unwrap_or_default(),
+            ),
+            None => ParseError {
+                start: a.line_end,
+                end: a.line_end + 1,
+                message: "PRint needs at least one item (Balls, Contacts, Energy, Info, ...)"
+                    .into(),
+            },
+        });
+    }
+    Ok(Command::Print { items })
+}
+
+fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Radius {
+        r: a.positive("r")?,
+        size: a.index("isize")?,
+    })
+}
+
+fn optional_file(a: &mut Args) -> Result<Option<String>, ParseError> {
+    Ok(if a.at_end() {
+        None
+    } else {
+        Some(a.word("file")?)
+    })
+}
+
+fn b_restart(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Restart {
+        file: optional_file(a)?,
+    })
+}
+
+fn b_save(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Save {
+        file: optional_file(a)?,
+    })
+}
+
+fn b_rgenerate(a: &mut Args) -> Result<Command, ParseError> {
+    const SEED: &[Keyword<()>] = &[kw("Seed", ())];
+    if a.try_keyword(SEED)?.is_some() {
+        return Ok(Command::RgenerateSeed {
+            n: a.count("n")? as u64,
+        });
+    }
+    Ok(Command::Rgenerate {
+        n: a.count("n")?,
+        size: a.index("isize")?,
+        material: material(a)?,
+        nagg: a.int_in("naggm", 0, 2)? as usize,
+    })
+}
+
+fn length_or_default(a: &mut Args, name: &str) -> Result<Option<f64>, ParseError> {
+    if a.try_keyword(DEFAULT_KW)?.is_some() {
+        Ok(None)
+    } else {
+        Ok(Some(a.positive(name)?))
+    }
+}
+
+fn b_set(a: &mut Args) -> Result<Command, ParseError> {
+    let s = match a.keyword(SET_NAMES, "setting")? {
+        SetKw::Tol => Setting::Tol(length_or_default(a, "TOL")?),
+        SetKw::Xres => Setting::Xres(length_or_default(a, "XRES")?),
+        SetKw::Smin => Setting::Smin(length_or_default(a, "SMIN")?),
+        SetKw::Bridge => Setting::Bridge(a.keyword(BRIDGES, "bridge model")?),
+        SetKw::Tangential => Setting::Tangential(a.keyword(TANGENTIALS, "tangential law")?),
+        SetKw::Liquid => Setting::Liquid(a.keyword(LIQUID_MODES, "liquid bookkeeping")?),
+        k @ (SetKw::Periodic | SetKw::Open) => {
+            let mut axes = [false; 3];
+            while let Some(ax) = a.try_keyword(AXES)? {
+                if ax == 3 {
+                    axes = [true; 3];
+                } else {
+                    axes[ax] = true;
+                }
+            }
+            if axes == [false; 3] {
+                a.keyword(AXES, "axis (X, Y, Z or ALL)")?;
+            }
+            Setting::Boundary {
+                axes,
+                periodic: matches!(k, SetKw::Periodic),
+            }
+        }
+        SetKw::OutDir => Setting::OutDir(a.word("directory")?),
+        SetKw::View => Setting::View(a.keyword(VIEWS, "view")?),
+        SetKw::Snapshot => Setting::Snapshot(a.count("n")? as u64),
+        SetKw::History => Setting::History(a.count("n")? as u64),
+    };
+    Ok(Command::Set(s))
+}
+
+fn b_start(a: &mut Args) -> Result<Command, ParseError> {
+    let size = [
+        a.positive("xmax")?,
+        a.positive("ymax")?,
+        a.positive("zmax")?,
+    ];
+    let nbox = a.count("nbox")?;
+    let nball = a.count("nball")?;
+    let nwall = a.count("nwall")?;
+    const LOG: &[Keyword<()>] = &[kw("Log", ())];
+    let log = a.try_keyword(LOG)?.is_some();
+    Ok(Command::Start {
+        size,
+        nbox,
+        nball,
+        nwall,
+        log,
+    })
+}
+
+fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
+    let mut nums = Vec::new();
+    let mut toks = Vec::new();
+    while a.peek_is_number() {
+        toks.push(a.peek().cloned());
+        nums.push(a.real("v")?);
+    }
+    let (v1, v2, ivd_tok, ivd) = match nums.len() {
+        4 => ([nums[0], nums[1], nums[2]], None, &toks[3], nums[3]),
+        7 => (
+            [nums[0], nums[1], nums[2]],
+            Some([nums[3], nums[4], nums[5]]),
+            &toks[6],
+            nums[6],
+        ),
+        n => {
+            let msg = format!(
+                "VELocity takes 4 numbers (v1x v1y v1z ivd) or 7 (v1x v1y v1z v2x v2y v2z ivd), got {n}"
+            );
+            return Err(match a.peek().or(toks.last().and_then(|t| t.as_ref())) {
+                Some(t) => ParseError::at(t, msg),
+                None => ParseError {
+                    start: a.line_end,
+                    end: a.line_end + 1,
+                    message: msg,
+                },
+            });
+        }
+    };
+    if ivd != 0.0 && ivd != 1.0 {
+        let t = ivd_tok.as_ref().expect("number token");
+        return Err(ParseError::at(t, "ivd must be 0 or 1"));
+    }
+    Ok(Command::Velocity {
+        v1,
+        v2,
+        ivd: ivd == 1.0,
+    })
+}
+
+fn b_window(a: &mut Args) -> Result<Command, ParseError> {
+    let mut bounds = [0.0; 6];
+    for (b, n) in bounds.iter_mut().zip(["x1", "x2", "y1", "y2", "z1", "z2"]) {
+        *b = a.real(n)?;
+    }
+    Ok(Command::Window { bounds })
+}
+
+fn b_ymd(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Ymd {
+        e: a.positive("ymod")?,
+        material: material(a)?,
+    })
+}

@@ -1,0 +1,518 @@
+//! `PRint` items: each has a human table and a JSON object (names documented in
+//! doc/output.md). JSON numbers are written by serde_json, which prints the shortest decimal
+//! that reads back to the same f64 (exact round trip).
+
+use serde_json::{Value, json};
+
+use crate::analysis;
+use crate::lang::command::{ContactsFilter, PrintItem, WallGeom};
+use crate::sim::contacts::ContactState;
+use crate::sim::scene::Scene;
+use crate::sim::{cycle, energy, params, search};
+
+fn v3(v: &crate::sim::Vec3) -> Value {
+    json!([v.x, v.y, v.z])
+}
+
+fn in_window(scene: &Scene, x: &crate::sim::Vec3) -> bool {
+    match scene.settings.window {
+        None => true,
+        Some(w) => {
+            w[0] <= x.x && x.x <= w[1] && w[2] <= x.y && x.y <= w[3] && w[4] <= x.z && x.z <= w[5]
+        }
+    }
+}
+
+/// The time step the next `Cycle` would use (0 when it cannot run).
+pub fn current_dt(scene: &Scene) -> f64 {
+    params::build(scene).map(|m| m.dt).unwrap_or(0.0)
+}
+
+/// Produces (human text, JSON object) for one item.
+pub fn item(scene: &Scene, it: PrintItem) -> (String, Value) {
+    match it {
+        PrintItem::Info => info(scene),
+        PrintItem::Balls => balls(scene),
+        PrintItem::Contacts(f) => contacts(scene, f),
+        PrintItem::Energy => energy_item(scene),
+        PrintItem::Entries | PrintItem::Map => entries(scene, it == PrintItem::Map),
+        PrintItem::Stress => stress(scene),
+        PrintItem::Settings => settings(scene),
+        PrintItem::Walls => walls(scene),
+        PrintItem::Chist => chist(scene),
+        PrintItem::Grid => grid(scene),
+        PrintItem::Partitions => partitions(scene),
+        PrintItem::Bonds => analysis::bonds_item(scene),
+        PrintItem::Clusters => analysis::clusters_item(scene),
+        PrintItem::History => history(scene),
+    }
+}
+
+fn info(scene: &Scene) -> (String, Value) {
+    let dt = current_dt(scene);
+    let (c, cw) = scene.contacts.active_counts();
+    let (b, bw) = scene.contacts.bridge_counts();
+    let touching = touching_pairs(scene);
+    let (mut bc, mut bt) = (0, 0);
+    for p in &scene.contacts.pairs {
+        if let Some(br) = &p.s.bridge {
+            if br.gap <= 0.0 { bc += 1 } else { bt += 1 }
+        }
+    }
+    let mut s = format!(
+        "cycle {}  time {:.6e} s  dt {:.6e} s\nballs {} (capacity {}, lost through open sides {})  walls {}\n\
+         contacts {} particle-particle, {} particle-wall  ({} candidate pairs, {} touching or overlapping pairs)\n",
+        scene.cycle,
+        scene.time,
+        dt,
+        scene.particles.len(),
+        scene.nball,
+        scene.lost,
+        scene.walls.len(),
+        c,
+        cw,
+        scene.contacts.pairs.len(),
+        touching
+    );
+    if scene.liquid.is_some() {
+        s.push_str(&format!(
+            "liquid bridges {b} particle-particle ({bc} compressive, {bt} tensile), {bw} particle-wall\n"
+        ));
+    }
+    for (k, w) in scene.walls.iter().enumerate() {
+        s.push_str(&format!(
+            "wall {}: {}  normal force {:.6e} N\n",
+            k + 1,
+            geom_text(&w.geom),
+            w.normal_force
+        ));
+    }
+    let j = json!({
+        "print": "info", "cycle": scene.cycle, "time": scene.time, "dt": dt,
+        "balls": scene.particles.len(), "walls": scene.walls.len(), "contacts": c,
+        "wall_contacts": cw, "touching": touching, "bridges": b, "wall_bridges": bw,
+        "bridges_compressive": bc, "bridges_tensile": bt, "lost": scene.lost,
+        "wall_forces": scene.walls.iter().map(|w| w.normal_force).collect::<Vec<_>>(),
+    });
+    (s, j)
+}
+
+/// Pairs whose gap is at most 1e-6 of the smallest radius (touching within round-off).
+pub fn touching_pairs(scene: &Scene) -> usize {
+    let p = &scene.particles;
+    if p.is_empty() {
+        return 0;
+    }
+    let tol = 1e-6 * scene.min_radius();
+    let (pairs, _, _) = search::candidates(scene, tol);
+    pairs.len()
+}
+
+fn geom_text(g: &WallGeom) -> String {
+    match g {
+        WallGeom::Plane { normal, d } => {
+            format!(
+                "plane {}x + {}y + {}z = {}",
+                normal[0], normal[1], normal[2], d
+            )
+        }
+        WallGeom::Sphere { centre, radius } => format!(
+            "sphere container centre ({}, {}, {}) radius {}",
+            centre[0], centre[1], centre[2], radius
+        ),
+        WallGeom::Obstacle { centre, radius } => format!(
+            "sphere obstacle centre ({}, {}, {}) radius {}",
+            centre[0], centre[1], centre[2], radius
+        ),
+    }
+}
+
+fn balls(scene: &Scene) -> (String, Value) {
+    let p = &scene.particles;
+    let mut s = format!(
+        "{:>7} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13} {:>11} {:>3} {:>3} {:>3}\n",
+        "id", "x", "y", "z", "vx", "vy", "vz", "radius", "siz", "mat", "agg"
+    );
+    let mut arr = Vec::new();
+    for i in 0..p.len() {
+        if !in_window(scene, &p.pos[i]) {
+            continue;
+        }
+        s.push_str(&format!(
+            "{:>7} {:>13.6e} {:>13.6e} {:>13.6e} {:>13.6e} {:>13.6e} {:>13.6e} {:>11.4e} {:>3} {:>3} {:>3}\n",
+            p.id[i], p.pos[i].x, p.pos[i].y, p.pos[i].z, p.vel[i].x, p.vel[i].y, p.vel[i].z,
+            p.radius[i], p.size[i], p.material[i], p.agg[i]
+        ));
+        arr.push(json!({
+            "id": p.id[i], "pos": v3(&p.pos[i]), "vel": v3(&p.vel[i]), "spin": v3(&p.spin[i]),
+            "radius": p.radius[i], "size": p.size[i], "material": p.material[i],
+            "agglomerate": p.agg[i], "force": v3(&p.force[i]),
+        }));
+    }
+    let j = json!({"print": "balls", "cycle": scene.cycle, "time": scene.time, "balls": arr});
+    (s, j)
+}
+
+fn contact_json(s: &ContactState) -> Value {
+    let mut v = json!({
+        "overlap": s.overlap, "normal_force": s.normal_force + s.damp_force,
+        "tangential_force": s.tforce.norm(), "touching": s.touching,
+        "contact_radius": s.a,
+    });
+    if let Some(b) = &s.bridge {
+        v["bridge"] = json!({
+            "volume": b.volume, "rupture_distance": b.s_c, "static_force": b.f_static,
+            "viscous_force": b.f_visc, "half_filling_angle": b.phi, "gap": b.gap,
+        });
+    }
+    v
+}
+
+fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
+    let p = &scene.particles;
+    let keep = |s: &ContactState| match f {
+        ContactsFilter::All => true,
+        _ => s.touching || s.bridge.is_some(),
+    };
+    let mut s = format!(
+        "{:>7} {:>7} {:>13} {:>13} {:>13} {:>13}\n",
+        "a", "b", "overlap", "normal_force", "tang_force", "bridge_force"
+    );
+    let mut arr = Vec::new();
+    for c in &scene.contacts.pairs {
+        if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
+            continue;
+        }
+        let bf = c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+        if f == ContactsFilter::Gap {
+            s.push_str(&format!(
+                "{:>7} {:>7} {:>13.6e} {:>13.6e}\n",
+                c.ida, c.idb, c.s.overlap, c.s.normal_force
+            ));
+        } else {
+            s.push_str(&format!(
+                "{:>7} {:>7} {:>13.6e} {:>13.6e} {:>13.6e} {:>13.6e}\n",
+                c.ida,
+                c.idb,
+                c.s.overlap,
+                c.s.normal_force + c.s.damp_force,
+                c.s.tforce.norm(),
+                bf
+            ));
+        }
+        let mut v = contact_json(&c.s);
+        v["a"] = json!(c.ida);
+        v["b"] = json!(c.idb);
+        arr.push(v);
+    }
+    for c in &scene.contacts.wall_pairs {
+        if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
+            continue;
+        }
+        s.push_str(&format!(
+            "{:>7} {:>7} {:>13.6e} {:>13.6e} {:>13.6e}\n",
+            c.id,
+            format!("W{}", c.wall + 1),
+            c.s.overlap,
+            c.s.normal_force + c.s.damp_force,
+            c.s.tforce.norm()
+        ));
+        let mut v = contact_json(&c.s);
+        v["a"] = json!(c.id);
+        v["wall"] = json!(c.wall + 1);
+        arr.push(v);
+    }
+    let j = json!({"print": "contacts", "cycle": scene.cycle, "contacts": arr});
+    (s, j)
+}
+
+fn energy_item(scene: &Scene) -> (String, Value) {
+    let st = energy::stored(scene);
+    let l = &scene.ledger;
+    let res = energy::residual(scene);
+    let input = l.input();
+    let s = format!(
+        "energy (J) at cycle {}\n  kinetic        translation {:.6e}  rotation {:.6e}\n  \
+         stored         normal {:.6e}  tangential {:.6e}  bridges {:.6e}\n  \
+         input          commands {:.6e}  gravity {:.6e}  walls {:.6e}  total {:.6e}\n  \
+         dissipated     friction {:.6e}  mass damping {:.6e}  contact damping {:.6e}\n                 \
+         viscous {:.6e}  adhesion {:.6e}  rupture {:.6e}  total {:.6e}\n  \
+         residual       {:.6e} (stored - input + dissipated)\n",
+        scene.cycle,
+        st.kinetic_translation,
+        st.kinetic_rotation,
+        st.strain_normal,
+        st.strain_tangential,
+        st.bridge,
+        l.commands,
+        l.gravity,
+        l.walls,
+        input,
+        l.friction,
+        l.damping_mass,
+        l.damping_contact,
+        l.viscous,
+        l.adhesion,
+        l.rupture,
+        l.dissipated(),
+        res
+    );
+    let j = json!({
+        "print": "energy", "cycle": scene.cycle, "time": scene.time,
+        "kinetic": st.kinetic_translation + st.kinetic_rotation,
+        "kinetic_translation": st.kinetic_translation, "kinetic_rotation": st.kinetic_rotation,
+        "strain": st.strain_normal + st.strain_tangential,
+        "strain_normal": st.strain_normal, "strain_tangential": st.strain_tangential,
+        "bridge": st.bridge,
+        "input": input,
+        "inputs": {"commands": l.commands, "gravity": l.gravity, "walls": l.walls},
+        "dissipated": {
+            "friction": l.friction, "damping_mass": l.damping_mass,
+            "damping_contact": l.damping_contact, "viscous": l.viscous,
+            "adhesion": l.adhesion, "rupture": l.rupture, "total": l.dissipated(),
+        },
+        "residual": res,
+    });
+    (s, j)
+}
+
+fn entries(scene: &Scene, map: bool) -> (String, Value) {
+    let (tol, xres) = match params::build(scene) {
+        Ok(m) => cycle::search_distances(scene, &m),
+        Err(_) => (0.0, 0.0),
+    };
+    let (pairs, walls, g) = search::candidates(scene, tol.max(0.0));
+    let s = format!(
+        "grid {} x {} x {} boxes of {:.4e} x {:.4e} x {:.4e} m; {} box entries, at most {} in a box, {} empty boxes\n\
+         TOL {:.4e} m, XRES {:.4e} m; {} candidate pairs, {} particle-wall candidates; {} rebuilds so far\n",
+        g.n[0],
+        g.n[1],
+        g.n[2],
+        g.cell[0],
+        g.cell[1],
+        g.cell[2],
+        g.entries,
+        g.max_entries_per_box,
+        g.empty_boxes,
+        tol,
+        xres,
+        pairs.len(),
+        walls.len(),
+        scene.contacts.rebuilds
+    );
+    let j = json!({
+        "print": if map { "map" } else { "entries" }, "boxes": g.n, "box_size": g.cell,
+        "entries": g.entries, "max_entries_per_box": g.max_entries_per_box,
+        "empty_boxes": g.empty_boxes, "tol": tol, "xres": xres,
+        "candidate_pairs": pairs.len(), "wall_candidates": walls.len(),
+        "rebuilds": scene.contacts.rebuilds,
+    });
+    (s, j)
+}
+
+/// Average stress tensor σ_ij = (1/V) Σ_c f_i l_j over particle–particle contacts (and
+/// bridges), V = the work-space volume (Cundall–Strack average).
+pub fn stress_tensor(scene: &Scene) -> [[f64; 3]; 3] {
+    let p = &scene.particles;
+    let mut sig = [[0.0; 3]; 3];
+    let vol = scene.size[0] * scene.size[1] * scene.size[2];
+    for c in &scene.contacts.pairs {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let l = scene.branch(&p.pos[i], &p.pos[j]);
+        let n = l.normalize();
+        let fb = c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+        let fnorm = if c.s.touching {
+            c.s.normal_force + c.s.damp_force
+        } else {
+            0.0
+        } - fb;
+        // Force on B (compressive positive pushes B along +n); stress compression positive.
+        let f = n * fnorm
+            + if c.s.touching {
+                c.s.tforce
+            } else {
+                crate::sim::Vec3::zeros()
+            };
+        for a in 0..3 {
+            for b in 0..3 {
+                sig[a][b] += f[a] * l[b] / vol;
+            }
+        }
+    }
+    sig
+}
+
+fn stress(scene: &Scene) -> (String, Value) {
+    let s3 = stress_tensor(scene);
+    let s = format!(
+        "average stress (Pa, compression positive)\n  {:>13.6e} {:>13.6e} {:>13.6e}\n  {:>13.6e} {:>13.6e} {:>13.6e}\n  {:>13.6e} {:>13.6e} {:>13.6e}\n",
+        s3[0][0], s3[0][1], s3[0][2], s3[1][0], s3[1][1], s3[1][2], s3[2][0], s3[2][1], s3[2][2]
+    );
+    (
+        s,
+        json!({"print": "stress", "cycle": scene.cycle, "stress": s3}),
+    )
+}
+
+fn partitions(scene: &Scene) -> (String, Value) {
+    // Contributions of compressive solid contacts, tensile solid contacts and bridges to the
+    // mean stress.
+    let p = &scene.particles;
+    let vol = scene.size[0] * scene.size[1] * scene.size[2];
+    let (mut comp, mut tens, mut brid) = (0.0, 0.0, 0.0);
+    for c in &scene.contacts.pairs {
+        let l = scene
+            .branch(&p.pos[c.i as usize], &p.pos[c.j as usize])
+            .norm();
+        if c.s.touching {
+            let f = c.s.normal_force + c.s.damp_force;
+            if f >= 0.0 {
+                comp += f * l
+            } else {
+                tens += f * l
+            }
+        }
+        if let Some(b) = &c.s.bridge {
+            brid -= (b.f_static + b.f_visc) * l;
+        }
+    }
+    let k = 1.0 / (3.0 * vol);
+    let s = format!(
+        "mean-stress partitions (Pa): compressive contacts {:.6e}, tensile contacts {:.6e}, liquid bridges {:.6e}\n",
+        comp * k,
+        tens * k,
+        brid * k
+    );
+    (
+        s,
+        json!({"print": "partitions", "compressive": comp * k, "tensile": tens * k, "bridges": brid * k}),
+    )
+}
+
+fn settings(scene: &Scene) -> (String, Value) {
+    let st = &scene.settings;
+    let (tol, xres) = match params::build(scene) {
+        Ok(m) => cycle::search_distances(scene, &m),
+        Err(_) => (0.0, 0.0),
+    };
+    let s = format!(
+        "TOL {:.4e} m ({})  XRES {:.4e} m ({})  SMIN {}\nBRIdge {:?}  TANgential {:?}  LIQuid {:?}\n\
+         periodic x {} y {} z {}  OUTdir {}  VIEw {:?}  SNApshot {}  HIStory {}  FRAction {}  2-D {}\n",
+        tol,
+        if st.tol.is_some() { "set" } else { "automatic" },
+        xres,
+        if st.xres.is_some() {
+            "set"
+        } else {
+            "automatic"
+        },
+        st.smin
+            .map(|x| format!("{x:.4e} m"))
+            .unwrap_or_else(|| "automatic (R*/100)".into()),
+        st.bridge,
+        st.tangential,
+        st.liquid_mode,
+        st.periodic[0],
+        st.periodic[1],
+        st.periodic[2],
+        st.out_dir,
+        st.view,
+        st.snapshot_every,
+        st.history_every,
+        st.fraction,
+        st.two_d
+    );
+    let j = json!({
+        "print": "settings", "tol": tol, "xres": xres, "smin": st.smin,
+        "bridge": format!("{:?}", st.bridge).to_lowercase(),
+        "tangential": format!("{:?}", st.tangential).to_lowercase(),
+        "liquid_mode": format!("{:?}", st.liquid_mode).to_lowercase(),
+        "periodic": st.periodic, "out_dir": st.out_dir, "view": format!("{:?}", st.view).to_lowercase(),
+        "snapshot": st.snapshot_every, "history": st.history_every, "fraction": st.fraction,
+        "two_d": st.two_d,
+    });
+    (s, j)
+}
+
+fn walls(scene: &Scene) -> (String, Value) {
+    let mut s = String::new();
+    let mut arr = Vec::new();
+    for (k, w) in scene.walls.iter().enumerate() {
+        s.push_str(&format!(
+            "wall {}: {}  velocity ({}, {}, {}) vr {}  material {}  force ({:.6e}, {:.6e}, {:.6e}) normal {:.6e}{}\n",
+            k + 1, geom_text(&w.geom), w.vel[0], w.vel[1], w.vel[2], w.vr, w.material,
+            w.force[0], w.force[1], w.force[2], w.normal_force,
+            w.servo.map(|s| format!("  servo F {} vmax {} g {}", s.force, s.vmax, s.gain)).unwrap_or_default()
+        ));
+        arr.push(json!({
+            "wall": k + 1, "geometry": serde_json::to_value(w.geom).unwrap_or(Value::Null),
+            "velocity": w.vel, "radial_velocity": w.vr, "material": w.material,
+            "force": w.force, "normal_force": w.normal_force,
+        }));
+    }
+    if s.is_empty() {
+        s.push_str("no walls\n");
+    }
+    (s, json!({"print": "walls", "walls": arr}))
+}
+
+fn chist(scene: &Scene) -> (String, Value) {
+    // Histogram of the number of solid contacts per particle.
+    let n = scene.particles.len();
+    let mut z = vec![0usize; n];
+    for c in &scene.contacts.pairs {
+        if c.s.touching {
+            z[c.i as usize] += 1;
+            z[c.j as usize] += 1;
+        }
+    }
+    let zmax = z.iter().copied().max().unwrap_or(0);
+    let mut h = vec![0usize; zmax + 1];
+    for &k in &z {
+        h[k] += 1;
+    }
+    let mean = if n > 0 {
+        z.iter().sum::<usize>() as f64 / n as f64
+    } else {
+        0.0
+    };
+    let mut s = format!("contacts per particle (mean coordination {mean:.4})\n");
+    for (k, c) in h.iter().enumerate() {
+        s.push_str(&format!("  {k:>3}: {c}\n"));
+    }
+    (
+        s,
+        json!({"print": "chist", "histogram": h, "coordination": mean}),
+    )
+}
+
+fn grid(scene: &Scene) -> (String, Value) {
+    let s = format!(
+        "work-space {} x {} x {} m; periodic x {} y {} z {}\n",
+        scene.size[0],
+        scene.size[1],
+        scene.size[2],
+        scene.settings.periodic[0],
+        scene.settings.periodic[1],
+        scene.settings.periodic[2]
+    );
+    (
+        s,
+        json!({"print": "grid", "size": scene.size, "periodic": scene.settings.periodic}),
+    )
+}
+
+fn history(scene: &Scene) -> (String, Value) {
+    let cols = crate::sim::history::COLUMNS;
+    let mut s = cols.join(",");
+    s.push('\n');
+    for r in &scene.history.rows {
+        let line: Vec<String> = r.iter().map(|x| format!("{x:e}")).collect();
+        s.push_str(&line.join(","));
+        s.push('\n');
+    }
+    (
+        s,
+        json!({"print": "history", "columns": cols, "rows": scene.history.rows}),
+    )
+}

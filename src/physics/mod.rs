@@ -1,0 +1,7 @@
+//! Contact laws as pure functions of plain numbers, each with closed-form unit tests.
+
+pub mod bridge;
+pub mod hertz;
+pub mod jkr;
+pub mod restitution;
+pub mod tangential;

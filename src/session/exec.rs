@@ -1,0 +1,580 @@
+//! Applies a command to the scene. Every function here either succeeds or returns an error
+//! and leaves the scene as it was (the caller works on a copy for multi-step changes).
+
+use crate::lang::command::*;
+use crate::sim::generate::{OverlapIndex, inside, lattice_sites, sphere_mass};
+use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall};
+
+fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
+    if m > MAX_MATERIALS {
+        return Err(format!(
+            "material type {m} is beyond the limit of {MAX_MATERIALS}"
+        ));
+    }
+    if m > scene.materials.len() {
+        scene.materials.resize(m, Material::default());
+    }
+    Ok(&mut scene.materials[m - 1])
+}
+
+fn existing_material(scene: &Scene, m: usize) -> Result<(), String> {
+    if m == 0 || m > scene.materials.len() || scene.materials[m - 1] == Material::default() {
+        return Err(format!(
+            "material type {m} is not defined: give it YMD, PRA and Density first"
+        ));
+    }
+    Ok(())
+}
+
+fn radius_for(scene: &Scene, size: usize) -> Result<f64, String> {
+    scene
+        .radius_of(size)
+        .ok_or_else(|| format!("size type {size} has no radius: give `RAdius r {size}` first"))
+}
+
+fn density_for(scene: &Scene, m: usize) -> Result<f64, String> {
+    existing_material(scene, m)?;
+    let d = scene.materials[m - 1].density;
+    if d > 0.0 {
+        Ok(d)
+    } else {
+        Err(format!(
+            "material {m} has no density: give `Density d {m}` first"
+        ))
+    }
+}
+
+fn check_capacity(scene: &Scene, more: usize) -> Result<(), String> {
+    if scene.particles.len() + more > scene.nball {
+        return Err(format!(
+            "too many particles: {} + {more} would exceed nball = {} given to Start",
+            scene.particles.len(),
+            scene.nball
+        ));
+    }
+    Ok(())
+}
+
+/// Re-computes particle masses of a material after a density change.
+fn refresh_masses(scene: &mut Scene, m: usize) {
+    let rho = scene.materials[m - 1].density;
+    let p = &mut scene.particles;
+    for i in 0..p.len() {
+        if p.material[i] as usize == m {
+            p.mass[i] = sphere_mass(rho, p.radius[i]);
+        }
+    }
+}
+
+/// Applies a scene command. Returns a message to print (possibly empty).
+pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
+    match cmd {
+        Command::Radius { r, size } => {
+            if *size > MAX_SIZES {
+                return Err(format!(
+                    "size type {size} is beyond the limit of {MAX_SIZES}"
+                ));
+            }
+            if *size > scene.sizes.len() {
+                scene.sizes.resize(*size, 0.0);
+            }
+            scene.sizes[size - 1] = *r;
+            // Particles of that size change radius (and mass).
+            let p = &mut scene.particles;
+            for i in 0..p.len() {
+                if p.size[i] as usize == *size {
+                    let rho = p.mass[i] / sphere_mass(1.0, p.radius[i]);
+                    p.radius[i] = *r;
+                    p.mass[i] = sphere_mass(rho, *r);
+                }
+            }
+            scene.contacts.stale = true;
+            Ok(String::new())
+        }
+        Command::Density { rho, material } => {
+            material_mut(scene, *material)?.density = *rho;
+            refresh_masses(scene, *material);
+            Ok(String::new())
+        }
+        Command::Ymd { e, material } => {
+            material_mut(scene, *material)?.young = *e;
+            Ok(String::new())
+        }
+        Command::Pra { nu, material } => {
+            material_mut(scene, *material)?.poisson = *nu;
+            Ok(String::new())
+        }
+        Command::Friction { mu, material } => {
+            material_mut(scene, *material)?.friction = *mu;
+            Ok(String::new())
+        }
+        Command::Cohesion { gamma, material } => {
+            existing_material(scene, *material)?;
+            material_mut(scene, *material)?.gamma = *gamma;
+            scene.contacts.stale = true;
+            Ok(String::new())
+        }
+        Command::Agglomerate {
+            nagg,
+            centre,
+            radius,
+        } => {
+            scene.regions[nagg - 1] = Some(Region {
+                centre: *centre,
+                radius: *radius,
+            });
+            Ok(String::new())
+        }
+        Command::Create {
+            pos,
+            vel,
+            spin,
+            size,
+            material,
+        } => {
+            let r = radius_for(scene, *size)?;
+            let rho = density_for(scene, *material)?;
+            check_capacity(scene, 1)?;
+            let x = Vec3::from(*pos);
+            if !inside(scene, None, &x, r) {
+                return Err(format!(
+                    "the particle at ({}, {}, {}) is outside the work-space",
+                    pos[0], pos[1], pos[2]
+                ));
+            }
+            let idx = OverlapIndex::new(scene, r);
+            if let Some(j) = idx.overlaps(scene, &x, r) {
+                return Err(format!(
+                    "the particle would overlap particle {}",
+                    scene.particles.id[j]
+                ));
+            }
+            let id = scene.next_id;
+            scene.next_id += 1;
+            scene.particles.push(
+                id,
+                x,
+                Vec3::from(*vel),
+                Vec3::from(*spin),
+                r,
+                sphere_mass(rho, r),
+                *size,
+                *material,
+                0,
+            );
+            scene.contacts.stale = true;
+            Ok(String::new())
+        }
+        Command::Agenerate {
+            size,
+            material,
+            nagg,
+            origin,
+            step,
+        } => {
+            let r = radius_for(scene, *size)?;
+            let rho = density_for(scene, *material)?;
+            let region = if *nagg > 0 {
+                scene.regions[nagg - 1]
+            } else {
+                None
+            };
+            let sites = lattice_sites(scene, *origin, *step);
+            let mut idx = OverlapIndex::new(scene, r);
+            let mut made = 0;
+            let mut skipped = 0;
+            for x in sites {
+                if !inside(scene, region.as_ref(), &x, r) {
+                    continue;
+                }
+                if idx.overlaps(scene, &x, r).is_some() {
+                    skipped += 1;
+                    continue;
+                }
+                check_capacity(scene, 1)?;
+                let id = scene.next_id;
+                scene.next_id += 1;
+                let i = scene.particles.len();
+                scene.particles.push(
+                    id,
+                    x,
+                    Vec3::zeros(),
+                    Vec3::zeros(),
+                    r,
+                    sphere_mass(rho, r),
+                    *size,
+                    *material,
+                    *nagg,
+                );
+                idx.insert(&x, i);
+                made += 1;
+            }
+            scene.contacts.stale = true;
+            Ok(format!(
+                "AGEnerate: {made} particles generated ({skipped} sites skipped for overlap); {} in all",
+                scene.particles.len()
+            ))
+        }
+        Command::Rgenerate {
+            n,
+            size,
+            material,
+            nagg,
+        } => {
+            let r = radius_for(scene, *size)?;
+            let rho = density_for(scene, *material)?;
+            check_capacity(scene, *n)?;
+            let region = if *nagg > 0 {
+                Some(scene.regions[nagg - 1].ok_or_else(|| {
+                    format!("agglomerate region {nagg} is not defined: give AGGlomerate first")
+                })?)
+            } else {
+                None
+            };
+            let (lo, hi) = match region {
+                Some(g) => (
+                    Vec3::from(g.centre).map(|c| c - g.radius),
+                    Vec3::from(g.centre).map(|c| c + g.radius),
+                ),
+                None => (Vec3::zeros(), Vec3::from(scene.size)),
+            };
+            let limit = 1000 * n + 10_000;
+            let mut idx = OverlapIndex::new(scene, r);
+            let mut made = 0;
+            let mut tries = 0;
+            while made < *n && tries < limit {
+                tries += 1;
+                let x = Vec3::new(
+                    lo.x + (hi.x - lo.x) * scene.rng.uniform(),
+                    lo.y + (hi.y - lo.y) * scene.rng.uniform(),
+                    lo.z + (hi.z - lo.z) * scene.rng.uniform(),
+                );
+                let x = if scene.settings.two_d {
+                    Vec3::new(x.x, x.y, 0.5 * scene.size[2])
+                } else {
+                    x
+                };
+                if !inside(scene, region.as_ref(), &x, r) || idx.overlaps(scene, &x, r).is_some() {
+                    continue;
+                }
+                let id = scene.next_id;
+                scene.next_id += 1;
+                let i = scene.particles.len();
+                scene.particles.push(
+                    id,
+                    x,
+                    Vec3::zeros(),
+                    Vec3::zeros(),
+                    r,
+                    sphere_mass(rho, r),
+                    *size,
+                    *material,
+                    *nagg,
+                );
+                idx.insert(&x, i);
+                made += 1;
+            }
+            scene.contacts.stale = true;
+            if made < *n {
+                Ok(format!(
+                    "RGEnerate: only {made} of {n} particles placed: the try limit ({limit} tries) was reached"
+                ))
+            } else {
+                Ok(format!(
+                    "RGEnerate: {made} particles placed in {tries} tries (limit {limit})"
+                ))
+            }
+        }
+        Command::RgenerateSeed { n } => {
+            for _ in 0..*n {
+                scene.rng.uniform();
+            }
+            Ok(String::new())
+        }
+        Command::Dwall(opts) => {
+            if scene.walls.len() >= scene.nwall {
+                return Err(format!(
+                    "too many walls: nwall = {} given to Start",
+                    scene.nwall
+                ));
+            }
+            let geom = opts.geom.expect("DWAll parser requires a geometry");
+            check_geom(&geom)?;
+            let material = opts.material.unwrap_or(1);
+            existing_material(scene, material)?;
+            let (vel, vr) = opts.vel.unwrap_or(([0.0; 3], 0.0));
+            scene.walls.push(Wall {
+                geom,
+                vel,
+                vr,
+                material,
+                servo: opts.servo,
+                force: [0.0; 3],
+                normal_force: 0.0,
+                disp: [0.0; 3],
+            });
+            scene.contacts.stale = true;
+            Ok(format!("wall {} defined", scene.walls.len()))
+        }
+        Command::Awall { n, opts } => {
+            if *n == 0 || *n > scene.walls.len() {
+                return Err(format!(
+                    "wall {n} does not exist ({} walls)",
+                    scene.walls.len()
+                ));
+            }
+            if let Some(m) = opts.material {
+                existing_material(scene, m)?;
+            }
+            if let Some(g) = &opts.geom {
+                check_geom(g)?;
+            }
+            let w = &mut scene.walls[n - 1];
+            if let Some(g) = opts.geom {
+                w.geom = g;
+            }
+            if let Some((v, vr)) = opts.vel {
+                w.vel = v;
+                w.vr = vr;
+            }
+            if let Some(m) = opts.material {
+                w.material = m;
+            }
+            if opts.servo.is_some() {
+                w.servo = opts.servo;
+            }
+            scene.contacts.stale = true;
+            Ok(String::new())
+        }
+        Command::Damping(DampingSpec::Rayleigh {
+            frac,
+            freq,
+            mass_off,
+            stiff_off,
+            ball_ball,
+        }) => {
+            let w = 2.0 * std::f64::consts::PI * freq;
+            let r = Rayleigh {
+                alpha: if *mass_off { 0.0 } else { frac * w },
+                beta: if *stiff_off { 0.0 } else { frac / w },
+            };
+            if *ball_ball {
+                scene.damping_pp = r;
+            } else {
+                scene.damping_pw = r;
+            }
+            Ok(String::new())
+        }
+        Command::Damping(DampingSpec::Restitution { e, material }) => {
+            match material {
+                Some(m) => {
+                    existing_material(scene, *m)?;
+                    scene.materials[m - 1].restitution = Some(*e);
+                }
+                None => {
+                    for m in scene.materials.iter_mut() {
+                        m.restitution = Some(*e);
+                    }
+                }
+            }
+            Ok(String::new())
+        }
+        Command::Fix { flags, target } => {
+            let bits = flags
+                .iter()
+                .enumerate()
+                .fold(0u8, |b, (k, &f)| if f { b | (1 << k) } else { b });
+            match target {
+                FixTarget::All => scene.particles.fixed.iter_mut().for_each(|f| *f = bits),
+                FixTarget::Particle(id) => {
+                    let i = index_of(scene, *id)?;
+                    scene.particles.fixed[i] = bits;
+                }
+            }
+            Ok(String::new())
+        }
+        Command::Fmm { r } => {
+            scene.fmm *= r;
+            Ok(String::new())
+        }
+        Command::Fro => {
+            scene
+                .particles
+                .spin
+                .iter_mut()
+                .for_each(|w| *w = Vec3::zeros());
+            Ok(String::new())
+        }
+        Command::Fraction { f } => {
+            scene.settings.fraction = *f;
+            Ok(String::new())
+        }
+        Command::Gravity { g } => {
+            scene.gravity = *g;
+            Ok(String::new())
+        }
+        Command::Cgravity { nagg, g } => {
+            if scene.regions[nagg - 1].is_none() {
+                return Err(format!("agglomerate region {nagg} is not defined"));
+            }
+            scene.cgravity[nagg - 1] = *g;
+            Ok(String::new())
+        }
+        Command::Liquid {
+            pvol,
+            gsurf,
+            theta_deg,
+            eta,
+        } => {
+            if *pvol == 0.0 {
+                scene.liquid = None;
+                for c in scene.contacts.pairs.iter_mut() {
+                    c.s.bridge = None;
+                }
+                for c in scene.contacts.wall_pairs.iter_mut() {
+                    c.s.bridge = None;
+                }
+                return Ok("all liquid bridges removed".into());
+            }
+            let l = crate::sim::scene::Liquid {
+                pvol: *pvol,
+                gamma: *gsurf,
+                theta: theta_deg.to_radians(),
+                eta: *eta,
+            };
+            let b = crate::physics::bridge::Bridge {
+                r1: 1.0,
+                r2: 1.0,
+                volume: pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI,
+                gamma: *gsurf,
+                theta: l.theta,
+            };
+            let warn =
+                crate::physics::bridge::validate(crate::physics::bridge::BridgeModel::Fit, &b)
+                    .err()
+                    .map(|w| format!("warning: {w}"))
+                    .unwrap_or_default();
+            scene.liquid = Some(l);
+            // Existing bridges take the new parameters (rupture distance recomputed).
+            crate::sim::liquid::reissue(scene);
+            scene.contacts.stale = true;
+            Ok(warn)
+        }
+        Command::Velocity { v1, v2, ivd } => {
+            let p = &mut scene.particles;
+            let n1 = p.agg.iter().filter(|&&a| a == 1).count();
+            if n1 == 0 {
+                return Err("agglomerate 1 has no particles".into());
+            }
+            if v2.is_some() && p.agg.iter().all(|&a| a != 2) {
+                return Err("agglomerate 2 has no particles".into());
+            }
+            for i in 0..p.len() {
+                match p.agg[i] {
+                    1 => p.vel[i] = Vec3::from(*v1),
+                    2 => {
+                        if let Some(v) = v2 {
+                            p.vel[i] = Vec3::from(*v)
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            scene.impact = *ivd;
+            Ok(String::new())
+        }
+        Command::Vmu { r } => {
+            let p = &mut scene.particles;
+            for i in 0..p.len() {
+                for k in 0..3 {
+                    if p.fixed[i] & (1 << k) != 0 {
+                        p.vel[i][k] *= r;
+                    }
+                    if p.fixed[i] & (8 << k) != 0 {
+                        p.spin[i][k] *= r;
+                    }
+                }
+            }
+            Ok(String::new())
+        }
+        Command::Window { bounds } => {
+            if bounds[0] > bounds[1] || bounds[2] > bounds[3] || bounds[4] > bounds[5] {
+                return Err("Window needs x1 <= x2, y1 <= y2, z1 <= z2".into());
+            }
+            scene.settings.window = Some(*bounds);
+            Ok(String::new())
+        }
+        Command::Zero { always } => {
+            scene
+                .particles
+                .vel
+                .iter_mut()
+                .for_each(|v| *v = Vec3::zeros());
+            scene
+                .particles
+                .spin
+                .iter_mut()
+                .for_each(|v| *v = Vec3::zeros());
+            scene.zero_always = *always;
+            Ok(String::new())
+        }
+        Command::Reset => {
+            scene
+                .particles
+                .rot
+                .iter_mut()
+                .for_each(|v| *v = Vec3::zeros());
+            Ok(String::new())
+        }
+        Command::TwoD => {
+            scene.settings.two_d = true;
+            Ok(String::new())
+        }
+        Command::Set(s) => {
+            let st = &mut scene.settings;
+            match s {
+                Setting::Tol(v) => st.tol = *v,
+                Setting::Xres(v) => st.xres = *v,
+                Setting::Smin(v) => st.smin = *v,
+                Setting::Bridge(b) => st.bridge = *b,
+                Setting::Tangential(t) => st.tangential = *t,
+                Setting::Liquid(m) => st.liquid_mode = *m,
+                Setting::Boundary { axes, periodic } => {
+                    for k in 0..3 {
+                        if axes[k] {
+                            st.periodic[k] = *periodic;
+                        }
+                    }
+                }
+                Setting::OutDir(d) => st.out_dir = d.clone(),
+                Setting::View(v) => st.view = *v,
+                Setting::Snapshot(n) => st.snapshot_every = *n,
+                Setting::History(n) => st.history_every = *n,
+            }
+            scene.contacts.stale = true;
+            Ok(String::new())
+        }
+        other => Err(format!(
+            "internal: {} is not a scene command",
+            crate::lang::parse::command_name(other)
+        )),
+    }
+}
+
+fn index_of(scene: &Scene, id: usize) -> Result<usize, String> {
+    scene
+        .particles
+        .id
+        .iter()
+        .position(|&x| x as usize == id)
+        .ok_or_else(|| format!("particle {id} does not exist"))
+}
+
+fn check_geom(g: &WallGeom) -> Result<(), String> {
+    if let WallGeom::Plane { normal, .. } = g {
+        if normal.iter().all(|&x| x == 0.0) {
+            return Err("a plane wall needs a non-zero normal (a, b, c)".into());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,370 @@
+//! A session: reads lines (terminal, file, standard input, batch), parses them, applies them
+//! to the simulation and writes the output. Data flows one way: text → command → scene →
+//! output. A command that fails changes nothing.
+
+pub mod exec;
+pub mod input;
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::checkpoint;
+use crate::lang::command::{Command, PlotItem};
+use crate::lang::{Parsed, parse_line};
+use crate::output::print;
+use crate::sim::{Scene, cycle, energy, reference::Reference};
+
+/// Where a line came from (for error messages).
+#[derive(Clone, Debug)]
+pub struct Source {
+    pub name: String,
+    pub line: usize,
+}
+
+/// A located error: byte span in the line and the message.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineError {
+    pub start: usize,
+    pub end: usize,
+    pub message: String,
+}
+
+/// Result of running one line.
+#[derive(Debug, PartialEq)]
+pub enum Flow {
+    Continue,
+    Stop,
+}
+
+pub struct Session {
+    pub scene: Option<Scene>,
+    pub json: bool,
+    pub vars: HashMap<String, String>,
+    out: Box<dyn Write>,
+    log: Option<File>,
+    echo: bool,
+    /// Working directory for relative file names (checkpoints, logs).
+    pub dir: PathBuf,
+}
+
+impl Session {
+    pub fn new(out: Box<dyn Write>, json: bool) -> Self {
+        Session {
+            scene: None,
+            json,
+            vars: HashMap::new(),
+            out,
+            log: None,
+            echo: false,
+            dir: PathBuf::from("."),
+        }
+    }
+
+    /// Writes output (and to the log file when one is open).
+    pub fn emit(&mut self, text: &str) {
+        if text.is_empty() {
+            return;
+        }
+        let nl = if text.ends_with('\n') { "" } else { "\n" };
+        let _ = write!(self.out, "{text}{nl}");
+        if let Some(f) = &mut self.log {
+            let _ = write!(f, "{text}{nl}");
+        }
+    }
+
+    /// Diagnostics go to standard error (and the log).
+    pub fn emit_err(&mut self, text: &str) {
+        let _ = self.out.flush();
+        eprintln!("{text}");
+        if let Some(f) = &mut self.log {
+            let _ = writeln!(f, "{text}");
+        }
+    }
+
+    pub fn flush(&mut self) {
+        let _ = self.out.flush();
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        join(&self.dir, name)
+    }
+
+    /// Replaces `$name` and `${name}` by the values given with `--set`.
+    fn substitute(&self, line: &str) -> Result<String, LineError> {
+        let mut out = String::new();
+        let b = line.as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            if b[i] == b'$' {
+                let (name_start, braced) = if b.get(i + 1) == Some(&b'{') {
+                    (i + 2, true)
+                } else {
+                    (i + 1, false)
+                };
+                let mut j = name_start;
+                while j < b.len() && (b[j].is_ascii_alphanumeric() || b[j] == b'_') {
+                    j += 1;
+                }
+                let name = &line[name_start..j];
+                let end = if braced {
+                    if b.get(j) != Some(&b'}') {
+                        return Err(LineError {
+                            start: i,
+                            end: j,
+                            message: "unclosed `${`".into(),
+                        });
+                    }
+                    j + 1
+                } else {
+                    j
+                };
+                match self.vars.get(name) {
+                    Some(v) if !name.is_empty() => out.push_str(v),
+                    _ => {
+                        return Err(LineError {
+                            start: i,
+                            end,
+                            message: format!(
+                                "`${name}` has no value: give it on the command line with --set {name}=VALUE"
+                            ),
+                        });
+                    }
+                }
+                i = end;
+            } else {
+                let ch = line[i..].chars().next().expect("in bounds");
+                out.push(ch);
+                i += ch.len_utf8();
+            }
+        }
+        Ok(out)
+    }
+
+    /// Runs one line. Errors are returned located; the state is unchanged by a failing command
+    /// (earlier complete commands of the same line stay done).
+    pub fn run_line(&mut self, raw: &str) -> Result<Flow, LineError> {
+        let line = if raw.contains('$') {
+            self.substitute(raw)?
+        } else {
+            raw.to_string()
+        };
+        if self.echo {
+            if let Some(f) = &mut self.log {
+                let _ = writeln!(f, "> {line}");
+            }
+        }
+        let parsed = parse_line(&line).map_err(|e| LineError {
+            start: e.start,
+            end: e.end,
+            message: e.message,
+        })?;
+        for Parsed {
+            command,
+            start,
+            end,
+        } in parsed
+        {
+            match self.execute(&command) {
+                Ok(Flow::Stop) => return Ok(Flow::Stop),
+                Ok(Flow::Continue) => {}
+                Err(message) => {
+                    return Err(LineError {
+                        start,
+                        end,
+                        message,
+                    });
+                }
+            }
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Executes one command.
+    pub fn execute(&mut self, cmd: &Command) -> Result<Flow, String> {
+        match cmd {
+            Command::Help { topic } => {
+                let text = match topic {
+                    None => crate::lang::doc::help_index(),
+                    Some(t) => crate::lang::doc::help_for(t)?,
+                };
+                self.emit(&text);
+                return Ok(Flow::Continue);
+            }
+            Command::Stop => return Ok(Flow::Stop),
+            Command::Log { on, file } => {
+                if *on {
+                    let name = file.clone().unwrap_or_else(|| "TRUBAL.OUT".into());
+                    if self.log.is_none() || file.is_some() {
+                        let f = File::create(self.path(&name))
+                            .map_err(|e| format!("cannot open log file {name}: {e}"))?;
+                        self.log = Some(f);
+                    }
+                }
+                self.echo = *on;
+                return Ok(Flow::Continue);
+            }
+            Command::Iset | Command::Rset => {
+                return Err(
+                    "Iset/RSet poked TRUBAL's memory array, which does not exist here: use SET (e.g. `SET TOL 1e-6`, `SET XRES 2e-7`; `PRint SETtings` lists them)"
+                        .into(),
+                );
+            }
+            Command::New => {
+                self.scene = None;
+                return Ok(Flow::Continue);
+            }
+            _ => {}
+        }
+        match cmd {
+            Command::Start {
+                size,
+                nbox,
+                nball,
+                nwall,
+                log,
+            } => {
+                if self.scene.is_some() {
+                    return Err("a problem is already defined: give New first, then STArt".into());
+                }
+                self.scene = Some(Scene::new(*size, *nbox, *nball, *nwall));
+                if *log {
+                    self.execute(&Command::Log {
+                        on: true,
+                        file: None,
+                    })?;
+                }
+                return Ok(Flow::Continue);
+            }
+            Command::Restart { file } => {
+                if self.scene.is_some() {
+                    return Err("a problem is already defined: give New first, then RESTart".into());
+                }
+                let name = file.clone().unwrap_or_else(|| "save.old".into());
+                let scene = checkpoint::load(&self.path(&name))?;
+                self.emit(&format!("restarted from {name} at cycle {}", scene.cycle));
+                self.scene = Some(scene);
+                return Ok(Flow::Continue);
+            }
+            _ => {}
+        }
+        let json = self.json;
+        let dir = self.dir.clone();
+        let Some(scene) = self.scene.as_mut() else {
+            return Err("no problem is defined yet: give STArt (or RESTart) first".into());
+        };
+        let (text, warnings) = scene_command(scene, cmd, json, &dir)?;
+        for w in warnings {
+            self.emit_err(&format!("warning: {w}"));
+        }
+        self.emit(&text);
+        Ok(Flow::Continue)
+    }
+}
+
+fn join(dir: &Path, name: &str) -> PathBuf {
+    let p = Path::new(name);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
+
+/// Runs a command that needs a scene; returns the output text and warnings.
+fn scene_command(
+    scene: &mut Scene,
+    cmd: &Command,
+    json: bool,
+    dir: &Path,
+) -> Result<(String, Vec<String>), String> {
+    let mut out = String::new();
+    let mut warnings = Vec::new();
+    match cmd {
+        Command::Cycle { n, servo } => {
+            if !servo.is_empty() {
+                return Err(
+                    "stress-servo keywords of Cycle (S0, S11, ...) need periodic strain control (GRID/GAIN/Mode), which this version does not model; use wall servos (DWAll ... SE F vmax g)"
+                        .into(),
+                );
+            }
+            warnings.extend(cycle::warnings(scene));
+            cycle::run(scene, *n).map_err(|b| b.message)?;
+        }
+        Command::Print { items } => {
+            for it in items {
+                let (human, j) = print::item(scene, *it);
+                if json {
+                    out.push_str(&j.to_string());
+                    out.push('\n');
+                } else {
+                    out.push_str(&human);
+                }
+            }
+        }
+        Command::Save { file } => {
+            let name = file.clone().unwrap_or_else(|| "save.new".into());
+            checkpoint::save(scene, &join(dir, &name))?;
+            out = format!("saved cycle {} to {name}", scene.cycle);
+        }
+        Command::Plot { items } => {
+            let mut drawn: Vec<PlotItem> = Vec::new();
+            for it in items {
+                if *it == PlotItem::Save {
+                    scene.reference = Some(Reference::take(scene));
+                } else {
+                    drawn.push(*it);
+                }
+            }
+            if !drawn.is_empty() {
+                let file = crate::plot::plot(scene, &drawn)?;
+                out = format!("plot written to {file}");
+            }
+        }
+        Command::Grid { .. }
+        | Command::Gain { .. }
+        | Command::Mode { .. }
+        | Command::Probe { .. } => {
+            return Err(format!(
+                "{} controls the strain of the periodic cell, which this version does not model (see doc/commands.md, \"Periodic strain control\")",
+                crate::lang::parse::command_name(cmd)
+            ));
+        }
+        _ => {
+            // Work on a copy so that a failing command changes nothing; the energy the
+            // command adds or removes (new particles, VELocity, Zero, ...) is booked.
+            let mut copy = scene.clone();
+            let before = energy::stored(&copy).total();
+            out = exec::apply(&mut copy, cmd)?;
+            let after = energy::stored(&copy).total();
+            copy.ledger.commands += after - before;
+            *scene = copy;
+        }
+    }
+    Ok((out, warnings))
+}
+
+/// Formats a located error with the line and a caret under the offending words.
+pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
+    let col = line[..e.start.min(line.len())].chars().count() + 1;
+    let width = line
+        .get(e.start.min(line.len())..e.end.min(line.len()))
+        .map(|s| s.chars().count())
+        .unwrap_or(1)
+        .max(1);
+    let shown: String = line
+        .chars()
+        .map(|c| if c.is_control() { '?' } else { c })
+        .collect();
+    format!(
+        "{}:{}:{}: error: {}\n  | {}\n  | {}{}",
+        src.name,
+        src.line,
+        col,
+        e.message,
+        shown,
+        " ".repeat(col - 1),
+        "^".repeat(width)
+    )
+}

@@ -1,0 +1,508 @@
+//! `Cycle n`: the time step. Forces from the current positions (contacts, bridges, walls),
+//! then the leap-frog central-difference update with global mass-proportional damping,
+//! Lian (5.9)–(5.14):
+//!
+//! v_new = ((m/Δt − β/2) v_old + F + m g) / (m/Δt + β/2), β = α_R m;  x += v_new Δt,
+//!
+//! and the same for rotations with I = 2/5 m R². The energy ledger is updated exactly for the
+//! scheme: the damping loss is β |v̄|² Δt and the work of gravity m g·v̄ Δt with
+//! v̄ = (v_old + v_new)/2, so that ½ m v_new² − ½ m v_old² = (F + m g − β v̄)·v̄ Δt.
+
+use super::contacts::ContactStore;
+use super::interact::{Acc, Kin, Laws, interact};
+use super::params::{self, Model};
+use super::scene::{Scene, Vec3};
+use super::search;
+use super::walls::{self, surface_velocity, wall_gap, wall_r_star};
+use crate::lang::command::WallGeom;
+
+/// Why a `Cycle` stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Blowup {
+    /// Cycle number (1-based count of the scene) of the step that failed.
+    pub cycle: u64,
+    pub message: String,
+}
+
+/// Search distances in use: TOL (gap below which pairs are candidates) and XRES.
+pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
+    let p = &scene.particles;
+    let rmean = if p.is_empty() {
+        0.0
+    } else {
+        p.radius.iter().sum::<f64>() / p.len() as f64
+    };
+    let mut need: f64 = 0.0;
+    // Live bonds must stay in the candidate list: JKR down to α_s, bridges up to S_c.
+    if model.adhesion {
+        for i in 0..model.nmat {
+            for j in 0..model.nmat {
+                let pc = &model.table[i * model.nmat + j];
+                if pc.gamma > 0.0 {
+                    let rmax = scene.max_radius();
+                    let jk = crate::physics::jkr::Jkr {
+                        e_star: pc.e_star,
+                        r_star: rmax,
+                        gamma: pc.gamma,
+                    };
+                    need = need.max(-jk.alpha_s());
+                }
+            }
+        }
+    }
+    if let Some(l) = &scene.liquid {
+        if l.pvol > 0.0 {
+            for c in &scene.contacts.pairs {
+                if let Some(b) = &c.s.bridge {
+                    need = need.max(b.s_c);
+                }
+            }
+            // Bridges not formed yet: the largest possible volume (two largest spheres).
+            let rmax = scene.max_radius();
+            let v = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * rmax.powi(3);
+            let b = crate::physics::bridge::Bridge {
+                r1: rmax,
+                r2: rmax,
+                volume: v,
+                gamma: l.gamma,
+                theta: l.theta,
+            };
+            need = need.max(crate::physics::bridge::rupture_distance(&b));
+        }
+    }
+    let auto = (0.2 * rmean).max(1.5 * need);
+    let tol = scene.settings.tol.unwrap_or(auto).max(1.5 * need);
+    let xres_max = tol / (2.0 * 3f64.sqrt());
+    let xres = scene
+        .settings
+        .xres
+        .map(|x| x.min(xres_max * 0.999))
+        .unwrap_or(0.25 * tol);
+    (tol, xres)
+}
+
+/// Rebuilds the candidate lists.
+pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
+    let (pairs, walls, info) = search::candidates(scene, tol);
+    scene.contacts.merge(pairs, walls);
+    scene.contacts.tol = tol;
+    for d in scene.particles.disp.iter_mut() {
+        *d = Vec3::zeros();
+    }
+    info
+}
+
+/// Checks that must pass before cycling (bad input gives a clear error, not a NaN).
+pub fn check(scene: &Scene) -> Result<Model, String> {
+    let model = params::build(scene)?;
+    let p = &scene.particles;
+    if !(model.dt > 0.0) && !p.is_empty() {
+        return Err("the time step is zero: check radii, densities and moduli".into());
+    }
+    // Periodic axes must be wider than two interaction ranges.
+    let rmax = scene.max_radius();
+    for k in 0..3 {
+        if scene.settings.periodic[k] && !p.is_empty() && scene.size[k] < 4.0 * rmax {
+            return Err(format!(
+                "the periodic work-space is too small along {}: {} < 4 × largest radius; enlarge it or `SET OPEn {}`",
+                ["x", "y", "z"][k],
+                scene.size[k],
+                ["X", "Y", "Z"][k]
+            ));
+        }
+    }
+    Ok(model)
+}
+
+/// Warnings about the scene before cycling (deep overlaps, walls through particles).
+pub fn warnings(scene: &Scene) -> Vec<String> {
+    let mut out = Vec::new();
+    let p = &scene.particles;
+    for (w, wall) in scene.walls.iter().enumerate() {
+        let mut n = 0;
+        for i in 0..p.len() {
+            let (gap, _) = wall_gap(&wall.geom, &p.pos[i], p.radius[i]);
+            if gap < -0.5 * p.radius[i] {
+                n += 1;
+            }
+        }
+        if n > 0 {
+            out.push(format!(
+                "wall {} cuts through {n} particle(s) (overlap > R/2): they will be pushed out violently",
+                w + 1
+            ));
+        }
+    }
+    out
+}
+
+/// Runs `n` cycles. On a blow-up the scene is restored to the last good snapshot and the
+/// error says where it happened.
+pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
+    let model = check(scene).map_err(|m| Blowup {
+        cycle: scene.cycle,
+        message: m,
+    })?;
+    if scene.particles.is_empty() {
+        scene.cycle += n;
+        scene.time += n as f64 * model.dt;
+        return Ok(model);
+    }
+    let (tol, xres) = search_distances(scene, &model);
+    if scene.contacts.tol != tol {
+        scene.contacts.stale = true;
+    }
+    let mut snapshot = scene.clone();
+    let every = scene.settings.snapshot_every.max(1);
+    for step in 0..n {
+        if step > 0 && step % every == 0 {
+            snapshot.clone_from(scene);
+        }
+        if let Err(mut e) = one_step(scene, &model, tol, xres) {
+            e.message.push_str(&format!(
+                "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
+                snapshot.cycle
+            ));
+            *scene = snapshot;
+            return Err(e);
+        }
+        if scene.settings.history_every > 0 && scene.cycle % scene.settings.history_every == 0 {
+            super::record_history(scene);
+        }
+    }
+    Ok(model)
+}
+
+/// One time step.
+pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result<(), Blowup> {
+    let dt = model.dt;
+    if scene.contacts.stale {
+        rebuild(scene, tol);
+    }
+    remove_lost(scene);
+    let np = scene.particles.len();
+    for i in 0..np {
+        scene.particles.force[i] = Vec3::zeros();
+        scene.particles.moment[i] = Vec3::zeros();
+    }
+    let smin = scene
+        .settings
+        .smin
+        .unwrap_or(0.5 * scene.max_radius() / 100.0);
+    let mut acc = Acc::default();
+
+    // ---- particle–particle contacts ---------------------------------------------------
+    {
+        let laws = Laws {
+            dt,
+            tangential: scene.settings.tangential,
+            rotation: model.rotation,
+            beta: scene.damping_pp.beta,
+            liquid: scene.liquid.as_ref(),
+            bridge: scene.settings.bridge,
+            smin,
+            impact: scene.impact,
+        };
+        let size = scene.size;
+        let periodic = scene.settings.periodic;
+        let p = &mut scene.particles;
+        let ContactStore { pairs, .. } = &mut scene.contacts;
+        for c in pairs.iter_mut() {
+            let (i, j) = (c.i as usize, c.j as usize);
+            let mut d = p.pos[j] - p.pos[i];
+            for k in 0..3 {
+                if periodic[k] {
+                    d[k] -= size[k] * (d[k] / size[k]).round();
+                }
+            }
+            let (ri, rj) = (p.radius[i], p.radius[j]);
+            let dist2 = d.norm_squared();
+            // Far apart and nothing to remember: skip the contact laws.
+            let reach = ri + rj;
+            if dist2 > reach * reach && !c.s.touching && c.s.bridge.is_none() {
+                continue;
+            }
+            let dist = dist2.sqrt();
+            let n = d / dist;
+            let v_rel = p.vel[j] - p.vel[i] - (p.spin[i] * ri + p.spin[j] * rj).cross(&n);
+            let (mi, mj) = (p.mass[i], p.mass[j]);
+            let k = Kin {
+                n,
+                gap: dist - ri - rj,
+                v_rel,
+                r_star: ri * rj / (ri + rj),
+                m_star: mi * mj / (mi + mj),
+                r1: ri,
+                r2: rj,
+            };
+            let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
+            let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+            p.force[i] -= out.f;
+            p.force[j] += out.f;
+            if model.rotation {
+                let m = -n.cross(&out.ft);
+                p.moment[i] += m * ri;
+                p.moment[j] += m * rj;
+            }
+        }
+    }
+
+    // ---- particle–wall contacts -------------------------------------------------------
+    if !scene.walls.is_empty() {
+        let laws = Laws {
+            dt,
+            tangential: scene.settings.tangential,
+            rotation: model.rotation,
+            beta: scene.damping_pw.beta,
+            liquid: scene.liquid.as_ref(),
+            bridge: scene.settings.bridge,
+            smin,
+            impact: scene.impact,
+        };
+        for w in scene.walls.iter_mut() {
+            w.force = [0.0; 3];
+        }
+        let p = &mut scene.particles;
+        for c in scene.contacts.wall_pairs.iter_mut() {
+            let i = c.i as usize;
+            let w = &mut scene.walls[c.wall as usize];
+            let (gap, n) = wall_gap(&w.geom, &p.pos[i], p.radius[i]);
+            if gap > 0.0 && !c.s.touching && c.s.bridge.is_none() {
+                continue;
+            }
+            let ri = p.radius[i];
+            let vw = surface_velocity(w, &n);
+            let v_rel = vw - p.vel[i] - (p.spin[i] * ri).cross(&n);
+            let r2 = match w.geom {
+                WallGeom::Plane { .. } => f64::INFINITY,
+                WallGeom::Sphere { radius, .. } => -radius,
+                WallGeom::Obstacle { radius, .. } => radius,
+            };
+            let k = Kin {
+                n,
+                gap,
+                v_rel,
+                r_star: wall_r_star(&w.geom, ri),
+                m_star: p.mass[i],
+                r1: ri,
+                r2: if r2 < 0.0 { f64::INFINITY } else { r2 },
+            };
+            let pc = model.pair(p.material[i] as usize, w.material);
+            let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+            p.force[i] -= out.f;
+            for kk in 0..3 {
+                w.force[kk] += out.f[kk];
+            }
+            if model.rotation {
+                p.moment[i] += -n.cross(&out.ft) * ri;
+            }
+        }
+    }
+
+    // ---- walls: measured force, work input, motion ------------------------------------
+    let mut wall_work = 0.0;
+    for w in scene.walls.iter_mut() {
+        let f = Vec3::from(w.force);
+        w.normal_force = match w.geom {
+            WallGeom::Plane { normal, .. } => -f.dot(&Vec3::from(normal).normalize()),
+            _ => 0.0,
+        };
+        // Work done by a moving wall on the particles: −(force on wall)·v_w Δt.
+        wall_work -= f.dot(&Vec3::from(w.vel)) * dt;
+    }
+    // Radial force and radial work of spherical walls.
+    for c in scene.contacts.wall_pairs.iter() {
+        let w = &mut scene.walls[c.wall as usize];
+        if let WallGeom::Sphere { .. } | WallGeom::Obstacle { .. } = w.geom {
+            let fn_ = c.s.normal_force + c.s.damp_force
+                - c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+            if c.s.touching || c.s.bridge.is_some() {
+                w.normal_force += fn_;
+                let sign = if matches!(w.geom, WallGeom::Sphere { .. }) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                wall_work -= sign * fn_ * w.vr * dt;
+            }
+        }
+    }
+    for w in scene.walls.iter_mut() {
+        walls::servo(w);
+        walls::advance(w, dt);
+    }
+
+    // ---- integration ------------------------------------------------------------------
+    let g = Vec3::from(scene.gravity);
+    let two_d = scene.settings.two_d;
+    let alpha = scene.damping_pp.alpha;
+    let damp = (1.0 - 0.5 * alpha * dt) / (1.0 + 0.5 * alpha * dt);
+    let inv = 1.0 / (1.0 + 0.5 * alpha * dt);
+    let mut w_grav = 0.0;
+    let mut d_mass = 0.0;
+    let mut bad: Option<usize> = None;
+    let mut max_disp = 0.0f64;
+    let cg = scene.cgravity;
+    let centres = scene.regions.map(|r| r.map(|r| Vec3::from(r.centre)));
+    let fmm = scene.fmm;
+    let p = &mut scene.particles;
+    for i in 0..np {
+        let m = p.mass[i];
+        let mut body = g;
+        let a = p.agg[i] as usize;
+        if a > 0 && cg[a - 1] > 0.0 {
+            if let Some(c) = centres[a - 1] {
+                let e = c - p.pos[i];
+                let l = e.norm();
+                if l > 0.0 {
+                    body += e * (cg[a - 1] / l);
+                }
+            }
+        }
+        let fb = body * (m * fmm);
+        let f = p.force[i] + fb;
+        let v_old = p.vel[i];
+        let mut v = v_old * damp + f * (dt / m * inv);
+        let fixed = p.fixed[i];
+        if fixed != 0 {
+            for k in 0..3 {
+                if fixed & (1 << k) != 0 {
+                    v[k] = v_old[k];
+                }
+            }
+        }
+        if two_d {
+            v.z = 0.0;
+        }
+        let vbar = (v + v_old) * 0.5;
+        w_grav += fb.dot(&vbar) * dt;
+        d_mass += alpha * m * vbar.norm_squared() * dt;
+        p.vel[i] = v;
+        let dx = v * dt;
+        p.pos[i] += dx;
+        p.disp[i] += dx;
+        let dmax = p.disp[i].amax();
+        max_disp = max_disp.max(dmax);
+        if model.rotation {
+            let inertia = 0.4 * m * p.radius[i] * p.radius[i];
+            let w_old = p.spin[i];
+            let mut w = w_old * damp + p.moment[i] * (dt / inertia * inv);
+            if fixed != 0 {
+                for k in 0..3 {
+                    if fixed & (8 << k) != 0 {
+                        w[k] = w_old[k];
+                    }
+                }
+            }
+            if two_d {
+                w.x = 0.0;
+                w.y = 0.0;
+            }
+            let wbar = (w + w_old) * 0.5;
+            d_mass += alpha * inertia * wbar.norm_squared() * dt;
+            p.spin[i] = w;
+            p.rot[i] += w * dt;
+        }
+        if !(p.pos[i].iter().all(|x| x.is_finite()) && v.iter().all(|x| x.is_finite()))
+            && bad.is_none()
+        {
+            bad = Some(i);
+        }
+    }
+    if let Some(i) = bad {
+        return Err(Blowup {
+            cycle: scene.cycle + 1,
+            message: format!(
+                "numerical blow-up at cycle {}: particle {} has a non-finite position or velocity (force {:?}). \
+                 Hint: reduce FRAction, check for deep initial overlaps, very stiff dashpots or servo gains",
+                scene.cycle + 1,
+                p.id[i],
+                [p.force[i].x, p.force[i].y, p.force[i].z]
+            ),
+        });
+    }
+    // Wrap periodic coordinates.
+    for k in 0..3 {
+        if scene.settings.periodic[k] {
+            let l = scene.size[k];
+            for x in p.pos.iter_mut() {
+                if x[k] < 0.0 || x[k] >= l {
+                    x[k] = x[k].rem_euclid(l);
+                }
+            }
+        }
+    }
+    if scene.zero_always {
+        for i in 0..np {
+            p.vel[i] = Vec3::zeros();
+            p.spin[i] = Vec3::zeros();
+        }
+    }
+    if max_disp > xres {
+        scene.contacts.stale = true;
+    }
+
+    let l = &mut scene.ledger;
+    l.gravity += w_grav;
+    l.walls += wall_work;
+    l.damping_mass += d_mass;
+    l.friction += acc.friction;
+    l.damping_contact += acc.damping_contact;
+    l.viscous += acc.viscous;
+    l.adhesion += acc.adhesion;
+    l.rupture += acc.rupture;
+    scene.cycle += 1;
+    scene.time += dt;
+    Ok(())
+}
+
+/// Removes particles that left through an open side (counted in `lost`).
+fn remove_lost(scene: &mut Scene) {
+    let mut i = 0;
+    let mut removed = false;
+    while i < scene.particles.len() {
+        let x = scene.particles.pos[i];
+        let out =
+            (0..3).any(|k| !scene.settings.periodic[k] && (x[k] < 0.0 || x[k] > scene.size[k]));
+        if out {
+            // Its kinetic energy leaves the books with it.
+            let e = 0.5 * scene.particles.mass[i] * scene.particles.vel[i].norm_squared()
+                + 0.5 * scene.particles.inertia(i) * scene.particles.spin[i].norm_squared();
+            scene.ledger.commands -= e;
+            scene.particles.remove(i);
+            scene.lost += 1;
+            removed = true;
+        } else {
+            i += 1;
+        }
+    }
+    if removed {
+        // Indices changed: drop pairs of removed particles and re-index.
+        let ids = &scene.particles.id;
+        let mut index = std::collections::HashMap::new();
+        for (k, &id) in ids.iter().enumerate() {
+            index.insert(id, k as u32);
+        }
+        scene
+            .contacts
+            .pairs
+            .retain_mut(|c| match (index.get(&c.ida), index.get(&c.idb)) {
+                (Some(&a), Some(&b)) => {
+                    c.i = a;
+                    c.j = b;
+                    true
+                }
+                _ => false,
+            });
+        scene
+            .contacts
+            .wall_pairs
+            .retain_mut(|c| match index.get(&c.id) {
+                Some(&a) => {
+                    c.i = a;
+                    true
+                }
+                None => false,
+            });
+    }
+}

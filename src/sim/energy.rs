@@ -1,0 +1,91 @@
+//! The energy ledger: what went in (initial energy, work of gravity, walls and commands),
+//! what is stored (kinetic, contact strain, adhesive and bridge stretch) and what was
+//! dissipated (friction, global and contact damping, viscosity, adhesion hysteresis, bridge
+//! rupture). The residual `stored − (input − dissipated)` shows how well the books close.
+
+use serde::{Deserialize, Serialize};
+
+use super::scene::Scene;
+
+/// Accumulated energy terms (J).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Ledger {
+    /// Energy changed by commands (creation, VELocity, Zero, FRO, ...) — the initial energy of
+    /// a scene enters here when its particles are created.
+    pub commands: f64,
+    pub gravity: f64,
+    pub walls: f64,
+    pub friction: f64,
+    pub damping_mass: f64,
+    pub damping_contact: f64,
+    pub viscous: f64,
+    pub adhesion: f64,
+    pub rupture: f64,
+}
+
+/// Energies that are functions of the current state (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Stored {
+    pub kinetic_translation: f64,
+    pub kinetic_rotation: f64,
+    /// Normal elastic strain (Hertz) or elastic + surface energy (JKR), zero at first touch.
+    pub strain_normal: f64,
+    pub strain_tangential: f64,
+    /// Work done against static liquid-bridge forces since each live bridge formed.
+    pub bridge: f64,
+}
+
+impl Stored {
+    pub fn total(&self) -> f64 {
+        self.kinetic_translation
+            + self.kinetic_rotation
+            + self.strain_normal
+            + self.strain_tangential
+            + self.bridge
+    }
+}
+
+impl Ledger {
+    pub fn input(&self) -> f64 {
+        self.commands + self.gravity + self.walls
+    }
+    pub fn dissipated(&self) -> f64 {
+        self.friction
+            + self.damping_mass
+            + self.damping_contact
+            + self.viscous
+            + self.adhesion
+            + self.rupture
+    }
+}
+
+/// Kinetic energy with the half-step velocities of the leap-frog scheme.
+pub fn stored(scene: &Scene) -> Stored {
+    let p = &scene.particles;
+    let mut s = Stored::default();
+    for i in 0..p.len() {
+        s.kinetic_translation += 0.5 * p.mass[i] * p.vel[i].norm_squared();
+        s.kinetic_rotation += 0.5 * p.inertia(i) * p.spin[i].norm_squared();
+    }
+    for c in scene
+        .contacts
+        .pairs
+        .iter()
+        .map(|c| &c.s)
+        .chain(scene.contacts.wall_pairs.iter().map(|c| &c.s))
+    {
+        if c.touching {
+            s.strain_normal += c.strain;
+            s.strain_tangential += c.tang_energy;
+        }
+        if let Some(b) = &c.bridge {
+            s.bridge += b.work;
+        }
+    }
+    s
+}
+
+/// Residual of the books: stored − (input − dissipated).
+pub fn residual(scene: &Scene) -> f64 {
+    stored(scene).total() - (scene.ledger.input() - scene.ledger.dissipated())
+}

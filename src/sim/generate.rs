@@ -1,0 +1,147 @@
+//! Assembly generation: `CReate`, `RGEnerate` (random) and `AGEnerate` (lattice), with the
+//! overlap check and the agglomerate regions of `AGGlomerate` (Lian §5.3).
+//!
+//! A generated particle is *inside* a region when the whole particle is inside: its centre
+//! lies within R_A − R of the region centre (DECISIONS.md). Without a region, the particle
+//! must lie in the work-space: its centre in [0, L) on periodic axes, in [R, L − R] on open
+//! axes. Overlap: centre distance below (R_i + R_j)(1 − 1e-9), so touching lattice spheres are
+//! accepted despite round-off.
+
+use std::collections::HashMap;
+
+use super::scene::{Region, Scene, Vec3};
+
+/// Relative tolerance of the overlap check.
+const TOUCH_TOL: f64 = 1e-9;
+
+/// Spatial hash of the existing particles for the overlap check.
+pub struct OverlapIndex {
+    h: f64,
+    cells: HashMap<(i64, i64, i64), Vec<usize>>,
+    rmax: f64,
+}
+
+impl OverlapIndex {
+    pub fn new(scene: &Scene, r_new: f64) -> Self {
+        let rmax = scene.max_radius().max(r_new);
+        let h = 2.0 * rmax;
+        let mut idx = OverlapIndex {
+            h,
+            cells: HashMap::new(),
+            rmax,
+        };
+        for i in 0..scene.particles.len() {
+            idx.insert(&scene.particles.pos[i], i);
+        }
+        idx
+    }
+
+    fn key(&self, x: &Vec3) -> (i64, i64, i64) {
+        (
+            (x.x / self.h).floor() as i64,
+            (x.y / self.h).floor() as i64,
+            (x.z / self.h).floor() as i64,
+        )
+    }
+
+    pub fn insert(&mut self, x: &Vec3, i: usize) {
+        let k = self.key(x);
+        self.cells.entry(k).or_default().push(i);
+    }
+
+    /// Whether a sphere (x, r) overlaps any indexed particle (minimum image on periodic axes).
+    pub fn overlaps(&self, scene: &Scene, x: &Vec3, r: f64) -> Option<usize> {
+        let p = &scene.particles;
+        let reach = ((r + self.rmax) / self.h).ceil() as i64;
+        let mut images = vec![*x];
+        for k in 0..3 {
+            if scene.settings.periodic[k] {
+                let l = scene.size[k];
+                let mut more = Vec::new();
+                for im in &images {
+                    for s in [-1.0, 1.0] {
+                        let mut y = *im;
+                        y[k] += s * l;
+                        more.push(y);
+                    }
+                }
+                images.extend(more);
+            }
+        }
+        for y in &images {
+            let (cx, cy, cz) = self.key(y);
+            for dz in -reach..=reach {
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                            for &j in v {
+                                let d = (p.pos[j] - y).norm();
+                                if d < (r + p.radius[j]) * (1.0 - TOUCH_TOL) {
+                                    return Some(j);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Whether a particle (x, r) is acceptable with respect to the region / work-space.
+pub fn inside(scene: &Scene, region: Option<&Region>, x: &Vec3, r: f64) -> bool {
+    if let Some(g) = region {
+        let d = (x - Vec3::from(g.centre)).norm();
+        if d > g.radius - r {
+            return false;
+        }
+    }
+    for k in 0..3 {
+        let l = scene.size[k];
+        let ok = if scene.settings.periodic[k] {
+            (0.0..l).contains(&x[k])
+        } else {
+            x[k] >= r && x[k] <= l - r
+        };
+        if !ok {
+            return false;
+        }
+    }
+    true
+}
+
+/// Mass of a sphere.
+pub fn sphere_mass(rho: f64, r: f64) -> f64 {
+    rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
+}
+
+/// Sites of an orthorhombic lattice with the given origin and step that fall in the
+/// work-space, in x-fastest order (`AGEnerate`).
+pub fn lattice_sites(scene: &Scene, origin: [f64; 3], step: [f64; 3]) -> Vec<Vec3> {
+    let mut range = [(0i64, 0i64); 3];
+    for k in 0..3 {
+        let lo = ((0.0 - origin[k]) / step[k] - 1e-9).ceil() as i64;
+        let hi = ((scene.size[k] - origin[k]) / step[k] - 1e-9).ceil() as i64 - 1;
+        range[k] = (lo, hi);
+    }
+    let mut v = Vec::new();
+    for k in range[2].0..=range[2].1 {
+        for j in range[1].0..=range[1].1 {
+            for i in range[0].0..=range[0].1 {
+                let x = Vec3::new(
+                    origin[0] + i as f64 * step[0],
+                    origin[1] + j as f64 * step[1],
+                    origin[2] + k as f64 * step[2],
+                );
+                if x.iter()
+                    .enumerate()
+                    .all(|(a, &c)| c >= 0.0 && c < scene.size[a])
+                {
+                    v.push(x);
+                }
+            }
+        }
+    }
+    v
+}

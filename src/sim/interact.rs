@@ -1,0 +1,344 @@
+//! The force of one contact (particle–particle or particle–wall): normal law (Hertz or JKR),
+//! contact damping, tangential law, and the liquid bridge. Lian §5.6.2 (with the sign
+//! corrections of physics-lian1994 §2.4) and §5.7.
+
+use super::contacts::{BridgeState, ContactState};
+use super::params::PairConst;
+use super::scene::{Liquid, Vec3};
+use crate::lang::command::{BridgeChoice, TangentialChoice};
+use crate::physics::bridge::{self, Bridge, BridgeModel};
+use crate::physics::tangential::{self, TangentialInput};
+use crate::physics::{hertz, jkr::Jkr};
+
+/// Geometry and kinematics of a contact at this step. A is the particle, B the other
+/// particle or the wall; `n` points from A to B.
+pub struct Kin {
+    pub n: Vec3,
+    /// Gap between surfaces (negative = overlap).
+    pub gap: f64,
+    /// Velocity of B's contact point relative to A's.
+    pub v_rel: Vec3,
+    pub r_star: f64,
+    pub m_star: f64,
+    /// Radii for the liquid bridge (r2 = ∞ for a plane wall).
+    pub r1: f64,
+    pub r2: f64,
+}
+
+/// What the scene asks of contacts, fixed for a `Cycle` command.
+pub struct Laws<'a> {
+    pub dt: f64,
+    pub tangential: TangentialChoice,
+    pub rotation: bool,
+    /// Rayleigh stiffness-proportional coefficient β_R for this contact set.
+    pub beta: f64,
+    pub liquid: Option<&'a Liquid>,
+    pub bridge: BridgeChoice,
+    pub smin: f64,
+    /// Impact flag: contacts made now use the base surface energy.
+    pub impact: bool,
+}
+
+/// Energy increments of this step.
+#[derive(Default, Clone, Copy)]
+pub struct Acc {
+    pub friction: f64,
+    pub damping_contact: f64,
+    pub viscous: f64,
+    pub adhesion: f64,
+    pub rupture: f64,
+}
+
+impl Acc {
+    pub fn add(&mut self, o: &Acc) {
+        self.friction += o.friction;
+        self.damping_contact += o.damping_contact;
+        self.viscous += o.viscous;
+        self.adhesion += o.adhesion;
+        self.rupture += o.rupture;
+    }
+}
+
+/// Force on B (total) and its tangential part (for moments).
+pub struct Out {
+    pub f: Vec3,
+    pub ft: Vec3,
+}
+
+fn model(b: BridgeChoice) -> BridgeModel {
+    match b {
+        BridgeChoice::Fit => BridgeModel::Fit,
+        BridgeChoice::Toroidal => BridgeModel::Toroidal,
+        BridgeChoice::Laplace => BridgeModel::Laplace,
+    }
+}
+
+fn reset_solid(s: &mut ContactState) {
+    s.touching = false;
+    s.normal_force = 0.0;
+    s.damp_force = 0.0;
+    s.a = 0.0;
+    s.strain = 0.0;
+    s.tang_energy = 0.0;
+    s.delta = Vec3::zeros();
+    s.tforce = Vec3::zeros();
+    s.tang = Default::default();
+    s.tdelta = 0.0;
+    s.overlap = 0.0;
+}
+
+/// Computes the contact force and updates the contact state.
+#[inline]
+pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc: &mut Acc) -> Out {
+    let alpha = -k.gap;
+    let dt = laws.dt;
+    let v_n = k.v_rel.dot(&k.n); // separation rate (positive = opening)
+    let mut fn_b = 0.0; // normal force on B along n (positive = pushes B away)
+    let mut ft_b = Vec3::zeros();
+
+    // ---- normal law -----------------------------------------------------------------
+    let p_old = s.normal_force;
+    let gamma = if s.touching { s.gamma } else { pc.gamma };
+    let mut kn = 0.0;
+    let mut pcrit = 0.0;
+    if gamma > 0.0 {
+        let j = Jkr {
+            e_star: pc.e_star,
+            r_star: k.r_star,
+            gamma,
+        };
+        if !s.touching && alpha >= 0.0 {
+            // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md).
+            s.touching = true;
+            s.gamma = if laws.impact { pc.gamma } else { gamma };
+            s.a = j.a0();
+            s.normal = k.n;
+        }
+        if s.touching {
+            if alpha < j.alpha_s() {
+                // Detachment (3.38): the stored energy of the loop is lost (3.114).
+                acc.adhesion += s.strain;
+                reset_solid(s);
+            } else {
+                let (p, a) = j.force(alpha, s.a);
+                s.a = a;
+                s.normal_force = p;
+                s.strain = j.energy_of_a(a) - j.energy_of_a(j.a0());
+                kn = j.stiffness_of_a(a).abs();
+                pcrit = j.pc();
+            }
+        }
+    } else if alpha > 0.0 {
+        if !s.touching {
+            s.touching = true;
+            s.normal = k.n;
+            s.gamma = 0.0;
+        }
+        s.normal_force = hertz::force(pc.e_star, k.r_star, alpha);
+        s.a = hertz::contact_radius(k.r_star, alpha);
+        s.strain = hertz::energy(pc.e_star, k.r_star, alpha);
+        kn = 2.0 * pc.e_star * s.a;
+    } else if s.touching {
+        reset_solid(s);
+    }
+    s.overlap = alpha;
+
+    if s.touching {
+        fn_b += s.normal_force;
+        // Contact damping: restitution dashpot C α^{1/4} (clamped so the total stays
+        // compressive for non-adhesive contacts), and Rayleigh β k_n.
+        let mut fd = 0.0;
+        if pc.zeta > 0.0 && alpha > 0.0 {
+            let kk = 4.0 / 3.0 * pc.e_star * k.r_star.sqrt();
+            let c = pc.zeta * (k.m_star * kk).sqrt();
+            fd -= c * alpha.sqrt().sqrt() * v_n;
+        }
+        if laws.beta > 0.0 {
+            fd -= laws.beta * kn * v_n;
+        }
+        if gamma == 0.0 && s.normal_force + fd < 0.0 {
+            fd = -s.normal_force;
+        }
+        s.damp_force = fd;
+        acc.damping_contact += -fd * v_n * dt;
+        fn_b += fd;
+
+        // ---- tangential law ---------------------------------------------------------
+        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
+            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+        }
+        s.normal = k.n;
+    }
+
+    // ---- liquid bridge ------------------------------------------------------------------
+    if let Some(liq) = laws.liquid {
+        // Formation on solid contact (DECISIONS.md); touching within round-off counts.
+        if s.bridge.is_none() && liq.pvol > 0.0 && k.gap <= 1e-6 * k.r1 {
+            let volume = super::liquid::bridge_volume(liq.pvol, k.r1, k.r2);
+            let b = Bridge {
+                r1: k.r1,
+                r2: k.r2,
+                volume,
+                gamma: liq.gamma,
+                theta: liq.theta,
+            };
+            s.bridge = Some(Box::new(BridgeState {
+                volume,
+                s_c: bridge::rupture_distance(&b),
+                f_static: 0.0,
+                f_visc: 0.0,
+                phi: 0.0,
+                gap: k.gap,
+                work: 0.0,
+            }));
+            s.wetted = true;
+        }
+        if let Some(bs) = s.bridge.as_deref_mut() {
+            if k.gap > bs.s_c {
+                // Rupture: the work done against the bridge is lost (Lian §5.7).
+                acc.rupture += bs.work;
+                s.bridge = None;
+            } else {
+                let b = Bridge {
+                    r1: k.r1,
+                    r2: k.r2,
+                    volume: bs.volume,
+                    gamma: liq.gamma,
+                    theta: liq.theta,
+                };
+                let sgap = k.gap.max(0.0);
+                let fs = bridge::static_force(model(laws.bridge), &b, sgap);
+                let fv = if liq.eta > 0.0 {
+                    bridge::viscous_normal(liq.eta, k.r_star, v_n, sgap, laws.smin)
+                } else {
+                    0.0
+                };
+                // Work against the attractive force while opening (stored), viscous loss.
+                bs.work += fs * v_n * dt;
+                acc.viscous += fv * v_n * dt;
+                bs.f_static = fs;
+                bs.f_visc = fv;
+                bs.gap = k.gap;
+                fn_b += -fs - fv;
+            }
+        }
+    }
+
+    Out {
+        f: k.n * fn_b + ft_b,
+        ft: ft_b,
+    }
+}
+
+/// Tangential force on B: rotate the history into the current contact plane, advance the
+/// signed resultant displacement (Lian (5.22)–(5.26), corrected sign rule of
+/// physics-lian1994 §2.4 item 6) and apply the chosen law.
+fn tangential_step(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    p_old: f64,
+    pcrit: f64,
+    acc: &mut Acc,
+) -> Vec3 {
+    let dt = laws.dt;
+    let n = k.n;
+    // Rotation of the contact plane (5.19)–(5.21): project the old vectors on the new plane
+    // and keep their lengths.
+    let rotate = |v: Vec3| {
+        let len = v.norm();
+        if len == 0.0 {
+            return v;
+        }
+        let w = v - n * n.dot(&v);
+        let wl = w.norm();
+        if wl > 0.0 {
+            w * (len / wl)
+        } else {
+            Vec3::zeros()
+        }
+    };
+    s.delta = rotate(s.delta);
+    s.tforce = rotate(s.tforce);
+    let v_t = k.v_rel - n * k.v_rel.dot(&n);
+    let dd = v_t * dt;
+    let p_new = s.normal_force;
+    let kt0 = 8.0 * pc.g_star * s.a;
+    match laws.tangential {
+        TangentialChoice::NoSlip => {
+            // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
+            let old = s.tforce;
+            let mut f = old - dd * kt0;
+            if laws.beta > 0.0 {
+                // Rayleigh tangential dashpot is added separately below.
+            }
+            let pe = p_new + 2.0 * pcrit;
+            let cap = pc.mu * pe.max(0.0);
+            let fl = f.norm();
+            if fl > cap {
+                f *= if fl > 0.0 { cap / fl } else { 0.0 };
+            }
+            // Energy: work done on the spring minus the change of its stored energy.
+            let work = -0.5 * (old + f).dot(&dd);
+            let e_new = if kt0 > 0.0 {
+                f.norm_squared() / (2.0 * kt0)
+            } else {
+                0.0
+            };
+            acc.friction += work - (e_new - s.tang_energy);
+            s.tang_energy = e_new;
+            s.tforce = f;
+            s.delta += dd;
+        }
+        TangentialChoice::Md => {
+            let old_vec = s.delta;
+            let new_vec = old_vec + dd;
+            let old_len = s.tdelta;
+            let sign_old = if old_len < 0.0 { -1.0 } else { 1.0 };
+            let dir = if old_vec.dot(&new_vec) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            let new_len = sign_old * dir * new_vec.norm();
+            let inp = TangentialInput {
+                g_star: pc.g_star,
+                mu: pc.mu,
+                a: s.a,
+                p_old,
+                p_new,
+                pc: pcrit,
+                e_star: pc.e_star,
+                d_delta: new_len - old_len,
+            };
+            let t_old = s.tforce;
+            let out = tangential::mindlin_deresiewicz(&mut s.tang, &inp);
+            s.tdelta = new_len;
+            // Direction of the positive resultant: δ/δ_signed.
+            let unit = if new_len != 0.0 {
+                new_vec / new_len
+            } else if t_old.norm() > 0.0 {
+                -t_old / t_old.norm()
+            } else {
+                Vec3::zeros()
+            };
+            // The elastic force acts along δ on the contact; on B it opposes B's slip.
+            let f = -unit * s.tang.t;
+            let work = -0.5 * (t_old + f).dot(&dd);
+            let e_new = tangential::stored_energy(&s.tang);
+            let _ = out;
+            acc.friction += work - (e_new - s.tang_energy);
+            s.tang_energy = e_new;
+            s.tforce = f;
+            s.delta = new_vec;
+        }
+    }
+    let mut ft = s.tforce;
+    if laws.beta > 0.0 {
+        let fd = -v_t * (laws.beta * kt0);
+        acc.damping_contact += -fd.dot(&v_t) * dt;
+        ft += fd;
+    }
+    ft
+}

@@ -1,0 +1,39 @@
+//! The simulation core: state, generation, contact search, contact forces, time stepping and
+//! the energy ledger. No I/O happens here: the session asks and formats.
+
+pub mod contacts;
+pub mod cycle;
+pub mod energy;
+pub mod generate;
+pub mod history;
+pub mod interact;
+pub mod liquid;
+pub mod params;
+pub mod reference;
+pub mod rng;
+pub mod scene;
+pub mod search;
+pub mod walls;
+
+pub use scene::{Scene, Vec3};
+
+/// Appends one row to the history (columns of [`history::COLUMNS`]).
+pub fn record_history(scene: &mut Scene) {
+    let st = energy::stored(scene);
+    let (c, cw) = scene.contacts.active_counts();
+    let (b, bw) = scene.contacts.bridge_counts();
+    let wf: f64 = scene.walls.iter().map(|w| w.normal_force).sum();
+    let row = vec![
+        scene.cycle as f64,
+        scene.time,
+        st.kinetic_translation + st.kinetic_rotation,
+        st.strain_normal + st.strain_tangential + st.bridge,
+        scene.ledger.input(),
+        scene.ledger.dissipated(),
+        energy::residual(scene),
+        (c + cw) as f64,
+        (b + bw) as f64,
+        wf,
+    ];
+    scene.history.rows.push(row);
+}

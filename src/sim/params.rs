@@ -1,0 +1,145 @@
+//! Per-material-pair constants and the time step, computed once per `Cycle` command (the hot
+//! loop only looks them up), and the scene checks that must pass before cycling.
+
+use super::scene::Scene;
+use crate::physics::{hertz, restitution};
+
+/// Constants of a material pair (particle–particle or particle–wall).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairConst {
+    /// E* (3.16) and G* (3.95).
+    pub e_star: f64,
+    pub g_star: f64,
+    /// Smaller of the two friction coefficients (TRUBAL rule).
+    pub mu: f64,
+    /// Surface energy sqrt(γ1 γ2) (DECISIONS.md).
+    pub gamma: f64,
+    /// Dimensionless dashpot ζ = C/sqrt(m* K) of the restitution damping (0 = none).
+    pub zeta: f64,
+}
+
+/// The table for all material pairs, plus what the scene needs.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    pub nmat: usize,
+    pub table: Vec<PairConst>,
+    /// Some pair has friction or adhesion: tangential forces and rotations are needed.
+    pub rotation: bool,
+    pub adhesion: bool,
+    pub dt: f64,
+    /// Rayleigh critical step of the scene.
+    pub dt_rayleigh: f64,
+}
+
+impl Model {
+    #[inline]
+    pub fn pair(&self, a: usize, b: usize) -> &PairConst {
+        &self.table[(a - 1) * self.nmat + (b - 1)]
+    }
+}
+
+/// Builds the pair table and the time step. Fails with a message when a material or size in
+/// use lacks a value, or a value is unphysical.
+pub fn build(scene: &Scene) -> Result<Model, String> {
+    let nmat = scene.materials.len();
+    let mut used = vec![false; nmat];
+    for &m in &scene.particles.material {
+        used[m as usize - 1] = true;
+    }
+    for w in &scene.walls {
+        if w.material > nmat {
+            return Err(format!("wall material {} is not defined", w.material));
+        }
+        used[w.material - 1] = true;
+    }
+    for (k, m) in scene.materials.iter().enumerate() {
+        if !used[k] {
+            continue;
+        }
+        let name = k + 1;
+        if !(m.young > 0.0) {
+            return Err(format!(
+                "material {name} has no Young's modulus: give `YMD ymod {name}` (must be > 0)"
+            ));
+        }
+        if !(-1.0 < m.poisson && m.poisson < 0.5) {
+            return Err(format!(
+                "material {name}: Poisson's ratio must be in (-1, 0.5)"
+            ));
+        }
+        if !(m.density > 0.0) {
+            return Err(format!(
+                "material {name} has no density: give `Density d {name}` (must be > 0)"
+            ));
+        }
+    }
+    let mut table = vec![PairConst::default(); nmat * nmat];
+    let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0);
+    let mut adhesion = false;
+    for a in 0..nmat {
+        for b in 0..nmat {
+            let (ma, mb) = (&scene.materials[a], &scene.materials[b]);
+            if !(used[a] && used[b]) {
+                continue;
+            }
+            let e_star = hertz::e_star(ma.young, ma.poisson, mb.young, mb.poisson);
+            let g_star = hertz::g_star(ma.shear(), ma.poisson, mb.shear(), mb.poisson);
+            let mu = ma.friction.min(mb.friction);
+            let gamma = (ma.gamma * mb.gamma).sqrt();
+            // Restitution: the pair uses the smaller e set on either material.
+            let e = match (ma.restitution, mb.restitution) {
+                (Some(x), Some(y)) => Some(x.min(y)),
+                (x, y) => x.or(y),
+            };
+            let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
+            rotation |= mu > 0.0;
+            adhesion |= gamma > 0.0;
+            table[a * nmat + b] = PairConst {
+                e_star,
+                g_star,
+                mu,
+                gamma,
+                zeta,
+            };
+        }
+    }
+    // Rayleigh critical step over the sizes and materials present.
+    let p = &scene.particles;
+    let mut dt_r = f64::INFINITY;
+    for i in 0..p.len() {
+        let m = &scene.materials[p.material[i] as usize - 1];
+        let rho = p.mass[i] / (4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3));
+        dt_r = dt_r.min(hertz::rayleigh_dt(p.radius[i], rho, m.shear(), m.poisson));
+    }
+    let mut dt = scene.settings.fraction * dt_r;
+    // Stability of the strongest viscous bridge dashpot (explicit update of a dashpot c on a
+    // particle of mass m with up to 14 such neighbours: dt < 2 m / (14 c)); half of it.
+    if let Some(l) = &scene.liquid {
+        if l.eta > 0.0 && !p.is_empty() {
+            let rmax = scene.max_radius();
+            let rstar = 0.5 * rmax;
+            let smin = scene.settings.smin.unwrap_or(rstar / 100.0);
+            let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
+            let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
+            dt = dt.min(mmin / (14.0 * c));
+        }
+    }
+    // Rayleigh contact damping: the stiffness term β k adds a dashpot; keep β ≤ dt/2... by
+    // shrinking dt when β is large: the explicit limit of a damped spring needs dt ≤ 2/ω·(√(1+ζ²)−ζ).
+    let beta = scene.damping_pp.beta.max(scene.damping_pw.beta);
+    if beta > 0.0 {
+        // With ω_max ≈ 2/dt_crit and ζ = β ω / 2.
+        let w = std::f64::consts::PI / dt_r.max(1e-300) * 2.0;
+        let z = 0.5 * beta * w;
+        let lim = 2.0 / w * ((1.0 + z * z).sqrt() - z);
+        dt = dt.min(lim);
+    }
+    Ok(Model {
+        nmat,
+        table,
+        rotation,
+        adhesion,
+        dt,
+        dt_rayleigh: dt_r,
+    })
+}

@@ -1,0 +1,315 @@
+//! The simulation state: work-space, material and size tables, particles (structure of
+//! arrays), walls, contacts, settings and the energy ledger. Plain data; no I/O.
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use super::contacts::ContactStore;
+use super::energy::Ledger;
+use super::rng::Rng;
+use crate::lang::command::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
+
+pub type Vec3 = Vector3<f64>;
+
+/// Number of size types and material types (TRUBAL had 10 and 5; the tables grow on demand up
+/// to these limits, which only bound typos).
+pub const MAX_SIZES: usize = 64;
+pub const MAX_MATERIALS: usize = 64;
+
+/// One material type. Unset values are 0 and are refused when they are needed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    pub density: f64,
+    pub young: f64,
+    pub poisson: f64,
+    pub friction: f64,
+    /// Surface energy per surface γ (J/m²): `COHesion`.
+    pub gamma: f64,
+    /// Restitution coefficient for the viscoelastic dashpot, if `DAmping REStitution` set it.
+    pub restitution: Option<f64>,
+}
+
+impl Material {
+    pub fn shear(&self) -> f64 {
+        self.young / (2.0 * (1.0 + self.poisson))
+    }
+}
+
+/// An agglomerate region (`AGGlomerate`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Region {
+    pub centre: [f64; 3],
+    pub radius: f64,
+}
+
+/// Particles as a structure of arrays; index order may change (open boundaries, sorting),
+/// `id` is the stable identity (1-based creation number).
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Particles {
+    pub id: Vec<u32>,
+    pub pos: Vec<Vec3>,
+    pub vel: Vec<Vec3>,
+    pub spin: Vec<Vec3>,
+    /// Accumulated rotation (RESet zeroes it).
+    pub rot: Vec<Vec3>,
+    /// Out-of-balance force and moment of the last step.
+    pub force: Vec<Vec3>,
+    pub moment: Vec<Vec3>,
+    pub radius: Vec<f64>,
+    pub mass: Vec<f64>,
+    pub size: Vec<u16>,
+    pub material: Vec<u16>,
+    /// Agglomerate number (0 = none).
+    pub agg: Vec<u8>,
+    /// Fixed degrees of freedom: bit k for component k (x y z rx ry rz).
+    pub fixed: Vec<u8>,
+    /// Displacement since the last mapping into the search grid.
+    pub disp: Vec<Vec3>,
+}
+
+impl Particles {
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        id: u32,
+        pos: Vec3,
+        vel: Vec3,
+        spin: Vec3,
+        radius: f64,
+        mass: f64,
+        size: usize,
+        material: usize,
+        agg: usize,
+    ) {
+        self.id.push(id);
+        self.pos.push(pos);
+        self.vel.push(vel);
+        self.spin.push(spin);
+        self.rot.push(Vec3::zeros());
+        self.force.push(Vec3::zeros());
+        self.moment.push(Vec3::zeros());
+        self.radius.push(radius);
+        self.mass.push(mass);
+        self.size.push(size as u16);
+        self.material.push(material as u16);
+        self.agg.push(agg as u8);
+        self.fixed.push(0);
+        self.disp.push(Vec3::zeros());
+    }
+
+    /// Removes particle `i` (order of the rest is kept).
+    pub fn remove(&mut self, i: usize) {
+        self.id.remove(i);
+        self.pos.remove(i);
+        self.vel.remove(i);
+        self.spin.remove(i);
+        self.rot.remove(i);
+        self.force.remove(i);
+        self.moment.remove(i);
+        self.radius.remove(i);
+        self.mass.remove(i);
+        self.size.remove(i);
+        self.material.remove(i);
+        self.agg.remove(i);
+        self.fixed.remove(i);
+        self.disp.remove(i);
+    }
+
+    pub fn inertia(&self, i: usize) -> f64 {
+        0.4 * self.mass[i] * self.radius[i] * self.radius[i]
+    }
+}
+
+/// A rigid, massive wall with prescribed (or servo-controlled) motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Wall {
+    pub geom: WallGeom,
+    pub vel: [f64; 3],
+    /// Radial velocity of a spherical wall.
+    pub vr: f64,
+    pub material: usize,
+    pub servo: Option<Servo>,
+    /// Force exerted by the particles on the wall in the last step (global frame).
+    pub force: [f64; 3],
+    /// Normal (plane) or radial (sphere) component of that force.
+    pub normal_force: f64,
+    /// Accumulated displacement.
+    pub disp: [f64; 3],
+}
+
+/// Rayleigh damping parameters for one contact set (Lian §5.8; DECISIONS.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Rayleigh {
+    /// Mass-proportional coefficient α_R = frac·2π·freq (1/s).
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient β_R = frac/(2π·freq) (s).
+    pub beta: f64,
+}
+
+/// Settings changed by `SET` and friends.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// User TOL (None = automatic).
+    pub tol: Option<f64>,
+    pub xres: Option<f64>,
+    pub smin: Option<f64>,
+    pub bridge: BridgeChoice,
+    pub tangential: TangentialChoice,
+    pub liquid_mode: LiquidMode,
+    pub periodic: [bool; 3],
+    pub out_dir: String,
+    pub view: View,
+    pub snapshot_every: u64,
+    pub history_every: u64,
+    pub two_d: bool,
+    pub fraction: f64,
+    pub window: Option<[f64; 6]>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            tol: None,
+            xres: None,
+            smin: None,
+            bridge: BridgeChoice::Fit,
+            tangential: TangentialChoice::Md,
+            liquid_mode: LiquidMode::Lian,
+            periodic: [true; 3],
+            out_dir: ".".into(),
+            view: View::Xz,
+            snapshot_every: 1000,
+            history_every: 0,
+            two_d: false,
+            fraction: DEFAULT_FRACTION,
+            window: None,
+        }
+    }
+}
+
+/// Default FRAction (see doc/performance.md for the speed/accuracy study behind it).
+pub const DEFAULT_FRACTION: f64 = 0.2;
+
+/// Liquid parameters of `LIQuid` (None when no liquid).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Liquid {
+    pub pvol: f64,
+    pub gamma: f64,
+    pub theta: f64,
+    pub eta: f64,
+}
+
+/// The whole state of a problem.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Scene {
+    pub size: [f64; 3],
+    pub nbox: usize,
+    pub nball: usize,
+    pub nwall: usize,
+    pub sizes: Vec<f64>,
+    pub materials: Vec<Material>,
+    pub regions: [Option<Region>; 2],
+    pub particles: Particles,
+    pub next_id: u32,
+    pub walls: Vec<Wall>,
+    pub contacts: ContactStore,
+    pub settings: Settings,
+    pub gravity: [f64; 3],
+    /// Centripetal gravity per agglomerate (m/s², 0 = off).
+    pub cgravity: [f64; 2],
+    pub fmm: f64,
+    pub zero_always: bool,
+    pub damping_pp: Rayleigh,
+    pub damping_pw: Rayleigh,
+    pub liquid: Option<Liquid>,
+    /// Surface energy used for contacts made after an impact (`VELocity ... 1`), per material.
+    pub impact: bool,
+    pub rng: Rng,
+    pub cycle: u64,
+    pub time: f64,
+    pub ledger: Ledger,
+    /// Particles removed through open sides.
+    pub lost: u64,
+    /// Reference state (`PLot SAve`).
+    pub reference: Option<super::reference::Reference>,
+    pub history: super::history::History,
+}
+
+impl Scene {
+    pub fn new(size: [f64; 3], nbox: usize, nball: usize, nwall: usize) -> Self {
+        Scene {
+            size,
+            nbox,
+            nball,
+            nwall,
+            sizes: vec![0.0; 10],
+            materials: vec![Material::default(); 5],
+            regions: [None, None],
+            particles: Particles::default(),
+            next_id: 1,
+            walls: Vec::new(),
+            contacts: ContactStore::default(),
+            settings: Settings::default(),
+            gravity: [0.0; 3],
+            cgravity: [0.0; 2],
+            fmm: 1.0,
+            zero_always: false,
+            damping_pp: Rayleigh::default(),
+            damping_pw: Rayleigh::default(),
+            liquid: None,
+            impact: false,
+            rng: Rng::new(0),
+            cycle: 0,
+            time: 0.0,
+            ledger: Ledger::default(),
+            lost: 0,
+            reference: None,
+            history: Default::default(),
+        }
+    }
+
+    /// Radius of a size type, if set.
+    pub fn radius_of(&self, size: usize) -> Option<f64> {
+        self.sizes
+            .get(size.wrapping_sub(1))
+            .copied()
+            .filter(|r| *r > 0.0)
+    }
+
+    pub fn material(&self, m: usize) -> &Material {
+        &self.materials[m - 1]
+    }
+
+    /// Largest particle radius present (0 if none).
+    pub fn max_radius(&self) -> f64 {
+        self.particles.radius.iter().copied().fold(0.0, f64::max)
+    }
+
+    pub fn min_radius(&self) -> f64 {
+        self.particles
+            .radius
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Minimum-image separation vector b − a for the periodic axes.
+    #[inline]
+    pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
+        let mut d = b - a;
+        for k in 0..3 {
+            if self.settings.periodic[k] {
+                let l = self.size[k];
+                d[k] -= l * (d[k] / l).round();
+            }
+        }
+        d
+    }
+}

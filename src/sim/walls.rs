@@ -1,0 +1,145 @@
+//! Wall geometry: gap, contact normal and surface velocity for plane walls, spherical
+//! containers and spherical obstacles (Lian (5.7), (5.8); DECISIONS.md "Walls").
+
+use crate::lang::command::WallGeom;
+
+use super::scene::{Vec3, Wall};
+
+/// Gap between a particle surface and the wall (negative = overlap) and the unit normal
+/// pointing from the particle to the wall (the contact normal, A = particle, B = wall).
+#[inline]
+pub fn wall_gap(geom: &WallGeom, x: &Vec3, r: f64) -> (f64, Vec3) {
+    match *geom {
+        WallGeom::Plane { normal, d } => {
+            let n = Vec3::from(normal);
+            let len = n.norm();
+            let nh = n / len;
+            let s = nh.dot(x) - d / len;
+            (s - r, -nh)
+        }
+        WallGeom::Sphere { centre, radius } => {
+            let e = x - Vec3::from(centre);
+            let rho = e.norm();
+            let dir = if rho > 0.0 {
+                e / rho
+            } else {
+                Vec3::new(0.0, 0.0, 1.0)
+            };
+            (radius - rho - r, dir)
+        }
+        WallGeom::Obstacle { centre, radius } => {
+            let e = x - Vec3::from(centre);
+            let rho = e.norm();
+            let dir = if rho > 0.0 {
+                e / rho
+            } else {
+                Vec3::new(0.0, 0.0, 1.0)
+            };
+            (rho - radius - r, -dir)
+        }
+    }
+}
+
+/// Effective radius R* of a particle against a wall: plane R, container R d/(d − R),
+/// obstacle R d/(d + R) (DECISIONS.md).
+#[inline]
+pub fn wall_r_star(geom: &WallGeom, r: f64) -> f64 {
+    match *geom {
+        WallGeom::Plane { .. } => r,
+        WallGeom::Sphere { radius, .. } => r * radius / (radius - r).max(1e-300),
+        WallGeom::Obstacle { radius, .. } => r * radius / (radius + r),
+    }
+}
+
+/// Velocity of the wall surface at the contact point; `n` is the particle→wall normal.
+#[inline]
+pub fn surface_velocity(w: &Wall, n: &Vec3) -> Vec3 {
+    let v = Vec3::from(w.vel);
+    match w.geom {
+        WallGeom::Plane { .. } => v,
+        // Container: the surface point moves outward (along n) at vr.
+        WallGeom::Sphere { .. } => v + n * w.vr,
+        // Obstacle: outward from its centre is −n.
+        WallGeom::Obstacle { .. } => v - n * w.vr,
+    }
+}
+
+/// Moves a wall by its velocity over dt (and its radius by vr dt).
+pub fn advance(w: &mut Wall, dt: f64) {
+    for k in 0..3 {
+        w.disp[k] += w.vel[k] * dt;
+    }
+    match &mut w.geom {
+        WallGeom::Plane { normal, d } => {
+            let n = Vec3::from(*normal);
+            *d += n.dot(&Vec3::from(w.vel)) * dt;
+        }
+        WallGeom::Sphere { centre, radius } | WallGeom::Obstacle { centre, radius } => {
+            for k in 0..3 {
+                centre[k] += w.vel[k] * dt;
+            }
+            *radius = (*radius + w.vr * dt).max(0.0);
+        }
+    }
+}
+
+/// Servo control (Lian §5.4): the wall's normal (radial) velocity is set from the force
+/// error, v = clip(g (F_measured − F_target), ±vmax), along the direction that reduces the
+/// error (toward the particles when the measured force is too small).
+pub fn servo(w: &mut Wall) {
+    let Some(s) = w.servo else { return };
+    let err = w.normal_force - s.force;
+    let speed = (s.gain * err).clamp(-s.vmax, s.vmax);
+    match &w.geom {
+        WallGeom::Plane { normal, .. } => {
+            // Positive speed = move away from the particles (against the normal).
+            let n = Vec3::from(*normal).normalize();
+            let v = -n * speed;
+            w.vel = [v.x, v.y, v.z];
+        }
+        WallGeom::Sphere { .. } => w.vr = speed,
+        WallGeom::Obstacle { .. } => w.vr = -speed,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plane_gap_and_normal() {
+        let g = WallGeom::Plane {
+            normal: [0.0, 0.0, 2.0],
+            d: 2.0,
+        }; // z = 1, particles above
+        let (gap, n) = wall_gap(&g, &Vec3::new(0.3, 0.1, 1.5), 0.2);
+        assert!((gap - 0.3).abs() < 1e-15);
+        assert_eq!(n, Vec3::new(0.0, 0.0, -1.0));
+        let g = WallGeom::Plane {
+            normal: [1.0, 1.0, 0.0],
+            d: 0.0,
+        };
+        let (gap, _) = wall_gap(&g, &Vec3::new(1.0, 1.0, 0.0), 0.5);
+        assert!((gap - (2f64.sqrt() - 0.5)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn spheres() {
+        let c = WallGeom::Sphere {
+            centre: [0.0; 3],
+            radius: 1.0,
+        };
+        let (gap, n) = wall_gap(&c, &Vec3::new(0.5, 0.0, 0.0), 0.1);
+        assert!((gap - 0.4).abs() < 1e-15);
+        assert_eq!(n, Vec3::new(1.0, 0.0, 0.0));
+        let o = WallGeom::Obstacle {
+            centre: [0.0; 3],
+            radius: 1.0,
+        };
+        let (gap, n) = wall_gap(&o, &Vec3::new(0.0, 2.0, 0.0), 0.1);
+        assert!((gap - 0.9).abs() < 1e-15);
+        assert_eq!(n, Vec3::new(0.0, -1.0, 0.0));
+        assert!((wall_r_star(&c, 0.1) - 0.1 / 0.9).abs() < 1e-15);
+        assert!((wall_r_star(&o, 0.1) - 0.1 / 1.1).abs() < 1e-15);
+    }
+}
