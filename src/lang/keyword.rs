@@ -99,11 +99,11 @@ fn closest<K>(w: &str, set: &[Keyword<K>]) -> Option<usize> {
     for (i, k) in set.iter().enumerate() {
         let name = k.name.to_ascii_lowercase();
         // Compare with the prefix of the same length (abbreviations are prefixes).
-        let cut: String = name
-            .chars()
-            .take(w.chars().count().max(minimal(k.name).len()))
-            .collect();
-        let d = edit_distance(w, &cut);
+        let wl = w.chars().count().max(minimal(k.name).len());
+        let d = (wl.saturating_sub(1)..=wl + 1)
+            .map(|l| edit_distance(w, &name.chars().take(l).collect::<String>()))
+            .min()
+            .unwrap_or(usize::MAX);
         if d < best_d {
             best_d = d;
             best = Some(i);

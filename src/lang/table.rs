@@ -152,16 +152,16 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
 
 const BRIDGES: &[Keyword<BridgeChoice>] = &[
     kw("FIT", BridgeChoice::Fit),
-    kw("TOROIDAL", BridgeChoice::Toroidal),
-    kw("LAPLACE", BridgeChoice::Laplace),
+    kw("TORoidal", BridgeChoice::Toroidal),
+    kw("LAPlace", BridgeChoice::Laplace),
 ];
 const TANGENTIALS: &[Keyword<TangentialChoice>] = &[
     kw("MD", TangentialChoice::Md),
-    kw("NOSLIP", TangentialChoice::NoSlip),
+    kw("NOSlip", TangentialChoice::NoSlip),
 ];
 const LIQUID_MODES: &[Keyword<LiquidMode>] = &[
-    kw("LIAN", LiquidMode::Lian),
-    kw("CONSERVE", LiquidMode::Conserve),
+    kw("LIAn", LiquidMode::Lian),
+    kw("CONserve", LiquidMode::Conserve),
 ];
 const VIEWS: &[Keyword<View>] = &[kw("XZ", View::Xz), kw("YZ", View::Yz), kw("XY", View::Xy)];
 const AXES: &[Keyword<usize>] = &[kw("X", 0), kw("Y", 1), kw("Z", 2), kw("ALL", 3)];

@@ -11,6 +11,9 @@
 //! All functions are pure and never panic. They expect physically meaningful inputs
 //! (`E* > 0`, `R* > 0`, `m* > 0`); overlaps `α <= 0` mean "no contact" and give zero.
 
+// `!(x > y)` comparisons are deliberate: they also route NaN to the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 /// Dimensionless Hertz impact-duration factor: `t_c = HERTZ_DURATION_FACTOR · α_max / v`.
 ///
 /// Derivation (energy conservation of `m* α'' = −K α^{3/2}`, `α'(0) = v`):

@@ -49,6 +49,8 @@ pub struct ContactState {
     pub delta: Vec3,
     /// Tangential force on B.
     pub tforce: Vec3,
+    /// Tangential dashpot force on B (Rayleigh contact damping).
+    pub tdamp: Vec3,
     /// Signed resultant tangential displacement (Lian (5.23)).
     pub tdelta: f64,
     /// Signed resultant tangential law state.

@@ -152,6 +152,9 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     if scene.contacts.tol != tol {
         scene.contacts.stale = true;
     }
+    if scene.contacts.stale {
+        prime(scene, &model, tol);
+    }
     let mut snapshot = scene.clone();
     let every = scene.settings.snapshot_every.max(1);
     for step in 0..n {
@@ -180,6 +183,12 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
         rebuild(scene, tol);
     }
     remove_lost(scene);
+    let acc = forces(scene, model, dt);
+    move_all(scene, model, xres, acc)
+}
+
+/// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
+fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     let np = scene.particles.len();
     for i in 0..np {
         scene.particles.force[i] = Vec3::zeros();
@@ -299,6 +308,24 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
         }
     }
 
+    acc
+}
+
+/// Re-evaluates the contact states at the current positions without moving anything (after
+/// commands changed the scene): initial overlaps get their strain energy, which is booked as
+/// energy put in by the commands.
+pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
+    let before = super::energy::stored(scene).total();
+    rebuild(scene, tol);
+    let _ = forces(scene, model, 0.0);
+    let after = super::energy::stored(scene).total();
+    scene.ledger.commands += after - before;
+}
+
+/// Step 2 of a cycle: wall forces and motion, then the particle update.
+fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(), Blowup> {
+    let dt = model.dt;
+    let np = scene.particles.len();
     // ---- walls: measured force, work input, motion ------------------------------------
     let mut wall_work = 0.0;
     for w in scene.walls.iter_mut() {

@@ -73,7 +73,9 @@ fn model(b: BridgeChoice) -> BridgeModel {
     }
 }
 
-fn reset_solid(s: &mut ContactState) {
+/// Ends a solid contact; the energy left in its tangential spring is lost (friction).
+fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
+    acc.friction += s.tang_energy;
     s.touching = false;
     s.normal_force = 0.0;
     s.damp_force = 0.0;
@@ -95,6 +97,12 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     let v_n = k.v_rel.dot(&k.n); // separation rate (positive = opening)
     let mut fn_b = 0.0; // normal force on B along n (positive = pushes B away)
     let mut ft_b = Vec3::zeros();
+
+    // Forces of the previous step: energy is booked as ½(F_old + F_new)·v Δt with the
+    // velocity of the half step between them, which is exact for the leap-frog scheme
+    // (the sum telescopes to Σ F_n·v̄_n Δt).
+    let fd_prev = s.damp_force;
+    let td_prev = s.tdamp;
 
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
@@ -118,7 +126,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             if alpha < j.alpha_s() {
                 // Detachment (3.38): the stored energy of the loop is lost (3.114).
                 acc.adhesion += s.strain;
-                reset_solid(s);
+                reset_solid(s, acc);
             } else {
                 let (p, a) = j.force(alpha, s.a);
                 s.a = a;
@@ -139,7 +147,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         s.strain = hertz::energy(pc.e_star, k.r_star, alpha);
         kn = 2.0 * pc.e_star * s.a;
     } else if s.touching {
-        reset_solid(s);
+        reset_solid(s, acc);
     }
     s.overlap = alpha;
 
@@ -160,7 +168,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             fd = -s.normal_force;
         }
         s.damp_force = fd;
-        acc.damping_contact += -fd * v_n * dt;
+        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
         fn_b += fd;
 
         // ---- tangential law ---------------------------------------------------------
@@ -168,6 +176,12 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
         }
         s.normal = k.n;
+    } else if fd_prev != 0.0 || td_prev != Vec3::zeros() {
+        // The contact ended: book the second half of the last dashpot forces.
+        let v_t = k.v_rel - k.n * v_n;
+        acc.damping_contact += -0.5 * fd_prev * v_n * dt - 0.5 * td_prev.dot(&v_t) * dt;
+        s.damp_force = 0.0;
+        s.tdamp = Vec3::zeros();
     }
 
     // ---- liquid bridge ------------------------------------------------------------------
@@ -196,6 +210,8 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         if let Some(bs) = s.bridge.as_deref_mut() {
             if k.gap > bs.s_c {
                 // Rupture: the work done against the bridge is lost (Lian §5.7).
+                bs.work += 0.5 * bs.f_static * v_n * dt;
+                acc.viscous += 0.5 * bs.f_visc * v_n * dt;
                 acc.rupture += bs.work;
                 s.bridge = None;
             } else {
@@ -214,8 +230,8 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                     0.0
                 };
                 // Work against the attractive force while opening (stored), viscous loss.
-                bs.work += fs * v_n * dt;
-                acc.viscous += fv * v_n * dt;
+                bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
+                acc.viscous += 0.5 * (fv + bs.f_visc) * v_n * dt;
                 bs.f_static = fs;
                 bs.f_visc = fv;
                 bs.gap = k.gap;
@@ -335,10 +351,12 @@ fn tangential_step(
         }
     }
     let mut ft = s.tforce;
+    let td_prev = s.tdamp;
+    s.tdamp = Vec3::zeros();
     if laws.beta > 0.0 {
-        let fd = -v_t * (laws.beta * kt0);
-        acc.damping_contact += -fd.dot(&v_t) * dt;
-        ft += fd;
+        s.tdamp = -v_t * (laws.beta * kt0);
+        ft += s.tdamp;
     }
+    acc.damping_contact += -0.5 * (s.tdamp + td_prev).dot(&v_t) * dt;
     ft
 }

@@ -74,8 +74,12 @@ pub struct LyState {
     pub phi2: f64,
 }
 
-/// One side of the meniscus for a solid of radius `r` (`∞` = plane).
-pub(crate) fn side(n: &Norm, r: f64, y0: f64, h: f64) -> Option<Side> {
+/// One side of the meniscus for a solid of radius `r` (`∞` = plane), given the
+/// neck: the contact line is the first point where the meniscus meets the
+/// solid at the contact angle. Used for tests; the branch tracing uses
+/// [`half`], parameterised by the contact radius, which needs no root choice.
+#[cfg(test)]
+fn side(n: &Norm, r: f64, y0: f64, h: f64) -> Option<Side> {
     let c = y0 + h * y0 * y0;
     if !(c > 0.0) || !(1.0 + 2.0 * h * y0 > 0.0) || !(y0 > 0.0) {
         return None;
@@ -148,6 +152,15 @@ pub(crate) fn side(n: &Norm, r: f64, y0: f64, h: f64) -> Option<Side> {
         }
     }
     let yc = brent(hfun, a, b, fa, fb, 1e-15 * y_end, 200)?;
+    quad_side(n, r, y0, h, yc)
+}
+
+/// Quadrature of one side of the meniscus with neck radius `y0`, curvature
+/// `h`, from the neck to the contact radius `yc` on a solid of radius `r`.
+fn quad_side(n: &Norm, r: f64, y0: f64, h: f64, yc: f64) -> Option<Side> {
+    let ct = n.cos_t;
+    let c = y0 + h * y0 * y0;
+    let cospsi = |y: f64| (c - h * y * y) / y;
     let d = yc - y0;
     if !(d > 0.0) {
         return None;
@@ -186,123 +199,467 @@ pub(crate) fn side(n: &Norm, r: f64, y0: f64, h: f64) -> Option<Side> {
     })
 }
 
-/// The bridge with neck radius `y0` and mean curvature `h` (any volume/gap).
-pub(crate) fn forward(n: &Norm, y0: f64, h: f64) -> Option<LyState> {
-    let s1 = side(n, 1.0, y0, h)?;
-    let s2 = side(n, n.k, y0, h)?;
-    Some(LyState {
-        y0,
+/// One side of the meniscus parameterised by its contact radius `y` on a solid
+/// of radius `r` and the curvature `h`: the first integral at the contact line
+/// gives `C = y sin(φ + θ) + H y²` ((4.13), `y = r sin φ`; `φ = 0` on a plane),
+/// the neck `Y0 = 2C/(1 + sqrt(1 + 4HC))` ((4.14) in a stable form).
+/// Returns the side and `C`. No root has to be chosen, so the
+/// constant-volume branch can be followed through states where the contact
+/// line passes the inflection point of the meniscus.
+fn half(n: &Norm, r: f64, y: f64, h: f64) -> Option<(Side, f64, f64)> {
+    let sa = if r.is_finite() {
+        let u = y / r;
+        // pendular: 0 < φ and φ + θ < π/2, i.e. y/r < cos θ
+        if !(u > 0.0 && u < n.cos_t) {
+            return None;
+        }
+        u * n.cos_t + ((1.0 - u) * (1.0 + u)).sqrt() * n.sin_t
+    } else {
+        if !(y > 0.0) {
+            return None;
+        }
+        n.sin_t
+    };
+    let c = y * sa + h * y * y;
+    let disc = 1.0 + 4.0 * h * c;
+    if !(c > 0.0 && disc > 0.0) {
+        return None;
+    }
+    let y0 = 2.0 * c / (1.0 + disc.sqrt());
+    if !(y0 < y) {
+        return None;
+    }
+    Some((quad_side(n, r, y0, h, y)?, c, y0))
+}
+
+/// Point of the 3-D continuation space `z = (y1, y2, η)`, `H = η / h_scale`.
+type Z = [f64; 3];
+
+/// Residuals `[C1 − C2, V − V_target]` and the state at `z` (for equal spheres
+/// the first residual is `y2 − y1`, the symmetric bridge).
+fn eval3(n: &Norm, hs: f64, z: &Z) -> Option<([f64; 2], LyState)> {
+    let h = z[2] / hs;
+    let (s1, c1, y01) = half(n, 1.0, z[0], h)?;
+    let (s2, g0) = if n.k == 1.0 {
+        (s1, (z[1] - z[0]) * c1 / z[0])
+    } else {
+        let (s2, c2, _) = half(n, n.k, z[1], h)?;
+        (s2, c1 - c2)
+    };
+    let st = LyState {
+        y0: y01,
         h,
         s: s1.gap + s2.gap,
         v: s1.vol + s2.vol,
-        f_star: 2.0 * PI * (y0 + h * y0 * y0),
+        f_star: 2.0 * PI * c1,
         e_star: s1.energy + s2.energy,
         phi1: s1.phi,
         phi2: s2.phi,
-    })
+    };
+    Some(([g0, st.v - n.v], st))
 }
 
-/// V(y0, H) − v, with "no contact" (too fat) counted as +big.
-fn vres(n: &Norm, y0: f64, h: f64) -> (f64, Option<LyState>) {
-    match forward(n, y0, h) {
-        Some(st) => (st.v - n.v, Some(st)),
-        None => (1e3 * n.v.max(1.0), None),
+/// Forward-difference Jacobian (2×3) of the residuals at `z`.
+fn jacobian(n: &Norm, hs: f64, z: &Z, g: &[f64; 2]) -> Option<[[f64; 3]; 2]> {
+    let mut j = [[0.0; 3]; 2];
+    for c in 0..3 {
+        let d = 1e-7 * z[c].abs().max(1e-3);
+        let mut zz = *z;
+        zz[c] += d;
+        let (gg, _) = eval3(n, hs, &zz)?;
+        j[0][c] = (gg[0] - g[0]) / d;
+        j[1][c] = (gg[1] - g[1]) / d;
     }
+    Some(j)
 }
 
-/// At fixed neck radius y0, find the mean curvature H giving the volume.
-pub(crate) fn solve_h(n: &Norm, y0: f64, h_guess: f64) -> Option<LyState> {
-    if !(y0 > 0.0) {
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Solve the 3×3 system `[r0; r1; r2] x = b` by Cramer's rule.
+fn solve3(r: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let det = dot(&r[0], &cross(&r[1], &r[2]));
+    if !(det.abs() > 0.0) || !det.is_finite() {
         return None;
     }
-    let hmin = -0.5 / y0 * (1.0 - 1e-9);
-    let mut h = if h_guess.is_finite() {
-        h_guess.max(hmin)
-    } else {
-        1.0 / y0
+    let col = |i: usize| -> [[f64; 3]; 3] {
+        let mut m = r;
+        for k in 0..3 {
+            m[k][i] = b[k];
+        }
+        m
     };
-    let (f, _) = vres(n, y0, h);
-    let mut step = 0.02 * (1.0 / y0 + h.abs());
-    let (mut a, mut fa, mut b, mut fb);
-    if f > 0.0 {
-        a = h;
-        fa = f;
-        loop {
-            h += step;
-            step *= 2.0;
-            let (g, _) = vres(n, y0, h);
-            if g <= 0.0 {
-                b = h;
-                fb = g;
-                break;
-            }
-            a = h;
-            fa = g;
-            if step > 1e12 {
-                return None;
-            }
-        }
-    } else {
-        b = h;
-        fb = f;
-        loop {
-            h = (h - step).max(hmin);
-            step *= 2.0;
-            let (g, _) = vres(n, y0, h);
-            if g > 0.0 {
-                a = h;
-                fa = g;
-                break;
-            }
-            b = h;
-            fb = g;
-            if h <= hmin {
-                return None;
-            }
-        }
-    }
-    let hr = brent(
-        |x| vres(n, y0, x).0,
-        a,
-        b,
-        fa,
-        fb,
-        1e-14 * (1.0 + b.abs()),
-        200,
-    )?;
-    let (r, st) = vres(n, y0, hr);
-    if r.abs() > 1e-9 * n.v { None } else { st }
+    let d = |m: [[f64; 3]; 3]| dot(&m[0], &cross(&m[1], &m[2]));
+    Some([d(col(0)) / det, d(col(1)) / det, d(col(2)) / det])
 }
 
-/// Warm-started evaluation of the constant-volume family `y0 ↦ state`.
-struct Tracer<'a> {
-    n: &'a Norm,
-    h_last: f64,
-    evals: usize,
+/// A traced point of the constant-volume branch.
+#[derive(Clone, Copy, Debug)]
+struct Pt {
+    sigma: f64,
+    z: Z,
+    /// Unit tangent (direction of the trace).
+    t: Z,
+    /// Jacobian of the residuals at `z`.
+    j: [[f64; 3]; 2],
+    st: LyState,
 }
 
-impl Tracer<'_> {
-    fn at(&mut self, y0: f64) -> Option<LyState> {
-        self.evals += 1;
-        let st = solve_h(self.n, y0, self.h_last)?;
-        self.h_last = st.h;
-        Some(st)
+/// Pseudo-arclength corrector: the point of the branch in the hyperplane
+/// through `zp` normal to `t`, by Newton iteration with the Jacobian `j`
+/// (refreshed if the iteration stalls).
+fn correct(n: &Norm, hs: f64, zp: &Z, t: &Z, j: &[[f64; 3]; 2]) -> Option<(Z, LyState)> {
+    let mut z = *zp;
+    let mut jj = *j;
+    let mut last = f64::INFINITY;
+    let scale_v = n.v;
+    for _ in 0..40 {
+        let (g, st) = eval3(n, hs, &z)?;
+        let r0 = (g[0] / (1e-3 + st.f_star)).abs();
+        let r1 = (g[1] / scale_v).abs();
+        let res = r0.max(r1);
+        if res < 1e-13 {
+            return Some((z, st));
+        }
+        if res > 0.5 * last {
+            jj = jacobian(n, hs, &z, &g)?;
+        }
+        last = res;
+        let off = dot(t, &[z[0] - zp[0], z[1] - zp[1], z[2] - zp[2]]);
+        let dz = solve3([jj[0], jj[1], *t], [-g[0], -g[1], -off])?;
+        for k in 0..3 {
+            z[k] += dz[k];
+        }
+        if !(z.iter().all(|v| v.is_finite())) {
+            return None;
+        }
     }
+    None
+}
+
+/// The traced constant-volume branch of a bridge, through the fold (for the
+/// table of a [`Branch`] and for tests).
+#[derive(Clone, Debug)]
+pub struct Trace {
+    n: Norm,
+    hs: f64,
+    pts: Vec<Pt>,
+    /// Parameter of the contact state (S = 0) and of the fold (max S).
+    sigma_contact: f64,
+    sigma_fold: f64,
+    fold: LyState,
+}
+
+impl Trace {
+    /// Trace the branch of a bridge (dimensionless: `R2/R1`, `V/R1³`, θ).
+    pub fn new(b: &Bridge) -> Option<Trace> {
+        let mut n = b.norm()?;
+        n.a = 1.0;
+        Trace::from_norm(n)
+    }
+
+    pub(crate) fn from_norm(n: Norm) -> Option<Trace> {
+        if !(n.theta >= 0.0 && n.theta < 0.5 * PI && n.v > 0.0 && n.v.is_finite()) {
+            return None;
+        }
+        // toroidal estimate of the contact state (Lian 1994 (4.53)-(4.61));
+        // H from the contact-line curvature scaled by (4.51) at S = 0
+        let phi = super::toroidal::solve_phi1(&n, 0.0, super::fit::phi1_guess(&n, 0.0))?;
+        let t = super::toroidal::torus(&n, phi, 0.0)?;
+        let sp = phi.sin();
+        let h_max = (2.0 * sp - t.rho1 - t.rho2) / (2.0 * t.rho1 * sp);
+        let h0 = 0.91 * (h_max + 1.0) - 1.0;
+        let y2 = if n.k.is_finite() {
+            n.k * t.phi2.sin()
+        } else {
+            t.rho2 + t.rho1 * (1.0 - n.sin_t)
+        };
+        let hs = sp * sp;
+        let z0 = [sp, y2, h0 * hs];
+        // project onto the branch (minimum-norm Newton)
+        let mut z = z0;
+        let mut ok = None;
+        for _ in 0..60 {
+            let (g, st) = eval3(&n, hs, &z)?;
+            if (g[0] / (1e-3 + st.f_star)).abs().max((g[1] / n.v).abs()) < 1e-13 {
+                ok = Some(st);
+                break;
+            }
+            let j = jacobian(&n, hs, &z, &g)?;
+            let nrm = cross(&j[0], &j[1]);
+            let dz = solve3([j[0], j[1], nrm], [-g[0], -g[1], 0.0])?;
+            // damp large steps
+            let len = dot(&dz, &dz).sqrt();
+            let f = if len > 0.1 { 0.1 / len } else { 1.0 };
+            for k in 0..3 {
+                z[k] += f * dz[k];
+            }
+        }
+        let st0 = ok?;
+        let (g0, _) = eval3(&n, hs, &z)?;
+        let j0 = jacobian(&n, hs, &z, &g0)?;
+        let mut t0 = unit(cross(&j0[0], &j0[1]))?;
+        // orient towards growing gap
+        {
+            let e = 1e-6;
+            let zz = [z[0] + e * t0[0], z[1] + e * t0[1], z[2] + e * t0[2]];
+            let (_, s1) = eval3(&n, hs, &zz)?;
+            let growing = s1.s > st0.s;
+            if !growing {
+                t0 = [-t0[0], -t0[1], -t0[2]];
+            }
+        }
+        let s_est = (1.0 + 0.5 * n.theta) * n.v.cbrt();
+        let start = Pt {
+            sigma: 0.0,
+            z,
+            t: t0,
+            j: j0,
+            st: st0,
+        };
+        // if the start has S > 0, walk back first (same machinery, reversed)
+        let start = if st0.s > 0.0 {
+            let back = Pt {
+                t: [-t0[0], -t0[1], -t0[2]],
+                ..start
+            };
+            let pts = march(&n, hs, back, s_est, |p: &[Pt]| {
+                p.last().is_some_and(|q| q.st.s < 0.0)
+            })?;
+            let last = *pts.last()?;
+            if !(last.st.s < 0.0) {
+                return None;
+            }
+            Pt {
+                sigma: 0.0,
+                t: [-last.t[0], -last.t[1], -last.t[2]],
+                ..last
+            }
+        } else {
+            start
+        };
+        // march through the fold and a few points beyond
+        let pts = march(&n, hs, start, s_est, |p: &[Pt]| {
+            let imax = argmax_s(p);
+            p.len() >= imax + 5
+        })?;
+        let imax = argmax_s(&pts);
+        if imax + 1 >= pts.len() || imax == 0 {
+            return None;
+        }
+        let mut tr = Trace {
+            n,
+            hs,
+            sigma_contact: 0.0,
+            sigma_fold: pts[imax].sigma,
+            fold: pts[imax].st,
+            pts,
+        };
+        // contact state S = 0 (between the first two points with S changing sign)
+        let k0 = tr
+            .pts
+            .windows(2)
+            .position(|w| w[0].st.s <= 0.0 && w[1].st.s >= 0.0)?;
+        let (a, b) = (tr.pts[k0].sigma, tr.pts[k0 + 1].sigma);
+        let g = |sg: f64| tr.state_at_param(sg).map(|s| s.s).unwrap_or(f64::NAN);
+        tr.sigma_contact = brent(g, a, b, g(a), g(b), 1e-15, 200)?;
+        // fold: golden-section maximisation of S(σ) around the largest point
+        let (mut lo, mut hi) = (tr.pts[imax - 1].sigma, tr.pts[imax + 1].sigma);
+        let gr = 0.5 * (5f64.sqrt() - 1.0);
+        let sval = |sg: f64| {
+            tr.state_at_param(sg)
+                .map(|s| s.s)
+                .unwrap_or(f64::NEG_INFINITY)
+        };
+        let mut x1 = hi - gr * (hi - lo);
+        let mut x2 = lo + gr * (hi - lo);
+        let (mut f1, mut f2) = (sval(x1), sval(x2));
+        while hi - lo > 1e-12 * (1.0 + hi.abs()) {
+            if f1 >= f2 {
+                hi = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = hi - gr * (hi - lo);
+                f1 = sval(x1);
+            } else {
+                lo = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = lo + gr * (hi - lo);
+                f2 = sval(x2);
+            }
+        }
+        let sf = 0.5 * (lo + hi);
+        tr.fold = tr.state_at_param(sf)?;
+        tr.sigma_fold = sf;
+        if !(tr.fold.s > 0.0) {
+            return None;
+        }
+        Some(tr)
+    }
+
+    /// The state at continuation parameter `sigma` (stable or unstable side).
+    pub fn state_at_param(&self, sigma: f64) -> Option<LyState> {
+        let pts = &self.pts;
+        let i = match pts.iter().rposition(|p| p.sigma <= sigma) {
+            Some(i) => i.min(pts.len() - 2),
+            None => 0,
+        };
+        let p = &pts[i];
+        let ds = sigma - p.sigma;
+        if ds == 0.0 {
+            return Some(p.st);
+        }
+        let zp = [
+            p.z[0] + ds * p.t[0],
+            p.z[1] + ds * p.t[1],
+            p.z[2] + ds * p.t[2],
+        ];
+        correct(&self.n, self.hs, &zp, &p.t, &p.j).map(|(_, st)| st)
+    }
+
+    /// Continuation parameters of the contact state and of the fold.
+    pub fn contact_and_fold_params(&self) -> (f64, f64) {
+        (self.sigma_contact, self.sigma_fold)
+    }
+
+    /// The fold (rupture) state.
+    pub fn fold(&self) -> LyState {
+        self.fold
+    }
+
+    /// Stable state at gap `s_star ∈ [0, S_c*]` (direct solve).
+    pub fn stable_state_at_gap(&self, s_star: f64) -> Option<LyState> {
+        let target = s_star.max(0.0);
+        if target > self.fold.s {
+            return None;
+        }
+        if target == self.fold.s {
+            return Some(self.fold);
+        }
+        // bracket between traced points
+        let mut a = self.sigma_contact;
+        let mut b = self.sigma_fold;
+        for p in &self.pts {
+            if p.sigma > self.sigma_contact && p.sigma < self.sigma_fold {
+                if p.st.s <= target {
+                    a = a.max(p.sigma);
+                } else {
+                    b = b.min(p.sigma);
+                }
+            }
+        }
+        let g = |sg: f64| {
+            self.state_at_param(sg)
+                .map(|s| s.s - target)
+                .unwrap_or(f64::NAN)
+        };
+        let ga = g(a);
+        if ga >= 0.0 {
+            return self.state_at_param(a);
+        }
+        let sg = brent(g, a, b, ga, g(b), 1e-15, 200)?;
+        self.state_at_param(sg)
+    }
+}
+
+fn unit(v: Z) -> Option<Z> {
+    let l = dot(&v, &v).sqrt();
+    if !(l > 0.0) || !l.is_finite() {
+        return None;
+    }
+    Some([v[0] / l, v[1] / l, v[2] / l])
+}
+
+fn argmax_s(p: &[Pt]) -> usize {
+    let mut im = 0;
+    for (i, q) in p.iter().enumerate() {
+        if q.st.s > p[im].st.s {
+            im = i;
+        }
+    }
+    im
+}
+
+/// Follow the branch from `start` along its tangent until `done(points)`.
+fn march<F: Fn(&[Pt]) -> bool>(
+    n: &Norm,
+    hs: f64,
+    start: Pt,
+    s_est: f64,
+    done: F,
+) -> Option<Vec<Pt>> {
+    let mut pts = vec![start];
+    let mut step = 0.01;
+    let dmax = 0.05;
+    let ds_target = s_est / 30.0;
+    let mut fails = 0;
+    while !done(&pts) {
+        if pts.len() > 2000 || fails > 60 {
+            return if pts.len() > 1 { Some(pts) } else { None };
+        }
+        let p = *pts.last()?;
+        let zp = [
+            p.z[0] + step * p.t[0],
+            p.z[1] + step * p.t[1],
+            p.z[2] + step * p.t[2],
+        ];
+        let Some((z, st)) = correct(n, hs, &zp, &p.t, &p.j) else {
+            step *= 0.5;
+            fails += 1;
+            if step < 1e-10 {
+                // boundary of the solution family: stop here
+                return Some(pts);
+            }
+            continue;
+        };
+        let Some(j) = eval3(n, hs, &z).and_then(|(g, _)| jacobian(n, hs, &z, &g)) else {
+            step *= 0.5;
+            fails += 1;
+            continue;
+        };
+        let Some(mut t) = unit(cross(&j[0], &j[1])) else {
+            step *= 0.5;
+            fails += 1;
+            continue;
+        };
+        if dot(&t, &p.t) < 0.0 {
+            t = [-t[0], -t[1], -t[2]];
+        }
+        let ds = (st.s - p.st.s).abs();
+        let sigma = p.sigma + step;
+        pts.push(Pt { sigma, z, t, j, st });
+        // step control: about s_est/30 of gap per step, at most dmax
+        let grow = if ds > 0.0 {
+            (ds_target / ds).clamp(0.5, 1.5)
+        } else {
+            1.5
+        };
+        step = (step * grow).min(dmax);
+    }
+    Some(pts)
 }
 
 /// Number of Chebyshev nodes of a [`Branch`] table.
 const NODES: usize = 32;
 
 /// The stable constant-volume branch of one bridge (fixed `R1`, `R2`, `θ`,
-/// `V`), from contact (`S = 0`) to the fold (rupture), tabulated once.
+/// `V`), from contact (`S = 0`) to the fold (rupture), tabulated once on
+/// Chebyshev nodes in `u = sqrt(1 − S/S_c)`. Dimensionless (lengths / `R1`,
+/// `R1` the smaller radius).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Branch {
-    n: Norm,
     /// Fold (rupture) gap `S_c/R1`.
     s_fold: f64,
-    /// Neck radius at the fold and at contact.
-    y0_fold: f64,
-    y0_contact: f64,
     f: Cheb,
     phi1: Cheb,
     phi2: Cheb,
@@ -312,147 +669,25 @@ pub struct Branch {
 }
 
 impl Branch {
-    /// Trace the branch for a bridge (dimensionless: only `R2/R1`, `V/R1³`
-    /// and θ matter). `None` if the bridge is invalid or no pendular
-    /// Laplace–Young solution exists (e.g. the contact line would pass
-    /// φ + θ = 90°). Costs a few milliseconds.
+    /// Trace and tabulate the branch of a bridge (only `R2/R1`, `V/R1³` and θ
+    /// matter). `None` if the bridge is invalid or no pendular Laplace–Young
+    /// solution exists (e.g. the contact line would pass φ + θ = 90°). Costs a
+    /// few milliseconds.
     pub fn new(b: &Bridge) -> Option<Branch> {
-        let mut n = b.norm()?;
-        n.a = 1.0;
-        Branch::from_norm(n)
+        Branch::from_trace(&Trace::new(b)?)
     }
 
     pub(crate) fn from_norm(n: Norm) -> Option<Branch> {
-        if !(n.theta >= 0.0 && n.theta < 0.5 * PI) {
-            return None;
-        }
-        let nn = n;
-        let n = &nn;
-        // toroidal estimate of the contact state
-        let phi = super::toroidal::solve_phi1(n, 0.0, super::fit::phi1_guess(n, 0.0))?;
-        let t = super::toroidal::torus(n, phi, 0.0)?;
-        let mut tr = Tracer {
-            n,
-            h_last: (t.rho2 - t.rho1) / (2.0 * t.rho1 * t.rho2),
-            evals: 0,
-        };
-        // 1. contact state S(y0) = 0 (S decreases with y0 on the stable branch)
-        let mut ya = t.rho2;
-        let mut sa = tr.at(ya)?.s;
-        let mut yb = ya;
-        let mut sb = sa;
-        let grow = if sa > 0.0 { 1.05 } else { 1.0 / 1.05 };
-        for _ in 0..200 {
-            if sa.signum() != sb.signum() {
-                break;
-            }
-            ya = yb;
-            sa = sb;
-            yb *= grow;
-            sb = tr.at(yb)?.s;
-        }
-        if sa.signum() == sb.signum() {
-            return None;
-        }
-        let h_keep = tr.h_last;
-        let y0_contact = brent(
-            |y| {
-                tr.h_last = h_keep;
-                tr.at(y).map(|s| s.s).unwrap_or(f64::NAN)
-            },
-            ya,
-            yb,
-            sa,
-            sb,
-            1e-14,
-            100,
-        )?;
-        let contact = tr.at(y0_contact)?;
-        // 2. march towards smaller necks until the gap stops growing
-        let mut ys = vec![(y0_contact, contact.s, contact.h)];
-        let mut y = y0_contact;
-        let fold_bracket;
-        loop {
-            y *= 0.94;
-            let prev = ys[ys.len() - 1];
-            tr.h_last = prev.2;
-            match tr.at(y) {
-                Some(st) if st.s > prev.1 => ys.push((y, st.s, st.h)),
-                other => {
-                    let lo = y;
-                    let hi = if ys.len() >= 2 {
-                        ys[ys.len() - 2].0
-                    } else {
-                        prev.0
-                    };
-                    let _ = other;
-                    fold_bracket = (lo, hi, prev.2);
-                    break;
-                }
-            }
-            if ys.len() > 400 || y < 1e-9 {
-                return None;
-            }
-        }
-        // 3. golden-section maximisation of S(y0) (failures count as −∞)
-        let (mut lo, mut hi, hstart) = fold_bracket;
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let eval = |y: f64, tr: &mut Tracer| -> f64 {
-            tr.h_last = hstart;
-            tr.at(y).map(|s| s.s).unwrap_or(f64::NEG_INFINITY)
-        };
-        let mut x1 = hi - g * (hi - lo);
-        let mut x2 = lo + g * (hi - lo);
-        let mut f1 = eval(x1, &mut tr);
-        let mut f2 = eval(x2, &mut tr);
-        for _ in 0..60 {
-            if (hi - lo) < 1e-10 * hi {
-                break;
-            }
-            // x1 < x2; keep the sub-interval that holds the larger S
-            if f1 >= f2 {
-                hi = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = hi - g * (hi - lo);
-                f1 = eval(x1, &mut tr);
-            } else {
-                lo = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = lo + g * (hi - lo);
-                f2 = eval(x2, &mut tr);
-            }
-        }
-        let (y0_fold, s_fold) = if f1 >= f2 { (x1, f1) } else { (x2, f2) };
-        if !(s_fold.is_finite() && s_fold > 0.0) {
-            return None;
-        }
-        let fold = {
-            tr.h_last = hstart;
-            tr.at(y0_fold)?
-        };
-        // 4. tabulate on Chebyshev nodes in u = sqrt(1 - S/S_c)
+        Branch::from_trace(&Trace::from_norm(n)?)
+    }
+
+    /// Tabulate a traced branch.
+    pub fn from_trace(tr: &Trace) -> Option<Branch> {
+        let s_fold = tr.fold.s;
         let us = Cheb::nodes(0.0, 1.0, NODES);
         let mut cols: [Vec<f64>; 6] = Default::default();
         for &u in &us {
-            let target = s_fold * (1.0 - u * u);
-            let st = if u == 0.0 {
-                fold
-            } else {
-                // warm start H by linear interpolation in y0 between fold and contact
-                let mut solve = |y: f64| -> f64 {
-                    let w = (y - y0_fold) / (y0_contact - y0_fold);
-                    tr.h_last = fold.h + w * (contact.h - fold.h);
-                    tr.at(y).map(|s| s.s - target).unwrap_or(f64::NAN)
-                };
-                let fa = s_fold - target;
-                let fb = contact.s - target;
-                let yr = brent(&mut solve, y0_fold, y0_contact, fa, fb, 1e-15, 200)?;
-                let w = (yr - y0_fold) / (y0_contact - y0_fold);
-                tr.h_last = fold.h + w * (contact.h - fold.h);
-                tr.at(yr)?
-            };
+            let st = tr.stable_state_at_gap(s_fold * (1.0 - u * u))?;
             for (c, v) in cols
                 .iter_mut()
                 .zip([st.f_star, st.phi1, st.phi2, st.e_star, st.h, st.y0])
@@ -462,10 +697,7 @@ impl Branch {
         }
         let mk = |v: &Vec<f64>| Cheb::from_values(0.0, 1.0, v);
         Some(Branch {
-            n: nn,
             s_fold,
-            y0_fold,
-            y0_contact,
             f: mk(&cols[0]),
             phi1: mk(&cols[1]),
             phi2: mk(&cols[2]),
@@ -523,50 +755,6 @@ impl Branch {
     pub fn neck(&self, s_star: f64) -> (f64, f64) {
         let u = self.u_of(s_star);
         (self.y0.eval(u), self.h.eval(u))
-    }
-
-    /// Direct (non-interpolated) solve of the stable state at `s_star`,
-    /// `0 ≤ s_star ≤ S_c*`. Slow; for tests and reference tables.
-    pub fn exact_state(&self, s_star: f64) -> Option<LyState> {
-        let target = s_star.max(0.0);
-        if target > self.s_fold {
-            return None;
-        }
-        let (_, h_guess) = self.neck(target);
-        let mut tr = Tracer {
-            n: &self.n,
-            h_last: h_guess,
-            evals: 0,
-        };
-        let mut solve = |y: f64| -> f64 {
-            tr.h_last = h_guess;
-            tr.at(y).map(|st| st.s - target).unwrap_or(f64::NAN)
-        };
-        let fa = self.s_fold - target;
-        let fb = -target;
-        let y = brent(
-            &mut solve,
-            self.y0_fold,
-            self.y0_contact,
-            fa,
-            fb,
-            1e-15,
-            200,
-        )?;
-        solve_h(&self.n, y, h_guess)
-    }
-    /// Any state of the constant-volume family at neck radius `y0`
-    /// (dimensionless), stable or unstable; for tests.
-    pub fn state_at_neck(&self, y0: f64) -> Option<LyState> {
-        let w = (y0 - self.y0_fold) / (self.y0_contact - self.y0_fold);
-        let h0 = self.h.eval(0.0);
-        let h1 = self.h.eval(1.0);
-        solve_h(&self.n, y0, h0 + w * (h1 - h0))
-    }
-
-    /// Neck radius at the fold (dimensionless).
-    pub fn fold_neck(&self) -> f64 {
-        self.y0_fold
     }
 
     /// Size of the trailing Chebyshev coefficients of the force table
@@ -719,11 +907,17 @@ mod tests {
             (2.0, 0.03, 30.0),
             (f64::INFINITY, 0.01, 10.0),
         ] {
-            let br = Branch::from_norm(norm(k, v, th)).unwrap();
+            let tr = Trace::from_norm(norm(k, v, th)).unwrap();
+            let br = Branch::from_trace(&tr).unwrap();
             let sc = br.rupture_star();
             for i in 0..=10 {
                 let s = sc * (i as f64 / 10.0).min(0.999);
-                let ex = br.exact_state(s).unwrap();
+                let ex = tr.stable_state_at_gap(s).unwrap_or_else(|| {
+                    panic!(
+                        "k={k} v={v} th={th} s={s} sc={sc} {:?}",
+                        tr.contact_and_fold_params()
+                    )
+                });
                 assert!((ex.v / v - 1.0).abs() < 1e-9);
                 assert!((ex.s - s).abs() < 1e-12);
                 let f = br.force_star(s);
@@ -747,38 +941,42 @@ mod tests {
         for (k, v, th) in [
             (1.0, 0.005, 0.0),
             (1.0, 0.02, 40.0),
+            (2.0, 0.02, 40.0),
             (f64::INFINITY, 0.005, 20.0),
         ] {
-            let br = Branch::from_norm(norm(k, v, th)).unwrap();
-            let (sc, yf) = (br.rupture_star(), br.fold_neck());
-            let near = br.state_at_neck(yf).unwrap();
-            assert!((near.s - sc).abs() < 1e-12);
-            for d in [0.02, 0.1] {
-                let stable = br.state_at_neck(yf * (1.0 + d)).unwrap();
-                assert!(stable.s < sc);
-                // the unstable partner with the same gap
-                let g = |y: f64| {
-                    br.state_at_neck(y)
+            let tr = Trace::from_norm(norm(k, v, th)).unwrap();
+            let fold = tr.fold();
+            let (s0, sf) = tr.contact_and_fold_params();
+            assert!(sf > s0);
+            // dS/dσ = 0 at the fold (a true fold, not the end of the family)
+            let d = 1e-4 * (sf - s0);
+            let a = tr.state_at_param(sf - d).unwrap();
+            let b = tr.state_at_param(sf + d).unwrap();
+            assert!(a.s < fold.s && b.s < fold.s, "{a:?} {b:?} {fold:?}");
+            // quadratic maximum: both sides drop by O(d²)
+            let (da, db) = (fold.s - a.s, fold.s - b.s);
+            assert!(da < 3.0 * db && db < 3.0 * da, "{da} {db}");
+            for frac in [0.02, 0.1] {
+                let stable = tr.state_at_param(sf - frac * (sf - s0)).unwrap();
+                assert!(stable.s < fold.s);
+                // the unstable partner with the same gap, beyond the fold
+                let g = |sg: f64| {
+                    tr.state_at_param(sg)
                         .map(|s| s.s - stable.s)
                         .unwrap_or(f64::NAN)
                 };
-                let mut a = yf;
-                while g(a) > 0.0 && a > 0.05 * yf {
-                    a *= 0.98;
+                let mut hi = sf;
+                let mut step = 0.01 * (sf - s0);
+                while g(hi) > 0.0 && step < 10.0 {
+                    hi += step;
+                    step *= 1.5;
                 }
-                let b = yf;
-                let y = brent(g, a, b, g(a), g(b), 1e-14, 200).unwrap();
-                let unstable = br.state_at_neck(y).unwrap();
+                let sg = brent(g, sf, hi, g(sf), g(hi), 1e-14, 200).unwrap();
+                let unstable = tr.state_at_param(sg).unwrap();
+                assert!((unstable.s - stable.s).abs() < 1e-10);
                 assert!(unstable.y0 < stable.y0);
                 assert!(unstable.e_star > stable.e_star, "{unstable:?} {stable:?}");
                 assert!(unstable.f_star < stable.f_star);
-            }
-            // no solution beyond the fold: the largest gap over all necks is S_c
-            for i in 1..40 {
-                let y = yf * (0.3 + 1.4 * i as f64 / 40.0);
-                if let Some(st) = br.state_at_neck(y) {
-                    assert!(st.s <= sc + 1e-12, "y0={y} s={} sc={sc}", st.s);
-                }
             }
         }
     }
@@ -788,30 +986,29 @@ mod dbg {
     use super::*;
     #[test]
     #[ignore]
-    fn dbg_fold() {
-        let mut n = Bridge::new(1.0, 1.0, 0.001, 1.0, 0.0).norm().unwrap();
-        n.a = 1.0;
-        let br = Branch::from_norm(n).unwrap();
-        let sc = br.rupture_star();
-        println!("sc={sc} yf={} tail={}", br.fold_neck(), br.table_tail());
-        for x in [0.0, 0.1, 0.5, 0.9, 0.95, 0.99, 0.995, 0.999, 0.9999, 1.0] {
-            let s = sc * x;
-            let ex = br.exact_state(s).unwrap();
+    fn dbg_trace() {
+        for th in [0.0f64, 10.0, 20.0, 40.0] {
+            let mut n = Bridge::new(1.0, 1.0, 0.001, 1.0, th.to_radians())
+                .norm()
+                .unwrap();
+            n.a = 1.0;
+            let tr = Trace::from_norm(n).unwrap();
             println!(
-                "x={x} table={:.10} exact={:.10} y0 tab={:.10} ex={:.10} h tab={:.8} ex={:.8}",
-                br.force_star(s),
-                ex.f_star,
-                br.neck(s).0,
-                ex.y0,
-                br.neck(s).1,
-                ex.h
+                "th={th} fold s={} y0={} h={} f={} phi={}",
+                tr.fold.s, tr.fold.y0, tr.fold.h, tr.fold.f_star, tr.fold.phi1
             );
-        }
-        println!("{:?}", br.f);
-        for i in 0..=40 {
-            let y = 0.0270 + 0.0001 * i as f64;
-            let st = br.state_at_neck(y).unwrap();
-            println!("y0={y:.5} s={:.12} h={:.6} f={:.8}", st.s, st.h, st.f_star);
+            let (s0, sf) = tr.contact_and_fold_params();
+            for i in 0..=30 {
+                let sg = s0 + (sf - s0) * 1.6 * i as f64 / 30.0;
+                if let Some(st) = tr.state_at_param(sg) {
+                    println!(
+                        "  sg={sg:.4} s={:.6} y0={:.5} h={:.4} f={:.4} phi={:.4} e={:.6}",
+                        st.s, st.y0, st.h, st.f_star, st.phi1, st.e_star
+                    );
+                } else {
+                    println!("  sg={sg:.4} none");
+                }
+            }
         }
     }
 }

@@ -121,10 +121,14 @@ impl Bridge {
         }
         let (sin_t, cos_t) = self.theta.sin_cos();
         let k = big / a;
+        let v = self.volume / (a * a * a);
+        if !(v > 0.0 && v.is_finite()) {
+            return None;
+        }
         Some(Norm {
             a,
             k,
-            v: self.volume / (a * a * a),
+            v,
             theta: self.theta,
             sin_t,
             cos_t,
@@ -360,6 +364,14 @@ pub fn validate(model: BridgeModel, b: &Bridge) -> Result<Vec<String>, String> {
                     ));
                 }
             }
+            if model == BridgeModel::Fit && !n.is_wall() && b.theta > 0.0 {
+                w.push(format!(
+                    "Lian's polynomials (5.37)-(5.49) were fitted for theta = 0; at theta = \
+                     {:.1} deg the Fit force can be far off near rupture (see doc/bridge.md): \
+                     use the Toroidal model",
+                    b.theta.to_degrees()
+                ));
+            }
             if model == BridgeModel::Fit && !n.is_wall() {
                 let sc = rupture_star_default(&n);
                 let bad = (0..=20).any(|i| {
@@ -416,8 +428,11 @@ pub struct BridgeCoeffs {
     model: BridgeModel,
     bridge: Bridge,
     n: Norm,
-    /// Rupture distance, units of the smaller radius.
+    /// Rupture distance, units of the smaller radius, and its inverse.
     sc: f64,
+    inv_sc: f64,
+    /// 1 / R_small.
+    inv_a: f64,
     /// γ R_small (force scale, N).
     scale: f64,
     kind: Kind,
@@ -464,6 +479,8 @@ impl BridgeCoeffs {
             bridge: *b,
             n,
             sc: 0.0,
+            inv_sc: 0.0,
+            inv_a: 1.0 / n.a,
             scale: 0.0,
             kind: Kind::Null,
         };
@@ -489,6 +506,8 @@ impl BridgeCoeffs {
             bridge: *b,
             n,
             sc,
+            inv_sc: 1.0 / sc,
+            inv_a: 1.0 / n.a,
             scale,
             kind,
         };
@@ -560,14 +579,29 @@ impl BridgeCoeffs {
 
     /// Static force (N), attractive magnitude ≥ 0, at gap `s` (m); see
     /// [`static_force`]. `s < 0` counts as 0; 0 beyond the rupture distance.
+    /// This is the per-step path: one polynomial (Fit) or Chebyshev (Toroidal,
+    /// Laplace) evaluation, one `sin_cos` and a few divisions.
     #[inline]
     pub fn force(&self, s: f64) -> f64 {
-        let x = (s / self.n.a).max(0.0);
+        let x = (s * self.inv_a).max(0.0);
         if !(x <= self.sc) {
             return 0.0;
         }
-        match self.state(x) {
-            Some((f, _, _)) => self.scale * f,
+        let n = &self.n;
+        let f = match &self.kind {
+            Kind::Null => None,
+            Kind::FitPair(c) => {
+                toroidal::gorge_force_star(n, fit::phi1_poly(*c, x * self.inv_sc), x)
+            }
+            Kind::FitWall => Some(fit::olsson_wall_force_star(n.v, x, n.sin_t, n.cos_t)),
+            Kind::Toroidal(t) => {
+                let r = (x * self.inv_sc).min(t.s_max);
+                toroidal::gorge_force_star(n, t.cheb.eval(r), r * self.sc)
+            }
+            Kind::Laplace(br) => Some(br.force_star(x)),
+        };
+        match f {
+            Some(f) => self.scale * f,
             None => 0.0,
         }
     }

@@ -135,6 +135,42 @@ pub(crate) fn torus(n: &Norm, phi1: f64, s: f64) -> Option<Torus> {
     })
 }
 
+/// The gorge force `F/(γ R1)` of [`torus`] without the bookkeeping (no
+/// `atan2`; equal spheres take the symmetric shortcut `φ2 = φ1`, (4.39),
+/// (4.40)). Same formulas: (4.53), (4.54), (4.61), (4.46). Used per step.
+#[inline]
+pub(crate) fn gorge_force_star(n: &Norm, phi1: f64, s: f64) -> Option<f64> {
+    let (st, ct) = (n.sin_t, n.cos_t);
+    let (s1, c1) = phi1.sin_cos();
+    let om1 = s1 * s1 / (1.0 + c1);
+    let sin_a1 = s1 * ct + c1 * st;
+    let cos_a1 = c1 * ct - s1 * st;
+    let (rho1, ok2) = if n.k == 1.0 {
+        // (4.39): ρ1 = (S/2 + 1 − cos φ)/cos(φ + θ)
+        ((0.5 * s + om1) / cos_a1, true)
+    } else if n.k.is_finite() {
+        let k = n.k;
+        let d = 1.0 - k;
+        let a = s + 2.0 * k;
+        let b = s + 2.0;
+        let sr = s + 1.0 + k;
+        let x = (a * b * s1 * ct + st * (a * a - (sr * sr + d * d) * om1))
+            / (a * a + 2.0 * sr * d * om1);
+        let cos_a2 = ((1.0 - x) * (1.0 + x)).sqrt();
+        let sp2 = x * ct - cos_a2 * st;
+        let cp2 = cos_a2 * ct + x * st;
+        let ext2 = k * sp2 * sp2 / (1.0 + cp2);
+        ((s + om1 + ext2) / (cos_a1 + cos_a2), x.abs() < 1.0)
+    } else {
+        ((s + om1) / (cos_a1 + ct), true)
+    };
+    let rho2 = s1 - (1.0 - sin_a1) * rho1;
+    if !(ok2 && cos_a1 > 0.0 && rho1 > 0.0 && rho2 > 0.0) {
+        return None;
+    }
+    Some(PI * rho2 * (1.0 + rho2 / rho1))
+}
+
 /// Largest admissible φ1 (the contact line may not pass the equator of the
 /// contact-angle-tilted sphere).
 #[inline]
@@ -165,6 +201,9 @@ fn residual(n: &Norm, phi1: f64, s: f64) -> f64 {
 /// positive neck holds the volume (the toroid has pinched off).
 pub(crate) fn solve_phi1(n: &Norm, s: f64, guess: f64) -> Option<f64> {
     let pmax = phi_max(n);
+    if !(pmax > 1e-5) || !(n.v > 0.0) || !s.is_finite() {
+        return None;
+    }
     let g = if guess.is_finite() {
         guess.clamp(1e-6, pmax - 1e-6)
     } else {
@@ -253,6 +292,9 @@ impl ToroidalTable {
             }
             s_max = lo;
         }
+        if !(s_max > 1e-9) {
+            return None;
+        }
         let nodes = Cheb::nodes(0.0, s_max, 24);
         let mut vals = Vec::with_capacity(nodes.len());
         for &x in &nodes {
@@ -264,5 +306,61 @@ impl ToroidalTable {
             cheb: Cheb::from_values(0.0, s_max, &vals),
             s_max,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Bridge;
+    use super::*;
+
+    /// The per-step force path equals the full toroidal state.
+    #[test]
+    fn fast_gorge_force_equals_full_state() {
+        for k in [1.0, 1.0 + 1e-12, 1.3, 5.0, 1e6, f64::INFINITY] {
+            for th in [0.0f64, 0.3, 0.7] {
+                let n = Bridge::new(1.0, k, 0.01, 1.0, th).norm().unwrap();
+                for phi in [0.05, 0.2, 0.4] {
+                    for s in [0.0, 0.05, 0.2] {
+                        let full = torus(&n, phi, s).map(|t| t.force_star());
+                        let fast = gorge_force_star(&n, phi, s);
+                        match (full, fast) {
+                            (Some(a), Some(b)) => {
+                                assert!((a - b).abs() <= 1e-12 * a, "{k} {th} {phi} {s}")
+                            }
+                            (None, None) => {}
+                            other => panic!("{k} {th} {phi} {s}: {other:?}"),
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Equal spheres: the unequal-sphere geometry reduces to (4.39), (4.40)
+    /// and the toroidal volume to (4.42).
+    #[test]
+    fn equal_spheres_reduce_to_4_39_4_42() {
+        let th = 0.25f64;
+        let n = Bridge::new(1.0, 1.0, 0.01, 1.0, th).norm().unwrap();
+        let (phi, s) = (0.3f64, 0.08);
+        let t = torus(&n, phi, s).unwrap();
+        let r1 = (s / 2.0 + 1.0 - phi.cos()) / (phi + th).cos();
+        let r2 =
+            phi.sin() - (1.0 - (phi + th).sin()) * (s / 2.0 + 1.0 - phi.cos()) / (phi + th).cos();
+        assert!((t.rho1 - r1).abs() < 1e-14 && (t.rho2 - r2).abs() < 1e-14);
+        assert!((t.phi2 - phi).abs() < 1e-12);
+        let xc = s / 2.0 + 1.0 - phi.cos();
+        let v442 = 2.0
+            * PI
+            * ((r1 + r2).powi(2) * xc + r1 * r1 * xc
+                - xc.powi(3) / 3.0
+                - (r1 + r2) * (xc * (r1 * r1 - xc * xc).sqrt() + r1 * r1 * (xc / r1).asin()))
+            - 2.0 * PI / 3.0 * (1.0 - phi.cos()).powi(2) * (2.0 + phi.cos());
+        assert!(
+            (t.volume_star(1.0) - v442).abs() < 1e-13,
+            "{} {v442}",
+            t.volume_star(1.0)
+        );
     }
 }
