@@ -204,6 +204,8 @@ pub enum Command {
     Cohesion {
         gamma: f64,
         material: usize,
+        /// Base surface energy for contacts made after an impact (`VELocity ... 1`).
+        base: Option<f64>,
     },
     Create {
         pos: [f64; 3],

@@ -690,9 +690,17 @@ fn b_cgravity(a: &mut Args) -> Result<Command, ParseError> {
 }
 
 fn b_cohesion(a: &mut Args) -> Result<Command, ParseError> {
+    let gamma = a.non_negative("gamma")?;
+    let material = material(a)?;
+    let base = if a.peek_is_number() {
+        Some(a.non_negative("gamma_base")?)
+    } else {
+        None
+    };
     Ok(Command::Cohesion {
-        gamma: a.non_negative("gamma")?,
-        material: material(a)?,
+        gamma,
+        material,
+        base,
     })
 }
 

@@ -108,9 +108,15 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             material_mut(scene, *material)?.friction = *mu;
             Ok(String::new())
         }
-        Command::Cohesion { gamma, material } => {
+        Command::Cohesion {
+            gamma,
+            material,
+            base,
+        } => {
             existing_material(scene, *material)?;
-            material_mut(scene, *material)?.gamma = *gamma;
+            let m = material_mut(scene, *material)?;
+            m.gamma = *gamma;
+            m.gamma_base = base.unwrap_or(*gamma);
             scene.contacts.stale = true;
             Ok(String::new())
         }

@@ -38,12 +38,13 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
         for i in 0..model.nmat {
             for j in 0..model.nmat {
                 let pc = &model.table[i * model.nmat + j];
-                if pc.gamma > 0.0 {
+                let g = pc.gamma.max(pc.gamma_base);
+                if g > 0.0 {
                     let rmax = scene.max_radius();
                     let jk = crate::physics::jkr::Jkr {
                         e_star: pc.e_star,
                         r_star: rmax,
-                        gamma: pc.gamma,
+                        gamma: g,
                     };
                     need = need.max(-jk.alpha_s());
                 }

@@ -106,7 +106,15 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
 
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
-    let gamma = if s.touching { s.gamma } else { pc.gamma };
+    // A touching contact keeps its own γ; a new one takes the material value, or the base
+    // value after an impact (`VELocity ... 1`, Lian App. B).
+    let gamma = if s.touching {
+        s.gamma
+    } else if laws.impact {
+        pc.gamma_base
+    } else {
+        pc.gamma
+    };
     let mut kn = 0.0;
     let mut pcrit = 0.0;
     if gamma > 0.0 {
@@ -118,7 +126,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         if !s.touching && alpha >= 0.0 {
             // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md).
             s.touching = true;
-            s.gamma = if laws.impact { pc.gamma } else { gamma };
+            s.gamma = gamma;
             s.a = j.a0();
             s.normal = k.n;
         }

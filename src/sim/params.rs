@@ -14,6 +14,8 @@ pub struct PairConst {
     pub mu: f64,
     /// Surface energy sqrt(γ1 γ2) (DECISIONS.md).
     pub gamma: f64,
+    /// The same for contacts made after an impact.
+    pub gamma_base: f64,
     /// Dimensionless dashpot ζ = C/sqrt(m* K) of the restitution damping (0 = none).
     pub zeta: f64,
 }
@@ -86,6 +88,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             let g_star = hertz::g_star(ma.shear(), ma.poisson, mb.shear(), mb.poisson);
             let mu = ma.friction.min(mb.friction);
             let gamma = (ma.gamma * mb.gamma).sqrt();
+            let gamma_base = (ma.gamma_base * mb.gamma_base).sqrt();
             // Restitution: the pair uses the smaller e set on either material.
             let e = match (ma.restitution, mb.restitution) {
                 (Some(x), Some(y)) => Some(x.min(y)),
@@ -93,12 +96,13 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             };
             let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
             rotation |= mu > 0.0;
-            adhesion |= gamma > 0.0;
+            adhesion |= gamma > 0.0 || gamma_base > 0.0;
             table[a * nmat + b] = PairConst {
                 e_star,
                 g_star,
                 mu,
                 gamma,
+                gamma_base,
                 zeta,
             };
         }

@@ -25,6 +25,8 @@ pub struct Material {
     pub friction: f64,
     /// Surface energy per surface γ (J/m²): `COHesion`.
     pub gamma: f64,
+    /// Surface energy of contacts made after an impact (`VELocity ... 1`).
+    pub gamma_base: f64,
     /// Restitution coefficient for the viscoelastic dashpot, if `DAmping REStitution` set it.
     pub restitution: Option<f64>,
 }

@@ -28,3 +28,11 @@ pub fn step(scene: &mut Scene) {
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
+
+/// Sets a particle's velocity and books the change of kinetic energy as a command input (as
+/// the session does for commands).
+pub fn set_velocity(scene: &mut Scene, i: usize, v: trubal::sim::Vec3) {
+    let before = trubal::sim::energy::stored(scene).total();
+    scene.particles.vel[i] = v;
+    scene.ledger.commands += trubal::sim::energy::stored(scene).total() - before;
+}

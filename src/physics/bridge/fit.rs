@@ -82,7 +82,8 @@ pub fn olsson_wall_star(v: f64, h: f64, theta: f64) -> (f64, f64) {
     }
     let alpha = (2.0 * d).sqrt();
     let f = 4.0 * PI * theta.cos() / (1.0 + h / d) + 2.0 * PI * alpha.sin() * (theta + alpha).sin();
-    (f, alpha)
+    // (meaningless, possibly negative, for absurd volumes where α > π/2)
+    (f.max(0.0), alpha)
 }
 
 /// [`olsson_wall_star`] force only, with `sin θ`, `cos θ` precomputed.
@@ -94,7 +95,7 @@ pub(crate) fn olsson_wall_force_star(v: f64, h: f64, sin_t: f64, cos_t: f64) -> 
         return 0.0;
     }
     let (sa, ca) = (2.0 * d).sqrt().sin_cos();
-    4.0 * PI * cos_t * d / (d + h) + 2.0 * PI * sa * (sa * cos_t + ca * sin_t)
+    (4.0 * PI * cos_t * d / (d + h) + 2.0 * PI * sa * (sa * cos_t + ca * sin_t)).max(0.0)
 }
 
 #[cfg(test)]

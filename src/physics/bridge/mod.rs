@@ -21,6 +21,9 @@
 //! [`BridgeCoeffs::force`] costs a polynomial (or Chebyshev) evaluation and
 //! one `sin_cos`.
 
+// `!(x > 0.0)` style tests are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod fit;
 pub mod laplace;
 mod numerics;
@@ -113,10 +116,14 @@ impl Bridge {
         } else {
             (self.r2, self.r1, true)
         };
-        if !(a > 0.0 && a.is_finite() && big >= a)
-            || !(self.volume > 0.0 && self.volume.is_finite())
-            || !(self.theta >= 0.0 && self.theta < FRAC_PI_2)
-        {
+        let ok = a > 0.0
+            && a.is_finite()
+            && big >= a
+            && self.volume > 0.0
+            && self.volume.is_finite()
+            && self.theta >= 0.0
+            && self.theta < FRAC_PI_2;
+        if !ok {
             return None;
         }
         let (sin_t, cos_t) = self.theta.sin_cos();
@@ -168,10 +175,10 @@ fn laplace_cache(n: &Norm) -> Option<Arc<Branch>> {
     static CACHE: OnceLock<Mutex<HashMap<Key, Option<Arc<Branch>>>>> = OnceLock::new();
     let key = (n.k.to_bits(), n.v.to_bits(), n.theta.to_bits());
     let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    if let Ok(map) = cache.lock() {
-        if let Some(b) = map.get(&key) {
-            return b.clone();
-        }
+    if let Ok(map) = cache.lock()
+        && let Some(b) = map.get(&key)
+    {
+        return b.clone();
     }
     let mut nn = *n;
     nn.a = 1.0;
@@ -183,6 +190,22 @@ fn laplace_cache(n: &Norm) -> Option<Arc<Branch>> {
         map.insert(key, branch.clone());
     }
     branch
+}
+
+/// Nominal bridge volume (m³) for `LIQuid pvol …` (DECISIONS.md): `pvol` % of
+/// the mean volume of the two spheres, `V = pvol/100 · (V1 + V2)/2`; for a
+/// wall (`r2 = ∞`) `pvol` % of the particle's volume. With `pvol = 0.1` this is
+/// Lian's "0.1 % of the particle volume" (physics-lian1994 §3.8).
+pub fn nominal_volume(pvol_percent: f64, r1: f64, r2: f64) -> f64 {
+    let vol = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    let mean = if r2.is_infinite() {
+        vol(r1)
+    } else if r1.is_infinite() {
+        vol(r2)
+    } else {
+        0.5 * (vol(r1) + vol(r2))
+    };
+    pvol_percent / 100.0 * mean
 }
 
 /// Rupture distance (m) of a given model: (5.31)–(5.36) (pairs) or Willett /
@@ -199,13 +222,22 @@ pub fn model_rupture_distance(model: BridgeModel, b: &Bridge) -> f64 {
     }
 }
 
+/// `x = S/R1` clamped to `[0, S_c]`, or `None` beyond rupture. `S = S_c` itself
+/// (up to rounding of the scaling by `R1`) still has a bridge: Lian's bridge
+/// ruptures when `S > S_c`.
+#[inline]
+fn within_rupture(x: f64, sc: f64) -> Option<f64> {
+    if x <= sc * (1.0 + 8.0 * f64::EPSILON) {
+        Some(x.max(0.0).min(sc))
+    } else {
+        None
+    }
+}
+
 /// Dimensionless state of a Fit/Toroidal bridge at `x = S/R1`:
 /// `(F*, φ_small, φ_large)`; `None` when the bridge has no valid state.
 fn toroidal_like(model: BridgeModel, n: &Norm, x: f64, sc: f64) -> Option<(f64, f64, f64)> {
-    let x = x.max(0.0);
-    if x > sc {
-        return None;
-    }
+    let x = within_rupture(x, sc)?;
     if model == BridgeModel::Fit {
         if n.is_wall() {
             let (f, alpha) = fit::olsson_wall_star(n.v, x, n.theta);
@@ -237,11 +269,14 @@ pub fn static_force(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
     if !(b.gamma > 0.0) || !b.gamma.is_finite() || s.is_nan() {
         return 0.0;
     }
-    let x = s / n.a;
-    if model == BridgeModel::Laplace {
-        if let Some(br) = laplace_cache(&n) {
-            return b.gamma * n.a * br.force_star(x);
-        }
+    let x = s * (1.0 / n.a);
+    if model == BridgeModel::Laplace
+        && let Some(br) = laplace_cache(&n)
+    {
+        return match within_rupture(x, br.rupture_star()) {
+            Some(x) => b.gamma * n.a * br.force_star(x),
+            None => 0.0,
+        };
     }
     let model = if model == BridgeModel::Laplace {
         BridgeModel::Toroidal
@@ -259,12 +294,12 @@ pub fn static_force(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
 /// invalid bridge.
 pub fn half_filling_angles(model: BridgeModel, b: &Bridge, s: f64) -> (f64, f64) {
     let Some(n) = b.norm() else { return (0.0, 0.0) };
-    let x = (s / n.a).max(0.0);
+    let x = (s * (1.0 / n.a)).max(0.0);
     let sorted = || -> Option<(f64, f64)> {
-        if model == BridgeModel::Laplace {
-            if let Some(br) = laplace_cache(&n) {
-                return Some(br.half_filling_angles_sorted(x.min(br.rupture_star())));
-            }
+        if model == BridgeModel::Laplace
+            && let Some(br) = laplace_cache(&n)
+        {
+            return Some(br.half_filling_angles_sorted(x.min(br.rupture_star())));
         }
         let m = if model == BridgeModel::Laplace {
             BridgeModel::Toroidal
@@ -583,10 +618,9 @@ impl BridgeCoeffs {
     /// Laplace) evaluation, one `sin_cos` and a few divisions.
     #[inline]
     pub fn force(&self, s: f64) -> f64 {
-        let x = (s * self.inv_a).max(0.0);
-        if !(x <= self.sc) {
+        let Some(x) = within_rupture(s * self.inv_a, self.sc) else {
             return 0.0;
-        }
+        };
         let n = &self.n;
         let f = match &self.kind {
             Kind::Null => None,

@@ -40,8 +40,12 @@ pub(crate) fn lian_rupture_star(n: &Norm) -> f64 {
 pub(crate) fn rupture_star(n: &Norm) -> f64 {
     if n.k.is_finite() {
         lian_rupture_star(n)
-    } else {
+    } else if n.v <= 15.0 {
         willett_star(n.v, n.theta, f64::INFINITY)
+    } else {
+        // Willett's quadratic in V*^{1/3} turns over at V/R³ ≈ 15.6: absurdly
+        // large bridges fall back to Lian's limit (validate() warns)
+        lian_rupture_star(n)
     }
 }
 

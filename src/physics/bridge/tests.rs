@@ -5,7 +5,7 @@
 
 use super::laplace::{Branch, Trace};
 use super::*;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -95,6 +95,9 @@ fn coeffs_match_free_functions() {
             assert!((c.rupture_distance() / sc - 1.0).abs() < 1e-14);
             for i in 0..=12 {
                 let s = sc * (i as f64 / 10.0 - 0.1);
+                if (s / sc - 1.0).abs() < 1e-9 {
+                    continue; // exactly at rupture: either side is fine
+                }
                 let f1 = static_force(m, &b, s);
                 let f2 = c.force(s);
                 let tol = if m == BridgeModel::Toroidal {
@@ -372,7 +375,7 @@ fn bond_energy_is_integral_of_force() {
 #[test]
 fn odd_finite_input_never_panics() {
     let vals = [0.0, -1.0, 1e-300, 1e-12, 1e-6, 1.0, 1e6, 1e300];
-    let thetas = [0.0, 0.5, 1.5, 1.5707963, 3.0, -0.1];
+    let thetas = [0.0, 0.5, 1.5, FRAC_PI_2 - 1e-9, 3.0, -0.1];
     for &r1 in &[1e-6, 1.0, 0.0, -1.0] {
         for &r2 in &[1e-6, 1.0, 1e8, f64::INFINITY] {
             for &v in &vals {
@@ -451,20 +454,35 @@ fn validate_reports_errors_and_warnings() {
     assert!(validate(BridgeModel::Laplace, &Bridge::wall(30e-6, 1e-16, 0.02, 0.1)).is_ok());
 }
 
-/// Mean time per call (ns) of `f` over the gaps `ss`.
+#[test]
+fn nominal_volume_follows_decisions() {
+    let r = 30e-6;
+    let v = nominal_volume(0.1, r, r);
+    assert!((v / 1.1310e-16 - 1.0).abs() < 1e-4, "{v}");
+    assert_eq!(nominal_volume(0.1, r, f64::INFINITY), v);
+    let v2 = nominal_volume(1.0, r, 2.0 * r);
+    assert!((v2 / (0.01 * 4.5 * 4.0 / 3.0 * PI * r * r * r) - 1.0).abs() < 1e-12);
+}
+
+/// Time per call (ns) of `f` over the gaps `ss`: the best of 7 trials (the
+/// machine is shared; the minimum is the least disturbed measurement).
 fn time_ns<F: FnMut(f64) -> f64>(ss: &[f64], reps: usize, mut f: F) -> f64 {
     let mut acc = 0.0;
     for &s in ss {
         acc += f(black_box(s)); // warm up (caches, lazily built tables)
     }
-    let t = Instant::now();
-    for _ in 0..reps {
-        for &s in ss {
-            acc += f(black_box(s));
+    let mut best = f64::INFINITY;
+    for _ in 0..7 {
+        let t = Instant::now();
+        for _ in 0..reps {
+            for &s in ss {
+                acc += f(black_box(s));
+            }
         }
+        best = best.min(t.elapsed().as_secs_f64() * 1e9 / (reps * ss.len()) as f64);
     }
     black_box(acc);
-    t.elapsed().as_secs_f64() * 1e9 / (reps * ss.len()) as f64
+    best
 }
 
 /// Cost per evaluation and force error against Laplace–Young, over
@@ -483,9 +501,16 @@ fn cost_and_error_table() {
     ];
     println!("\n### Force error against Laplace-Young (same absolute gap S)\n");
     println!(
-        "| geometry | model | theta | max err, S <= S_c | mean err | max err, S <= 0.9 S_c | S_c err (max) |"
+        "| geometry | model | theta (deg) | max, S <= 0.5 S_c | max, S <= 0.9 S_c | max, S <= S_c | mean | S_c error (max) |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
+    let pct = |e: f64| {
+        if e < 1e-3 {
+            format!("{:.0e} %", 100.0 * e)
+        } else {
+            format!("{:.1} %", 100.0 * e)
+        }
+    };
     let t0 = Instant::now();
     for (gname, k) in geoms {
         for (mname, m, th_set) in [
@@ -494,8 +519,9 @@ fn cost_and_error_table() {
             ("Toroidal", BridgeModel::Toroidal, &ths[..]),
             ("Laplace (table)", BridgeModel::Laplace, &ths[..]),
         ] {
-            let (mut emax, mut esum, mut ecount, mut e90, mut scerr) =
-                (0.0f64, 0.0, 0usize, 0.0f64, 0.0f64);
+            // [<= 0.5, <= 0.9, <= 1] max, sum, count, S_c error
+            let (mut e5, mut e9, mut emax, mut esum, mut ecount, mut scerr) =
+                (0.0f64, 0.0f64, 0.0f64, 0.0, 0usize, 0.0f64);
             for &v in &vs {
                 for &th in th_set {
                     let b = br(1.0, k, v, th);
@@ -513,7 +539,10 @@ fn cost_and_error_table() {
                         esum += e;
                         ecount += 1;
                         if s <= 0.9 * sl {
-                            e90 = e90.max(e);
+                            e9 = e9.max(e);
+                        }
+                        if s <= 0.5 * sl {
+                            e5 = e5.max(e);
                         }
                     }
                 }
@@ -529,14 +558,32 @@ fn cost_and_error_table() {
                 mname
             };
             println!(
-                "| {gname} | {mname} | {thl} | {:.1} % | {:.1} % | {:.1} % | {:.1} % |",
-                100.0 * emax,
-                100.0 * esum / ecount as f64,
-                100.0 * e90,
-                100.0 * scerr
+                "| {gname} | {mname} | {thl} | {} | {} | {} | {} | {} |",
+                pct(e5),
+                pct(e9),
+                pct(emax),
+                pct(esum / ecount as f64),
+                pct(scerr)
             );
         }
     }
+    // Lian's polynomial against the exact toroidal φ1 over the fitted range
+    let mut dphi: f64 = 0.0;
+    for k in [1.0, 1.2, 1.5, 2.0, 5.0] {
+        for v in [0.001, 0.003, 0.01, 0.03] {
+            let b = br(1.0, k, v, 0.0);
+            let sc = rupture_distance(&b);
+            for i in 0..=40 {
+                let s = sc * i as f64 / 40.0;
+                let d = half_filling_angle(BridgeModel::Fit, &b, s)
+                    - half_filling_angle(BridgeModel::Toroidal, &b, s);
+                dphi = dphi.max(d.abs());
+            }
+        }
+    }
+    println!(
+        "\nmax |phi1(Fit) - phi1(Toroidal)|, theta = 0, R2/R1 = 1-5, V* = 0.001-0.03: {dphi:.4} rad"
+    );
     eprintln!("(error table: {:.1} s)", t0.elapsed().as_secs_f64());
 
     println!("\n### Cost per evaluation (ns), release build\n");
@@ -582,7 +629,7 @@ fn cost_and_error_table() {
             println!("| {gname} | {m:?} | {t_free:.0} | {t_c:.0} | {new_s} |");
         }
     }
-    let tv = time_ns(&[1e-7, 2e-7, 3e-7, 4e-7], 1_000_000, |s| {
+    let tv = time_ns(&[1e-7, 2e-7, 3e-7, 4e-7], 200_000, |s| {
         viscous_normal(0.01, 15e-6, 0.1, s, 3e-8)
     });
     println!("\n`viscous_normal`: {tv:.1} ns per call");

@@ -264,6 +264,9 @@ pub(crate) fn solve_phi1(n: &Norm, s: f64, guess: f64) -> Option<f64> {
     Some(r)
 }
 
+/// Chebyshev nodes of a [`ToroidalTable`].
+const TABLE_NODES: usize = 24;
+
 /// Per-bridge table of the exact toroidal φ1(S/S_c) on [0, 1] (Chebyshev
 /// interpolant of the exact solve), so that the per-step cost equals that
 /// of the fitted polynomial.
@@ -295,7 +298,7 @@ impl ToroidalTable {
         if !(s_max > 1e-9) {
             return None;
         }
-        let nodes = Cheb::nodes(0.0, s_max, 24);
+        let nodes = Cheb::nodes(0.0, s_max, TABLE_NODES);
         let mut vals = Vec::with_capacity(nodes.len());
         for &x in &nodes {
             let p = solve_phi1(n, x * s_c, super::fit::phi1_guess(n, x))
@@ -335,6 +338,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The per-bridge Chebyshev table reproduces the exact solve.
+    #[test]
+    fn table_matches_exact_solve() {
+        let mut worst: f64 = 0.0;
+        for (k, v, th) in [
+            (1.0, 0.001, 0.0),
+            (1.0, 0.05, 0.7),
+            (2.0, 0.01, 0.3),
+            (5.0, 0.04, 0.0),
+            (f64::INFINITY, 0.001, 0.0),
+            (f64::INFINITY, 0.05, 0.7),
+        ] {
+            let n = Bridge::new(1.0, k, v, 1.0, th).norm().unwrap();
+            let sc = super::super::rupture::rupture_star(&n);
+            let t = ToroidalTable::new(&n, sc).unwrap();
+            assert_eq!(t.s_max, 1.0);
+            for i in 0..=200 {
+                let x = i as f64 / 200.0;
+                let exact = solve_phi1(&n, x * sc, 0.3).unwrap();
+                worst = worst.max((t.cheb.eval(x) - exact).abs());
+            }
+        }
+        assert!(worst < 1e-8, "{worst}");
     }
 
     /// Equal spheres: the unequal-sphere geometry reduces to (4.39), (4.40)

@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 #[inline]
 pub fn viscous_normal(eta: f64, r_star: f64, v_n: f64, s: f64, s_min: f64) -> f64 {
     let s_eff = if s > s_min { s } else { s_min };
-    if !(eta > 0.0 && r_star > 0.0 && s_eff > 0.0) || !v_n.is_finite() || !s_eff.is_finite() {
+    if !(eta > 0.0 && r_star > 0.0 && s_eff > 0.0 && v_n.is_finite() && s_eff.is_finite()) {
         return 0.0;
     }
     -6.0 * PI * eta * r_star * r_star * v_n / s_eff
@@ -48,7 +48,7 @@ pub fn viscous_normal_coefficient(eta: f64, r_star: f64, s: f64, s_min: f64) -> 
 #[inline]
 pub fn viscous_tangential(eta: f64, r_star: f64, v_t: f64, s: f64, s_min: f64) -> (f64, f64) {
     let s_eff = if s > s_min { s } else { s_min };
-    if !(eta > 0.0 && r_star > 0.0 && s_eff > 0.0) || !v_t.is_finite() || !s_eff.is_finite() {
+    if !(eta > 0.0 && r_star > 0.0 && s_eff > 0.0 && v_t.is_finite() && s_eff.is_finite()) {
         return (0.0, 0.0);
     }
     let l = (r_star / s_eff).ln();
