@@ -32,7 +32,8 @@ fn alpha_of_a(a: f64) -> f64 {
     a * a / r_star() - (4.0 * PI * GAMMA * a / e_star()).sqrt()
 }
 fn p_of_a(a: f64) -> f64 {
-    4.0 * e_star() * a.powi(3) / (3.0 * r_star()) - (16.0 * PI * GAMMA * e_star() * a.powi(3)).sqrt()
+    4.0 * e_star() * a.powi(3) / (3.0 * r_star())
+        - (16.0 * PI * GAMMA * e_star() * a.powi(3)).sqrt()
 }
 /// Stable branch a(α) by bisection (α ≥ α_s), a ≥ a_s (3.117).
 fn a_of_alpha(alpha: f64) -> f64 {
@@ -43,7 +44,11 @@ fn a_of_alpha(alpha: f64) -> f64 {
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if alpha_of_a(mid) < alpha { lo = mid } else { hi = mid }
+        if alpha_of_a(mid) < alpha {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     0.5 * (lo + hi)
 }
@@ -93,11 +98,19 @@ fn quasi_static_pull_off() {
         }
     }
     let snap = snap.expect("snap-in");
-    assert!(rel(snap, -8.0 / 9.0 * pc()) < 1e-3, "snap-in {snap} vs {}", -8.0 / 9.0 * pc());
+    assert!(
+        rel(snap, -8.0 / 9.0 * pc()) < 1e-3,
+        "snap-in {snap} vs {}",
+        -8.0 / 9.0 * pc()
+    );
     assert!(rel(pmin, -pc()) < 5e-3, "pull-off {pmin} vs {}", -pc());
     let (a_det, p_det) = detach.expect("detachment");
     let step_alpha = v * sc.time / sc.cycle as f64;
-    assert!((a_det - alpha_s()).abs() < 2.0 * step_alpha, "detach at {a_det} vs α_s {}", alpha_s());
+    assert!(
+        (a_det - alpha_s()).abs() < 2.0 * step_alpha,
+        "detach at {a_det} vs α_s {}",
+        alpha_s()
+    );
     // Just before detaching the force is on the closed-form curve, within a step of its
     // limit −5/9 Pc (the curve is vertical at α_s: dα/da = 0).
     assert!(rel(p_det, -5.0 / 9.0 * pc()) < 0.02, "detach force {p_det}");
@@ -106,10 +119,18 @@ fn quasi_static_pull_off() {
     let k = samples.len() / 20;
     for (alpha, p) in samples.iter().step_by(k.max(1)).take(20) {
         let p_ref = p_of_a(a_of_alpha(*alpha));
-        assert!((p - p_ref).abs() < 1e-3 * pc(), "α {alpha}: P {p} vs {p_ref}");
+        assert!(
+            (p - p_ref).abs() < 1e-3 * pc(),
+            "α {alpha}: P {p} vs {p_ref}"
+        );
     }
     // The ledger: the loop lost the peeling work (3.119).
-    assert!(rel(sc.ledger.adhesion, peel_work()) < 0.01, "{} vs {}", sc.ledger.adhesion, peel_work());
+    assert!(
+        rel(sc.ledger.adhesion, peel_work()) < 0.01,
+        "{} vs {}",
+        sc.ledger.adhesion,
+        peel_work()
+    );
 }
 
 #[test]
@@ -124,7 +145,11 @@ fn head_on_sticking_threshold() {
         trubal::sim::cycle::run(&mut sc, 20_000).unwrap();
         let rebound = sc.particles.vel[1].x - sc.particles.vel[0].x;
         let apart = !sc.contacts.pairs.iter().any(|c| c.s.touching);
-        (apart, rebound / v_rel, energy::residual(&sc) / sc.ledger.input())
+        (
+            apart,
+            rebound / v_rel,
+            energy::residual(&sc) / sc.ledger.input(),
+        )
     };
     let (apart, _, res) = outcome(0.98 * v_s);
     assert!(!apart, "stuck below v_s");
@@ -151,7 +176,12 @@ fn oblique_peeling_then_sliding() {
     let mu = 0.9;
     let mut sc = two_spheres(&format!("friction {mu} 1\nfraction 0.2"), 1e-9, -1e-4);
     sc.particles.fixed = vec![0b111111, 0b111111];
-    while !(sc.contacts.pairs.first().is_some_and(|c| c.s.overlap > 2e-8)) {
+    while !(sc
+        .contacts
+        .pairs
+        .first()
+        .is_some_and(|c| c.s.overlap > 2e-8))
+    {
         step(&mut sc);
     }
     sc.particles.vel[1] = Vec3::new(0.0, 1e-4, 0.0);
@@ -174,15 +204,35 @@ fn oblique_peeling_then_sliding() {
     }
     // Initial slope 8 G* a.
     let (d1, t1, _) = trace[5];
-    assert!(rel(t1 / d1, 8.0 * g_star * a) < 0.02, "slope {} vs {}", t1 / d1, 8.0 * g_star * a);
+    assert!(
+        rel(t1 / d1, 8.0 * g_star * a) < 0.02,
+        "slope {} vs {}",
+        t1 / d1,
+        8.0 * g_star * a
+    );
     // Linear up to T_p (< sliding limit here), then below the line, then the plateau.
     let tmax = trace.iter().map(|x| x.1).fold(0.0, f64::max);
     let p_end = trace.last().unwrap().2;
-    assert!(rel(tmax, mu * (p_end + 2.0 * pc())) < 0.01, "plateau {tmax} vs {slide}");
-    let at_tp = trace.iter().find(|x| x.1 >= t_p * 0.999).expect("reaches T_p");
-    assert!(rel(at_tp.1 / at_tp.0, 8.0 * g_star * a) < 0.02, "still linear at T_p");
-    let later = trace.iter().find(|x| x.1 >= 0.5 * (t_p + slide)).expect("micro-slip");
-    assert!(later.1 / later.0 < 0.98 * 8.0 * g_star * a, "softer after peeling");
+    assert!(
+        rel(tmax, mu * (p_end + 2.0 * pc())) < 0.01,
+        "plateau {tmax} vs {slide}"
+    );
+    let at_tp = trace
+        .iter()
+        .find(|x| x.1 >= t_p * 0.999)
+        .expect("reaches T_p");
+    assert!(
+        rel(at_tp.1 / at_tp.0, 8.0 * g_star * a) < 0.02,
+        "still linear at T_p"
+    );
+    let later = trace
+        .iter()
+        .find(|x| x.1 >= 0.5 * (t_p + slide))
+        .expect("micro-slip");
+    assert!(
+        later.1 / later.0 < 0.98 * 8.0 * g_star * a,
+        "softer after peeling"
+    );
     assert!(sc.ledger.friction > 0.0);
 }
 
@@ -213,8 +263,16 @@ fn impact_flag_uses_base_surface_energy() {
         let mut s2 = sc.clone();
         s2.impact = flag;
         trubal::sim::cycle::run(&mut s2, 5000).unwrap();
-        let c = s2.contacts.pairs.iter().find(|c| c.s.touching).expect("contact");
-        assert!((c.s.gamma - want).abs() < 1e-12, "flag {flag}: γ {}", c.s.gamma);
+        let c = s2
+            .contacts
+            .pairs
+            .iter()
+            .find(|c| c.s.touching)
+            .expect("contact");
+        assert!(
+            (c.s.gamma - want).abs() < 1e-12,
+            "flag {flag}: γ {}",
+            c.s.gamma
+        );
     }
 }
-

@@ -146,6 +146,9 @@ pub enum Setting {
     Snapshot(u64),
     /// `SET HIStory n`: record the history every n cycles (0 = off).
     History(u64),
+    /// `SET GENoverlap f`: overlap allowed between generated particles, as a fraction of
+    /// R_i + R_j (default 1e-9, i.e. touching within round-off).
+    GenOverlap(f64),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

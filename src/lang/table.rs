@@ -133,6 +133,7 @@ enum SetKw {
     View,
     Snapshot,
     History,
+    GenOverlap,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -148,6 +149,7 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("VIEw", SetKw::View),
     kw("SNApshot", SetKw::Snapshot),
     kw("HIStory", SetKw::History),
+    kw("GENoverlap", SetKw::GenOverlap),
 ];
 
 const BRIDGES: &[Keyword<BridgeChoice>] = &[
@@ -508,11 +510,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "OUTdir",
             "VIEw",
             "SNApshot",
-            "HIStory"
+            "HIStory",
+            "GENoverlap"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n; HIStory n."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9)."
     ),
     def!(
         "STArt",
@@ -992,6 +995,17 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::View => Setting::View(a.keyword(VIEWS, "view")?),
         SetKw::Snapshot => Setting::Snapshot(a.count("n")? as u64),
         SetKw::History => Setting::History(a.count("n")? as u64),
+        SetKw::GenOverlap => {
+            let t = a.peek();
+            let f = a.non_negative("fraction")?;
+            if f >= 0.1 {
+                return Err(ParseError::at(
+                    t.expect("consumed"),
+                    "GENoverlap must be below 0.1 (a fraction of R_i + R_j)",
+                ));
+            }
+            Setting::GenOverlap(f)
+        }
     };
     Ok(Command::Set(s))
 }

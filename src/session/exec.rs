@@ -556,6 +556,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 Setting::View(v) => st.view = *v,
                 Setting::Snapshot(n) => st.snapshot_every = *n,
                 Setting::History(n) => st.history_every = *n,
+                Setting::GenOverlap(f) => st.gen_overlap = *f,
             }
             scene.contacts.stale = true;
             Ok(String::new())

@@ -5,14 +5,12 @@
 //! lies within R_A − R of the region centre (DECISIONS.md). Without a region, the particle
 //! must lie in the work-space: its centre in [0, L) on periodic axes, in [R, L − R] on open
 //! axes. Overlap: centre distance below (R_i + R_j)(1 − 1e-9), so touching lattice spheres are
-//! accepted despite round-off.
+//! accepted despite round-off (`SET GENoverlap` changes the tolerance, e.g. to build agglomerates
+//! at the JKR zero-load spacing).
 
 use std::collections::HashMap;
 
 use super::scene::{Region, Scene, Vec3};
-
-/// Relative tolerance of the overlap check.
-const TOUCH_TOL: f64 = 1e-9;
 
 /// Spatial hash of the existing particles for the overlap check.
 pub struct OverlapIndex {
@@ -76,7 +74,7 @@ impl OverlapIndex {
                         if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
                             for &j in v {
                                 let d = (p.pos[j] - y).norm();
-                                if d < (r + p.radius[j]) * (1.0 - TOUCH_TOL) {
+                                if d < (r + p.radius[j]) * (1.0 - scene.settings.gen_overlap) {
                                     return Some(j);
                                 }
                             }

@@ -173,6 +173,8 @@ pub struct Settings {
     pub two_d: bool,
     pub fraction: f64,
     pub window: Option<[f64; 6]>,
+    /// Overlap allowed between generated particles (fraction of R_i + R_j).
+    pub gen_overlap: f64,
 }
 
 impl Default for Settings {
@@ -192,6 +194,7 @@ impl Default for Settings {
             two_d: false,
             fraction: DEFAULT_FRACTION,
             window: None,
+            gen_overlap: 1e-9,
         }
     }
 }

@@ -316,8 +316,10 @@ struct Pt {
 
 /// Pseudo-arclength corrector: the point of the branch in the hyperplane
 /// through `zp` normal to `t`, by Newton iteration with the Jacobian `j`
-/// (refreshed if the iteration stalls).
-fn correct(n: &Norm, hs: f64, zp: &Z, t: &Z, j: &[[f64; 3]; 2]) -> Option<(Z, LyState)> {
+/// (refreshed if the iteration stalls), steps limited to `ds/2` (`ds` = the
+/// predictor step).
+fn correct(n: &Norm, hs: f64, zp: &Z, t: &Z, j: &[[f64; 3]; 2], ds: f64) -> Option<(Z, LyState)> {
+    let radius = 0.5 * ds.abs() + 1e-9;
     let mut z = *zp;
     let mut jj = *j;
     let mut last = f64::INFINITY;
@@ -335,8 +337,16 @@ fn correct(n: &Norm, hs: f64, zp: &Z, t: &Z, j: &[[f64; 3]; 2]) -> Option<(Z, Ly
         }
         last = res;
         let off = dot(t, &[z[0] - zp[0], z[1] - zp[1], z[2] - zp[2]]);
-        let dz = solve3([jj[0], jj[1], *t], [-g[0], -g[1], -off])?;
-        // backtrack if the full step leaves the pendular domain
+        let mut dz = solve3([jj[0], jj[1], *t], [-g[0], -g[1], -off])?;
+        // trust region: the branch is within O(ds²) of the predictor; longer
+        // Newton steps would wander off to a neighbouring (asymmetric) branch
+        let len = dot(&dz, &dz).sqrt();
+        if len > radius {
+            for v in dz.iter_mut() {
+                *v *= radius / len;
+            }
+        }
+        // backtrack if the step leaves the pendular domain
         let mut f = 1.0;
         let mut next = None;
         for _ in 0..30 {
@@ -463,13 +473,9 @@ impl Trace {
         };
         // march through the fold and a few points beyond
         let pts = march(&n, hs, start, s_est, |p: &[Pt]| {
-            let imax = argmax_s(p);
-            p.len() >= imax + 5
+            first_max_s(p).is_some_and(|i| p.len() >= i + 5)
         })?;
-        let imax = argmax_s(&pts);
-        if imax + 1 >= pts.len() || imax == 0 {
-            return None;
-        }
+        let imax = first_max_s(&pts)?;
         let mut tr = Trace {
             n,
             hs,
@@ -538,7 +544,7 @@ impl Trace {
             p.z[1] + ds * p.t[1],
             p.z[2] + ds * p.t[2],
         ];
-        correct(&self.n, self.hs, &zp, &p.t, &p.j).map(|(_, st)| st)
+        correct(&self.n, self.hs, &zp, &p.t, &p.j, ds).map(|(_, st)| st)
     }
 
     /// Continuation parameters of the contact state and of the fold.
@@ -594,14 +600,11 @@ fn unit(v: Z) -> Option<Z> {
     Some([v[0] / l, v[1] / l, v[2] / l])
 }
 
-fn argmax_s(p: &[Pt]) -> usize {
-    let mut im = 0;
-    for (i, q) in p.iter().enumerate() {
-        if q.st.s > p[im].st.s {
-            im = i;
-        }
-    }
-    im
+/// Index of the first local maximum of the gap along the traced points with
+/// S > 0: the fold that ends the stable branch (for almost equal spheres near
+/// an imperfect symmetry-breaking bifurcation S(σ) may have more than one).
+fn first_max_s(p: &[Pt]) -> Option<usize> {
+    (1..p.len().saturating_sub(1)).find(|&i| p[i].st.s > 0.0 && p[i].st.s >= p[i + 1].st.s)
 }
 
 /// Follow the branch from `start` along its tangent until `done(points)`.
@@ -618,7 +621,7 @@ fn march<F: Fn(&[Pt]) -> bool>(
     let ds_target = s_est / 30.0;
     let mut fails = 0;
     while !done(&pts) {
-        if pts.len() > 2000 || fails > 60 {
+        if pts.len() > 4000 || fails > 400 {
             return if pts.len() > 1 { Some(pts) } else { None };
         }
         let p = *pts.last()?;
@@ -627,7 +630,7 @@ fn march<F: Fn(&[Pt]) -> bool>(
             p.z[1] + step * p.t[1],
             p.z[2] + step * p.t[2],
         ];
-        let Some((z, st)) = correct(n, hs, &zp, &p.t, &p.j) else {
+        let Some((z, st)) = correct(n, hs, &zp, &p.t, &p.j, step) else {
             step *= 0.5;
             fails += 1;
             if step < 1e-10 {
@@ -636,6 +639,30 @@ fn march<F: Fn(&[Pt]) -> bool>(
             }
             continue;
         };
+        // the segment must be continuous: the midpoint must lie on the branch
+        // too (a long step could jump the narrow gap of an imperfect
+        // bifurcation onto a neighbouring branch)
+        let zm = [
+            p.z[0] + 0.5 * step * p.t[0],
+            p.z[1] + 0.5 * step * p.t[1],
+            p.z[2] + 0.5 * step * p.t[2],
+        ];
+        let mid_ok = correct(n, hs, &zm, &p.t, &p.j, 0.5 * step).is_some_and(|(zz, _)| {
+            let d: Z = [
+                zz[0] - 0.5 * (p.z[0] + z[0]),
+                zz[1] - 0.5 * (p.z[1] + z[1]),
+                zz[2] - 0.5 * (p.z[2] + z[2]),
+            ];
+            dot(&d, &d).sqrt() < 0.25 * step
+        });
+        if !mid_ok {
+            step *= 0.5;
+            fails += 1;
+            if step < 1e-10 {
+                return Some(pts);
+            }
+            continue;
+        }
         let Some(j) = eval3(n, hs, &z).and_then(|(g, _)| jacobian(n, hs, &z, &g)) else {
             step *= 0.5;
             fails += 1;
@@ -648,6 +675,14 @@ fn march<F: Fn(&[Pt]) -> bool>(
         };
         if dot(&t, &p.t) < 0.0 {
             t = [-t[0], -t[1], -t[2]];
+        }
+        // sharp turn of the branch (near an imperfect symmetry-breaking
+        // bifurcation of almost equal spheres): retry with a shorter step
+        let cos_turn = dot(&t, &p.t);
+        if cos_turn < 0.995 && step > 1e-7 {
+            step *= 0.25;
+            fails += 1;
+            continue;
         }
         let ds = (st.s - p.st.s).abs();
         let sigma = p.sigma + step;

@@ -586,6 +586,32 @@ fn cost_and_error_table() {
     );
     eprintln!("(error table: {:.1} s)", t0.elapsed().as_secs_f64());
 
+    println!("\n### Rupture distance S_c/R1: Laplace-Young fold vs the fits\n");
+    println!(
+        "| geometry | V* | theta | LY fold | (4.37)/(5.31) | Willett (Olsson 52/53) | R1/R2->0 limit of (5.34)-(5.36) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (gname, k) in geoms {
+        for v in [0.001, 0.01, 0.05] {
+            for th in [0.0, 20.0, 40.0] {
+                let b = br(1.0, k, v, th);
+                let sl = model_rupture_distance(BridgeModel::Laplace, &b);
+                let lian = lian_rupture_distance(&b);
+                let wil = willett_rupture_distance(&b);
+                let rel = |x: f64| format!("{x:.4} ({:+.1} %)", 100.0 * (x / sl - 1.0));
+                let (l531, lim) = if k.is_finite() {
+                    (rel(lian), "".to_string())
+                } else {
+                    ("".to_string(), rel(lian))
+                };
+                println!(
+                    "| {gname} | {v} | {th} | {sl:.4} | {l531} | {} | {lim} |",
+                    rel(wil)
+                );
+            }
+        }
+    }
+
     println!("\n### Cost per evaluation (ns), release build\n");
     println!("| geometry | model | `static_force` | `BridgeCoeffs::force` | `BridgeCoeffs::new` |");
     println!("|---|---|---|---|---|");
