@@ -185,8 +185,14 @@ impl Jkr {
         if self.is_hertz() {
             return hertz::contact_radius(self.r_star, alpha);
         }
-        let a_s = self.a_s();
-        let alpha_s = self.alpha_s();
+        self.solve_a_with(self.a_s(), alpha, a_guess)
+    }
+
+    /// [`Jkr::solve_a`] with `a_s` (3.117) given by the caller, who computed it once when the
+    /// contact formed (the cube root costs more than the Newton solve). Requires `γ > 0` and
+    /// `a_s = self.a_s() > 0`.
+    pub fn solve_a_with(&self, a_s: f64, alpha: f64, a_guess: f64) -> f64 {
+        let alpha_s = -3.0 * a_s * a_s / self.r_star;
         if !(alpha > alpha_s) {
             return a_s;
         }

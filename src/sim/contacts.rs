@@ -37,8 +37,8 @@ pub struct ContactState {
     pub normal_force: f64,
     /// Dashpot normal force of the last step.
     pub damp_force: f64,
-    /// Stored normal energy (Hertz strain, or JKR elastic + surface energy from first touch).
-    pub strain: f64,
+    /// JKR separation radius a_s (3.117), computed at snap-in.
+    pub a_s: f64,
     /// Stored tangential elastic energy.
     pub tang_energy: f64,
     /// Contact radius a.

@@ -5,7 +5,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::interact::normal_strain;
 use super::scene::Scene;
+use super::walls::wall_r_star;
+use crate::physics::hertz;
 
 /// Accumulated energy terms (J).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -67,18 +70,32 @@ pub fn stored(scene: &Scene) -> Stored {
         s.kinetic_translation += 0.5 * p.mass[i] * p.vel[i].norm_squared();
         s.kinetic_rotation += 0.5 * p.inertia(i) * p.spin[i].norm_squared();
     }
-    for c in scene
-        .contacts
-        .pairs
-        .iter()
-        .map(|c| &c.s)
-        .chain(scene.contacts.wall_pairs.iter().map(|c| &c.s))
-    {
-        if c.touching {
-            s.strain_normal += c.strain;
-            s.strain_tangential += c.tang_energy;
+    let e_star = |m1: usize, m2: usize| {
+        let (a, b) = (&scene.materials[m1 - 1], &scene.materials[m2 - 1]);
+        hertz::e_star(a.young, a.poisson, b.young, b.poisson)
+    };
+    for c in &scene.contacts.pairs {
+        let (i, j) = (c.i as usize, c.j as usize);
+        if c.s.touching {
+            let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+            let es = e_star(p.material[i] as usize, p.material[j] as usize);
+            s.strain_normal += normal_strain(&c.s, es, r_star);
+            s.strain_tangential += c.s.tang_energy;
         }
-        if let Some(b) = &c.bridge {
+        if let Some(b) = &c.s.bridge {
+            s.bridge += b.work;
+        }
+    }
+    for c in &scene.contacts.wall_pairs {
+        let i = c.i as usize;
+        let w = &scene.walls[c.wall as usize];
+        if c.s.touching {
+            let r_star = wall_r_star(&w.geom, p.radius[i]);
+            let es = e_star(p.material[i] as usize, w.material);
+            s.strain_normal += normal_strain(&c.s, es, r_star);
+            s.strain_tangential += c.s.tang_energy;
+        }
+        if let Some(b) = &c.s.bridge {
             s.bridge += b.work;
         }
     }

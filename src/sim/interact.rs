@@ -73,6 +73,25 @@ fn model(b: BridgeChoice) -> BridgeModel {
     }
 }
 
+/// Energy stored in the normal direction of a touching contact: Hertz strain energy
+/// 8/15 E* √R* α^{5/2}, or for JKR the elastic + surface energy since snap-in,
+/// U(a) − U(a0) (so that it equals the peeling work W_p (3.119) at separation).
+pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
+    if !s.touching {
+        return 0.0;
+    }
+    if s.gamma > 0.0 {
+        let j = Jkr {
+            e_star,
+            r_star,
+            gamma: s.gamma,
+        };
+        j.energy_of_a(s.a) + j.peel_work()
+    } else {
+        hertz::energy(e_star, r_star, s.overlap)
+    }
+}
+
 /// Ends a solid contact; the energy left in its tangential spring is lost (friction).
 fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     acc.friction += s.tang_energy;
@@ -80,7 +99,6 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     s.normal_force = 0.0;
     s.damp_force = 0.0;
     s.a = 0.0;
-    s.strain = 0.0;
     s.tang_energy = 0.0;
     s.delta = Vec3::zeros();
     s.tforce = Vec3::zeros();
@@ -124,23 +142,26 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             gamma,
         };
         if !s.touching && alpha >= 0.0 {
-            // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md).
+            // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md). The separation
+            // radius a_s (3.117) is computed once here.
             s.touching = true;
             s.gamma = gamma;
             s.a = j.a0();
+            s.a_s = j.a_s();
             s.normal = k.n;
         }
         if s.touching {
-            if alpha < j.alpha_s() {
-                // Detachment (3.38): the stored energy of the loop is lost (3.114).
-                acc.adhesion += s.strain;
+            if alpha < -3.0 * s.a_s * s.a_s / k.r_star {
+                // Detachment at α_s (3.38): the energy stored since snap-in is lost (3.114).
+                acc.adhesion += normal_strain(s, pc.e_star, k.r_star);
                 reset_solid(s, acc);
             } else {
-                let (p, a) = j.force(alpha, s.a);
+                let a = j.solve_a_with(s.a_s, alpha, s.a);
                 s.a = a;
-                s.normal_force = p;
-                s.strain = j.energy_of_a(a) - j.energy_of_a(j.a0());
-                kn = j.stiffness_of_a(a).abs();
+                s.normal_force = j.force_of_a(a);
+                if laws.beta > 0.0 {
+                    kn = j.stiffness_of_a(a).abs();
+                }
                 pcrit = j.pc();
             }
         }
@@ -150,10 +171,11 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             s.normal = k.n;
             s.gamma = 0.0;
         }
-        s.normal_force = hertz::force(pc.e_star, k.r_star, alpha);
-        s.a = hertz::contact_radius(k.r_star, alpha);
-        s.strain = hertz::energy(pc.e_star, k.r_star, alpha);
-        kn = 2.0 * pc.e_star * s.a;
+        let a = (k.r_star * alpha).sqrt();
+        s.a = a;
+        // Hertz (3.14)-(3.15): P = 4/3 E* a³/R*, k_n = 2 E* a.
+        s.normal_force = 4.0 / 3.0 * pc.e_star * a * a * a / k.r_star;
+        kn = 2.0 * pc.e_star * a;
     } else if s.touching {
         reset_solid(s, acc);
     }

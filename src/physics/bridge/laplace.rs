@@ -13,10 +13,9 @@
 //! `1/√(y − y0)` singularity at the neck) with Gauss–Legendre quadrature gives
 //! the axial length `x = ∫ cot ψ dy`, the volume `π ∫ y² dx` and the area
 //! `2π ∫ y ds` of each half of the meniscus. The profile is symmetric about the
-//! neck, so sphere 1 and sphere 2 are simply placed on the two sides: on each
-//! side the contact line is the first point where the meniscus meets the
-//! sphere at the contact angle, `y = R sin φ`, `cos ψ = sin(φ + θ)` ((4.11),
-//! (4.12); on a plane `cos ψ = sin θ`). Then
+//! neck, so sphere 1 and sphere 2 sit on the two sides; each meets the
+//! meniscus at its contact line `y = R sin φ` with `cos ψ = sin(φ + θ)`
+//! ((4.11), (4.12); on a plane `cos ψ = sin θ`). Then
 //! * gap `S = Σ [x_i − R_i (1 − cos φ_i)]`,
 //! * volume `V = Σ [π ∫ y² dx − π R_i³ (1 − cos φ_i)² (2 + cos φ_i)/3]` (4.18),
 //! * force `F* = 2π C = 2π y0 (1 + H y0)` (4.17) (the first integral is the
@@ -24,16 +23,24 @@
 //!   contact lines, (4.7)),
 //! * free surface energy `E* = A_lv − cos θ A_wet` ((4.34), (4.35)).
 //!
-//! **Constant volume.** For a fixed neck radius `y0` the volume decreases
-//! monotonically with `H`, so `H(y0)` is found by a bracketed root solve. Along
-//! the constant-volume branch the neck radius decreases monotonically while the
-//! gap first grows and then shrinks: the maximum of `S(y0)` is the fold where
-//! the stable (larger neck, lower energy) and unstable branches meet — the
-//! rupture distance (Lian 1994 §4.2.3). A [`Branch`] locates the zero-gap
-//! state and the fold once, then tabulates the stable branch on Chebyshev
-//! nodes in `u = sqrt(1 − S/S_c)` (smooth through the fold, where `S(y0)` is
-//! quadratic), so each later evaluation is one square root and a short
-//! Clenshaw sum.
+//! **Constant volume.** Each side is parameterised by its contact radius
+//! `y_i` and the common `H`: the contact-line condition fixes
+//! `C_i = y_i sin(φ_i + θ) + H y_i²` (4.13) and the neck follows from (4.14).
+//! The bridge is the set of `z = (y1, y2, H)` with `C1 = C2` (one meniscus) and
+//! `V = V_target` — a curve in 3-D, followed by pseudo-arclength continuation
+//! (tangent = cross product of the two constraint gradients, Newton corrector
+//! in the normal plane). Unlike a parameterisation by the neck, this needs no
+//! choice between the two possible contact points of a given meniscus, so the
+//! branch is followed also where the contact line passes the inflection point
+//! of the meniscus (large θ near rupture). For equal spheres the symmetric
+//! bridge `y2 = y1` is imposed (Lian's symmetric problem). Starting from the
+//! toroidal estimate at contact, the branch is followed towards larger gaps;
+//! its first maximum of `S` is the fold where the stable (larger neck, lower
+//! energy) and unstable branches meet — the rupture distance (Lian 1994
+//! §4.2.3). A [`Branch`] tabulates the stable branch once on Chebyshev nodes
+//! in `u = sqrt(1 − S/S_c)` (smooth through the fold, where `S` is quadratic in
+//! the branch parameter), so each later evaluation is one square root and a
+//! short Clenshaw sum.
 
 use super::numerics::{Cheb, brent, gl32};
 use super::{Bridge, Norm};
@@ -1027,6 +1034,52 @@ mod tests {
                 assert!(unstable.e_star > stable.e_star, "{unstable:?} {stable:?}");
                 assert!(unstable.f_star < stable.f_star);
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod brute {
+    use super::*;
+
+    /// Independent check of the fold search for equal spheres: the largest gap
+    /// over *all* symmetric solutions with the given volume, found by brute
+    /// force on a (H, φ) grid (Lian's own parameterisation, §4.2.2), equals the
+    /// traced fold. Slow (seconds); run with `--ignored`.
+    #[test]
+    #[ignore]
+    fn brute_force_fold_equals_traced_fold() {
+        for th in [0.0f64, 20.0, 40.0] {
+            let mut n = Bridge::new(1.0, 1.0, 0.001, 1.0, th.to_radians())
+                .norm()
+                .unwrap();
+            n.a = 1.0;
+            let vol = |p: f64, h: f64| half(&n, 1.0, p.sin(), h).map(|s| 2.0 * s.0.vol - n.v);
+            let mut best = 0.0f64;
+            for ih in 0..=1000 {
+                let h = -12.0 + 60.0 * ih as f64 / 1000.0;
+                let mut prev: Option<(f64, f64)> = None;
+                for ip in 1..=1000 {
+                    let phi = 0.3 * ip as f64 / 1000.0;
+                    let Some(v) = vol(phi, h) else {
+                        prev = None;
+                        continue;
+                    };
+                    if let Some((pp, pv)) = prev
+                        && pv.signum() != v.signum()
+                    {
+                        let f = |p: f64| vol(p, h).unwrap_or(f64::NAN);
+                        if let Some(pr) = brent(f, pp, phi, pv, v, 1e-15, 100) {
+                            let s = 2.0 * half(&n, 1.0, pr.sin(), h).unwrap().0.gap;
+                            best = best.max(s);
+                        }
+                    }
+                    prev = Some((phi, v));
+                }
+            }
+            let fold = Trace::from_norm(n).unwrap().fold().s;
+            assert!(best <= fold * (1.0 + 1e-9), "theta={th}: {best} > {fold}");
+            assert!(best > fold * (1.0 - 2e-4), "theta={th}: {best} < {fold}");
         }
     }
 }
