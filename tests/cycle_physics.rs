@@ -232,3 +232,60 @@ fn search_matches_brute_force() {
         assert!(sc.contacts.rebuilds > 5, "{}", sc.contacts.rebuilds);
     }
 }
+
+#[test]
+fn blow_up_stops_with_a_message_and_keeps_a_good_state() {
+    // A sphere resting on a floor at FRAction 10: the explicit scheme is unstable and the
+    // contact oscillation grows without bound.
+    let mut s = session(&wall_scene(
+        "fraction 10\nset snapshot 100\ngravity 0 0 -9.81",
+        0.0,
+    ));
+    let err = s.run_line("cycle 100000").expect_err("must blow up");
+    assert!(
+        err.message.contains("blow-up at cycle") || err.message.contains("runaway at cycle"),
+        "{}",
+        err.message
+    );
+    assert!(err.message.contains("particle"), "{}", err.message);
+    assert!(err.message.contains("FRAction"), "{}", err.message);
+    let sc = s.scene.as_ref().unwrap();
+    assert_eq!(sc.cycle % 100, 0, "restored to a snapshot");
+    assert!(
+        sc.particles
+            .pos
+            .iter()
+            .all(|x| x.iter().all(|c| c.is_finite()))
+    );
+    assert!(sc.particles.vel.iter().all(|x| x.norm() < 100.0));
+    // The kept state can be saved.
+    let dir = std::env::temp_dir().join(format!("trubal-blowup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    s.dir = dir.clone();
+    s.run_line("save kept.sav").unwrap();
+    assert!(dir.join("kept.sav").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_scenes_are_refused_before_cycling() {
+    let mut s = session("start 1 1 1 10 10 1\nset open all\nrad 0.1 1\n");
+    let e = s
+        .run_line("create 0.5 0.5 0.5 0 0 0 0 0 0 1 1")
+        .unwrap_err();
+    assert!(e.message.contains("not defined"), "{}", e.message);
+    s.run_line("density 1000 1").unwrap();
+    s.run_line("create 0.5 0.5 0.5 0 0 0 0 0 0 1 1").unwrap();
+    // A material without a Young's modulus cannot cycle.
+    let e = s.run_line("cycle 1").unwrap_err();
+    assert!(e.message.contains("Young's modulus"), "{}", e.message);
+    s.run_line("ymd 1e9 1").unwrap();
+    s.run_line("pra 0.3 1").unwrap();
+    s.run_line("cycle 10").unwrap();
+    // Periodic work-space smaller than 4 radii is refused with a hint.
+    let mut p = session(
+        "start 0.3 1 1 10 10 1\nrad 0.1 1\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\ncreate 0.15 0.5 0.5 0 0 0 0 0 0 1 1\n",
+    );
+    let e = p.run_line("cycle 1").unwrap_err();
+    assert!(e.message.contains("too small along x"), "{}", e.message);
+}

@@ -115,10 +115,56 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
     Ok(model)
 }
 
-/// Warnings about the scene before cycling (deep overlaps, walls through particles).
+/// Warnings about the scene before cycling (deep overlaps, walls through particles,
+/// servo gains that would make the wall hunt or diverge).
 pub fn warnings(scene: &Scene) -> Vec<String> {
     let mut out = Vec::new();
     let p = &scene.particles;
+    if !p.is_empty() {
+        let (pairs, _, _) = search::candidates(scene, 0.0);
+        let deep = pairs
+            .iter()
+            .filter(|c| {
+                let (i, j) = (c.i as usize, c.j as usize);
+                let d = scene.branch(&p.pos[i], &p.pos[j]).norm();
+                p.radius[i] + p.radius[j] - d > 0.05 * p.radius[i].min(p.radius[j])
+            })
+            .count();
+        if deep > 0 {
+            out.push(format!(
+                "{deep} particle pair(s) overlap by more than 5 % of the smaller radius: they will fly apart"
+            ));
+        }
+    }
+    if let Ok(model) = params::build(scene) {
+        for (w, wall) in scene.walls.iter().enumerate() {
+            if let Some(s) = wall.servo {
+                // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
+                // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
+                // the wall; above 1 the wall overshoots every step.
+                let m = &scene.materials[wall.material - 1];
+                let r = scene.max_radius();
+                let k =
+                    2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
+                let n = scene
+                    .contacts
+                    .wall_pairs
+                    .iter()
+                    .filter(|c| c.wall as usize == w)
+                    .count()
+                    .max(1) as f64;
+                let loop_gain = s.gain * k * n * model.dt;
+                if loop_gain > 1.0 {
+                    out.push(format!(
+                        "servo of wall {}: gain {} gives a loop gain of {loop_gain:.2e} per step (> 1): the wall will hunt or diverge; use g below {:.2e}",
+                        w + 1,
+                        s.gain,
+                        s.gain / loop_gain
+                    ));
+                }
+            }
+        }
+    }
     for (w, wall) in scene.walls.iter().enumerate() {
         let mut n = 0;
         for i in 0..p.len() {
@@ -158,8 +204,22 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     }
     let mut snapshot = scene.clone();
     let every = scene.settings.snapshot_every.max(1);
+    // Energy runaway: the stored energy may not grow far beyond what was put in.
+    let scale = |s: &Scene| super::energy::stored(s).total().max(s.ledger.input().abs());
+    let mut e_ref = scale(scene);
     for step in 0..n {
         if step > 0 && step % every == 0 {
+            let e_now = super::energy::stored(scene).total();
+            if e_now.is_finite() && e_now > 1e3 * e_ref.max(1e-300) && e_now > 0.0 {
+                let mut e = runaway(scene, e_now, e_ref);
+                e.message.push_str(&format!(
+                    "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
+                    snapshot.cycle
+                ));
+                *scene = snapshot;
+                return Err(e);
+            }
+            e_ref = e_ref.max(scale(scene));
             snapshot.clone_from(scene);
         }
         if let Err(mut e) = one_step(scene, &model, tol, xres) {
@@ -175,6 +235,36 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         }
     }
     Ok(model)
+}
+
+/// Describes an energy runaway: which particle carries the most kinetic energy.
+fn runaway(scene: &Scene, e_now: f64, e_ref: f64) -> Blowup {
+    let p = &scene.particles;
+    let mut worst = 0;
+    let mut kmax = 0.0;
+    for i in 0..p.len() {
+        let k = 0.5 * p.mass[i] * p.vel[i].norm_squared();
+        if k > kmax {
+            kmax = k;
+            worst = i;
+        }
+    }
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "energy runaway at cycle {}: stored energy {:.3e} J is more than 1000 times the energy put in ({:.3e} J); \
+             particle {} at ({:.4e}, {:.4e}, {:.4e}) moves at {:.3e} m/s. \
+             Hint: reduce FRAction, check contact damping (istiff), servo gains and deep overlaps",
+            scene.cycle,
+            e_now,
+            e_ref,
+            p.id.get(worst).copied().unwrap_or(0),
+            p.pos.get(worst).map_or(0.0, |x| x.x),
+            p.pos.get(worst).map_or(0.0, |x| x.y),
+            p.pos.get(worst).map_or(0.0, |x| x.z),
+            p.vel.get(worst).map_or(0.0, |v| v.norm()),
+        ),
+    }
 }
 
 /// One time step.
