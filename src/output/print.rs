@@ -74,9 +74,14 @@ fn info(scene: &Scene) -> (String, Value) {
         scene.contacts.pairs.len(),
         touching
     );
+    let (free, in_bridges) = crate::sim::liquid::total_liquid(scene);
     if scene.liquid.is_some() {
         s.push_str(&format!(
-            "liquid bridges {b} particle-particle ({bc} compressive, {bt} tensile), {bw} particle-wall\n"
+            "liquid bridges {b} particle-particle ({bc} compressive, {bt} tensile), {bw} particle-wall\n\
+             liquid {:.6e} m^3 in bridges, {:.6e} m^3 on particles, total {:.6e} m^3\n",
+            in_bridges,
+            free,
+            in_bridges + free
         ));
     }
     for (k, w) in scene.walls.iter().enumerate() {
@@ -92,6 +97,7 @@ fn info(scene: &Scene) -> (String, Value) {
         "balls": scene.particles.len(), "walls": scene.walls.len(), "contacts": c,
         "wall_contacts": cw, "touching": touching, "bridges": b, "wall_bridges": bw,
         "bridges_compressive": bc, "bridges_tensile": bt, "lost": scene.lost,
+        "liquid_bridges": in_bridges, "liquid_free": free, "liquid_total": in_bridges + free,
         "wall_forces": scene.walls.iter().map(|w| w.normal_force).collect::<Vec<_>>(),
     });
     (s, j)
@@ -162,7 +168,7 @@ fn contact_json(s: &ContactState) -> Value {
     if let Some(b) = &s.bridge {
         v["bridge"] = json!({
             "volume": b.volume, "rupture_distance": b.s_c, "static_force": b.f_static,
-            "viscous_force": b.f_visc, "half_filling_angle": b.phi, "gap": b.gap,
+            "viscous_force": b.f_visc, "half_filling_angle": b.phi(), "gap": b.gap,
         });
     }
     v
@@ -183,7 +189,7 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
         if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
             continue;
         }
-        let bf = c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+        let bf = c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
         if f == ContactsFilter::Gap {
             s.push_str(&format!(
                 "{:>7} {:>7} {:>13.6e} {:>13.6e}\n",
@@ -320,12 +326,13 @@ pub fn stress_tensor(scene: &Scene) -> [[f64; 3]; 3] {
         let (i, j) = (c.i as usize, c.j as usize);
         let l = scene.branch(&p.pos[i], &p.pos[j]);
         let n = l.normalize();
-        let fb = c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+        // Bridge normal force, compressive positive: viscous − static.
+        let fb = c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
         let fnorm = if c.s.touching {
             c.s.normal_force + c.s.damp_force
         } else {
             0.0
-        } - fb;
+        } + fb;
         // Force on B (compressive positive pushes B along +n); stress compression positive.
         let f = n * fnorm
             + if c.s.touching {
@@ -373,7 +380,7 @@ fn partitions(scene: &Scene) -> (String, Value) {
             }
         }
         if let Some(b) = &c.s.bridge {
-            brid -= (b.f_static + b.f_visc) * l;
+            brid += (b.f_visc - b.f_static) * l;
         }
     }
     let k = 1.0 / (3.0 * vol);

@@ -448,18 +448,32 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 theta: theta_deg.to_radians(),
                 eta: *eta,
             };
-            let b = crate::physics::bridge::Bridge {
-                r1: 1.0,
-                r2: 1.0,
-                volume: pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI,
-                gamma: *gsurf,
-                theta: l.theta,
-            };
-            let warn =
-                crate::physics::bridge::validate(crate::physics::bridge::BridgeModel::Fit, &b)
-                    .err()
-                    .map(|w| format!("warning: {w}"))
-                    .unwrap_or_default();
+            // Check the bridges of the smallest and largest sizes in use (equal and unequal
+            // pairs; a unit sphere if there are no particles yet) against the chosen
+            // model's validity range.
+            let model = crate::sim::interact::bridge_model(scene.settings.bridge);
+            let mut radii: Vec<f64> = scene.particles.radius.clone();
+            radii.sort_by(f64::total_cmp);
+            let (rmin, rmax) = (
+                radii.first().copied().unwrap_or(1.0),
+                radii.last().copied().unwrap_or(1.0),
+            );
+            let mut warn = Vec::new();
+            for (r1, r2) in [(rmin, rmin), (rmin, rmax)] {
+                let b = crate::physics::bridge::Bridge {
+                    r1,
+                    r2,
+                    volume: crate::sim::liquid::bridge_volume(*pvol, r1, r2),
+                    gamma: *gsurf,
+                    theta: l.theta,
+                };
+                match crate::physics::bridge::validate(model, &b) {
+                    Ok(w) => warn.extend(w),
+                    Err(e) => return Err(format!("LIQuid: {e}")),
+                }
+            }
+            warn.dedup();
+            let warn: String = warn.iter().map(|w| format!("warning: {w}\n")).collect();
             scene.liquid = Some(l);
             // Existing bridges take the new parameters (rupture distance recomputed).
             crate::sim::liquid::reissue(scene);

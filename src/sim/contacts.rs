@@ -5,6 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::scene::{Particles, Vec3};
+use crate::physics::bridge::{Bridge, BridgeCoeffs, BridgeModel};
 use crate::physics::tangential::TangentialState;
 
 /// State of a liquid bridge (Lian §5.7).
@@ -12,18 +13,54 @@ use crate::physics::tangential::TangentialState;
 pub struct BridgeState {
     /// Liquid volume (m³).
     pub volume: f64,
-    /// Rupture distance S_c (m).
+    /// Rupture distance S_c (m) of the bridge model in use.
     pub s_c: f64,
-    /// Static (capillary) force of the last step, attractive positive (N).
+    /// Static (capillary) force of the last step, attractive magnitude (N).
     pub f_static: f64,
-    /// Viscous normal force of the last step (N, positive = resisting approach).
+    /// Viscous normal force of the last step, compressive positive (N).
     pub f_visc: f64,
-    /// Half-filling angle on the first sphere (rad).
-    pub phi: f64,
     /// Gap of the last step (m).
     pub gap: f64,
     /// Work done against the static force since formation (J).
     pub work: f64,
+    /// Liquid drawn from particle A and B (conserving mode; zero in Lian's mode).
+    pub share: [f64; 2],
+    /// Not yet settled with the particles' liquid (conserving mode).
+    pub fresh: bool,
+    /// Precomputed shape coefficients of the bridge model (rebuilt on load).
+    pub coeffs: BridgeCoeffs,
+}
+
+impl BridgeState {
+    pub fn new(model: BridgeModel, b: Bridge, gap: f64, share: [f64; 2]) -> Self {
+        let coeffs = BridgeCoeffs::new(model, &b);
+        BridgeState {
+            volume: b.volume,
+            s_c: coeffs.rupture_distance(),
+            f_static: 0.0,
+            f_visc: 0.0,
+            gap,
+            work: 0.0,
+            share,
+            fresh: share != [0.0; 2],
+            coeffs,
+        }
+    }
+
+    /// Recomputes the coefficients for another model or new liquid parameters.
+    pub fn rebuild(&mut self, model: BridgeModel) {
+        self.coeffs = BridgeCoeffs::new(model, self.coeffs.bridge());
+        self.s_c = self.coeffs.rupture_distance();
+    }
+
+    /// Half-filling angle on the first sphere at the last gap (rad).
+    pub fn phi(&self) -> f64 {
+        crate::physics::bridge::half_filling_angle(
+            self.coeffs.model(),
+            self.coeffs.bridge(),
+            self.gap.max(0.0),
+        )
+    }
 }
 
 /// State of one contact (solid part).
@@ -59,8 +96,8 @@ pub struct ContactState {
     pub normal: Vec3,
     /// Liquid bridge, if any.
     pub bridge: Option<Box<BridgeState>>,
-    /// Whether the pair ever carried a bridge since the liquid was issued (for `LIQuid`).
-    pub wetted: bool,
+    /// Liquid returned to A and B by a bridge that ruptured in this step (conserving mode).
+    pub released: [f64; 2],
 }
 
 /// A candidate particle–particle pair: gap < TOL at the last rebuild, or a live bond.
@@ -84,8 +121,25 @@ pub struct WallPair {
     pub s: ContactState,
 }
 
+/// Force of a pair in the last step: force on B (`f`) and the moment per unit radius
+/// (`m = −n × F_t`, the same for both particles, Lian §2.4 item 10 corrected).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairForce {
+    pub f: Vec3,
+    pub m: Vec3,
+}
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ContactStore {
+    /// Per-pair forces of the current step (derived; not saved).
+    #[serde(skip)]
+    pub out: Vec<PairForce>,
+    /// For each particle its pairs, as `pair index << 1 | (1 if the particle is B)`, in
+    /// pair order (CSR: `adj[adj_start[i]..adj_start[i+1]]`). Derived; rebuilt after a merge.
+    #[serde(skip)]
+    pub adj_start: Vec<u32>,
+    #[serde(skip)]
+    pub adj: Vec<u32>,
     pub pairs: Vec<Pair>,
     pub wall_pairs: Vec<WallPair>,
     /// The candidate list must be rebuilt before the next force evaluation.
@@ -138,6 +192,31 @@ impl ContactStore {
         self.wall_pairs = new_walls;
         self.stale = false;
         self.rebuilds += 1;
+        self.adj_start.clear();
+    }
+
+    /// Builds the particle → pairs adjacency (counting sort: deterministic order).
+    pub fn build_adjacency(&mut self, np: usize) {
+        let mut count = vec![0u32; np + 1];
+        for c in &self.pairs {
+            count[c.i as usize + 1] += 1;
+            count[c.j as usize + 1] += 1;
+        }
+        for k in 0..np {
+            count[k + 1] += count[k];
+        }
+        let mut fill = count.clone();
+        let mut adj = vec![0u32; 2 * self.pairs.len()];
+        for (e, c) in self.pairs.iter().enumerate() {
+            let e = e as u32;
+            let (i, j) = (c.i as usize, c.j as usize);
+            adj[fill[i] as usize] = e << 1;
+            fill[i] += 1;
+            adj[fill[j] as usize] = (e << 1) | 1;
+            fill[j] += 1;
+        }
+        self.adj_start = count;
+        self.adj = adj;
     }
 
     /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges

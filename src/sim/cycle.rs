@@ -8,13 +8,19 @@
 //! scheme: the damping loss is β |v̄|² Δt and the work of gravity m g·v̄ Δt with
 //! v̄ = (v_old + v_new)/2, so that ½ m v_new² − ½ m v_old² = (F + m g − β v̄)·v̄ Δt.
 
-use super::contacts::ContactStore;
+use rayon::prelude::*;
+
+use super::contacts::PairForce;
 use super::interact::{Acc, Kin, Laws, interact};
 use super::params::{self, Model};
 use super::scene::{Scene, Vec3};
 use super::search;
 use super::walls::{self, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::WallGeom;
+
+/// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
+/// chunk order, so results are bitwise independent of the number of threads.
+pub const CHUNK: usize = 1024;
 
 /// Why a `Cycle` stopped early.
 #[derive(Debug, Clone, PartialEq)]
@@ -275,23 +281,24 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
     }
     remove_lost(scene);
     let acc = forces(scene, model, dt);
+    if scene.liquid.is_some()
+        && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve
+    {
+        super::liquid::settle(scene);
+    }
     move_all(scene, model, xres, acc)
 }
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
 fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     let np = scene.particles.len();
-    for i in 0..np {
-        scene.particles.force[i] = Vec3::zeros();
-        scene.particles.moment[i] = Vec3::zeros();
-    }
-    let smin = scene
-        .settings
-        .smin
-        .unwrap_or(0.5 * scene.max_radius() / 100.0);
+    let smin = scene.settings.smin;
     let mut acc = Acc::default();
 
     // ---- particle–particle contacts ---------------------------------------------------
+    // Each pair writes its force into its own slot (parallel over fixed chunks of pairs);
+    // each particle then sums its pairs in a fixed order (parallel over particles). The
+    // result does not depend on the number of threads.
     {
         let laws = Laws {
             dt,
@@ -302,49 +309,96 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             bridge: scene.settings.bridge,
             smin,
             impact: scene.impact,
+            liquid_share: (scene.settings.liquid_mode
+                == crate::lang::command::LiquidMode::Conserve)
+                .then_some(super::liquid::OLSSON_SHARE),
         };
         let size = scene.size;
         let periodic = scene.settings.periodic;
-        let p = &mut scene.particles;
-        let ContactStore { pairs, .. } = &mut scene.contacts;
-        for c in pairs.iter_mut() {
-            let (i, j) = (c.i as usize, c.j as usize);
-            let mut d = p.pos[j] - p.pos[i];
-            for k in 0..3 {
-                if periodic[k] {
-                    d[k] -= size[k] * (d[k] / size[k]).round();
+        let p = &scene.particles;
+        let store = &mut scene.contacts;
+        store.out.resize(store.pairs.len(), PairForce::default());
+        let chunk_acc: Vec<Acc> = store
+            .pairs
+            .par_chunks_mut(CHUNK)
+            .zip(store.out.par_chunks_mut(CHUNK))
+            .map(|(pairs, outs)| {
+                let mut acc = Acc::default();
+                for (c, o) in pairs.iter_mut().zip(outs.iter_mut()) {
+                    let (i, j) = (c.i as usize, c.j as usize);
+                    let mut d = p.pos[j] - p.pos[i];
+                    for k in 0..3 {
+                        if periodic[k] {
+                            d[k] -= size[k] * (d[k] / size[k]).round();
+                        }
+                    }
+                    let (ri, rj) = (p.radius[i], p.radius[j]);
+                    let dist2 = d.norm_squared();
+                    // Far apart and nothing to remember: skip the contact laws.
+                    let reach = ri + rj;
+                    if dist2 > reach * reach && !c.s.touching && c.s.bridge.is_none() {
+                        *o = PairForce::default();
+                        continue;
+                    }
+                    let dist = dist2.sqrt();
+                    let n = d / dist;
+                    let v_rel = p.vel[j] - p.vel[i] - (p.spin[i] * ri + p.spin[j] * rj).cross(&n);
+                    let (mi, mj) = (p.mass[i], p.mass[j]);
+                    let k = Kin {
+                        n,
+                        gap: dist - ri - rj,
+                        v_rel,
+                        r_star: ri * rj / (ri + rj),
+                        m_star: mi * mj / (mi + mj),
+                        r1: ri,
+                        r2: rj,
+                    };
+                    let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
+                    let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+                    o.f = out.f;
+                    o.m = if model.rotation {
+                        -n.cross(&out.ft)
+                    } else {
+                        Vec3::zeros()
+                    };
                 }
-            }
-            let (ri, rj) = (p.radius[i], p.radius[j]);
-            let dist2 = d.norm_squared();
-            // Far apart and nothing to remember: skip the contact laws.
-            let reach = ri + rj;
-            if dist2 > reach * reach && !c.s.touching && c.s.bridge.is_none() {
-                continue;
-            }
-            let dist = dist2.sqrt();
-            let n = d / dist;
-            let v_rel = p.vel[j] - p.vel[i] - (p.spin[i] * ri + p.spin[j] * rj).cross(&n);
-            let (mi, mj) = (p.mass[i], p.mass[j]);
-            let k = Kin {
-                n,
-                gap: dist - ri - rj,
-                v_rel,
-                r_star: ri * rj / (ri + rj),
-                m_star: mi * mj / (mi + mj),
-                r1: ri,
-                r2: rj,
-            };
-            let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
-            let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
-            p.force[i] -= out.f;
-            p.force[j] += out.f;
-            if model.rotation {
-                let m = -n.cross(&out.ft);
-                p.moment[i] += m * ri;
-                p.moment[j] += m * rj;
-            }
+                acc
+            })
+            .collect();
+        for a in &chunk_acc {
+            acc.add(a);
         }
+        if store.adj_start.len() != np + 1 {
+            store.build_adjacency(np);
+        }
+        let (adj_start, adj, outs) = (&store.adj_start, &store.adj, &store.out);
+        let rotation = model.rotation;
+        let radius = &scene.particles.radius;
+        scene
+            .particles
+            .force
+            .par_iter_mut()
+            .zip(scene.particles.moment.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, (f, m))| {
+                let mut fs = Vec3::zeros();
+                let mut ms = Vec3::zeros();
+                for &e in &adj[adj_start[i] as usize..adj_start[i + 1] as usize] {
+                    let o = &outs[(e >> 1) as usize];
+                    if e & 1 == 0 {
+                        // i is the pair's first particle (A): force −f.
+                        fs -= o.f;
+                    } else {
+                        fs += o.f;
+                    }
+                    if rotation {
+                        ms += o.m;
+                    }
+                }
+                *f = fs;
+                *m = ms * radius[i];
+            });
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
@@ -358,6 +412,9 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             bridge: scene.settings.bridge,
             smin,
             impact: scene.impact,
+            liquid_share: (scene.settings.liquid_mode
+                == crate::lang::command::LiquidMode::Conserve)
+                .then_some(super::liquid::OLSSON_SHARE),
         };
         for w in scene.walls.iter_mut() {
             w.force = [0.0; 3];
@@ -432,8 +489,9 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     for c in scene.contacts.wall_pairs.iter() {
         let w = &mut scene.walls[c.wall as usize];
         if let WallGeom::Sphere { .. } | WallGeom::Obstacle { .. } = w.geom {
-            let fn_ = c.s.normal_force + c.s.damp_force
-                - c.s.bridge.as_ref().map_or(0.0, |b| b.f_static + b.f_visc);
+            let fn_ = c.s.normal_force
+                + c.s.damp_force
+                + c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
             if c.s.touching || c.s.bridge.is_some() {
                 w.normal_force += fn_;
                 let sign = if matches!(w.geom, WallGeom::Sphere { .. }) {
@@ -622,5 +680,6 @@ fn remove_lost(scene: &mut Scene) {
                 }
                 None => false,
             });
+        scene.contacts.adj_start.clear();
     }
 }

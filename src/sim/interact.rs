@@ -34,9 +34,12 @@ pub struct Laws<'a> {
     pub beta: f64,
     pub liquid: Option<&'a Liquid>,
     pub bridge: BridgeChoice,
-    pub smin: f64,
+    /// Minimum gap of the viscous force (None: R*/100 of each pair, DECISIONS.md).
+    pub smin: Option<f64>,
     /// Impact flag: contacts made now use the base surface energy.
     pub impact: bool,
+    /// Liquid-conserving bookkeeping: the share of a particle's liquid a new bridge draws.
+    pub liquid_share: Option<f64>,
 }
 
 /// Energy increments of this step.
@@ -65,7 +68,7 @@ pub struct Out {
     pub ft: Vec3,
 }
 
-fn model(b: BridgeChoice) -> BridgeModel {
+pub fn bridge_model(b: BridgeChoice) -> BridgeModel {
     match b {
         BridgeChoice::Fit => BridgeModel::Fit,
         BridgeChoice::Toroidal => BridgeModel::Toroidal,
@@ -218,54 +221,64 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     if let Some(liq) = laws.liquid {
         // Formation on solid contact (DECISIONS.md); touching within round-off counts.
         if s.bridge.is_none() && liq.pvol > 0.0 && k.gap <= 1e-6 * k.r1 {
-            let volume = super::liquid::bridge_volume(liq.pvol, k.r1, k.r2);
-            let b = Bridge {
-                r1: k.r1,
-                r2: k.r2,
-                volume,
-                gamma: liq.gamma,
-                theta: liq.theta,
+            let (volume, share) = match laws.liquid_share {
+                // Lian: the nominal volume, pvol % of the mean volume of the two spheres.
+                None => (super::liquid::bridge_volume(liq.pvol, k.r1, k.r2), [0.0; 2]),
+                // Conserving mode: each particle gives a share of its own liquid (the session
+                // settles the draws after the step, see sim::liquid::settle).
+                Some(f) => {
+                    let d = super::liquid::share_request(f, liq.pvol, k.r1, k.r2);
+                    (d[0] + d[1], d)
+                }
             };
-            s.bridge = Some(Box::new(BridgeState {
-                volume,
-                s_c: bridge::rupture_distance(&b),
-                f_static: 0.0,
-                f_visc: 0.0,
-                phi: 0.0,
-                gap: k.gap,
-                work: 0.0,
-            }));
-            s.wetted = true;
-        }
-        if let Some(bs) = s.bridge.as_deref_mut() {
-            if k.gap > bs.s_c {
-                // Rupture: the work done against the bridge is lost (Lian §5.7).
-                bs.work += 0.5 * bs.f_static * v_n * dt;
-                acc.viscous += 0.5 * bs.f_visc * v_n * dt;
-                acc.rupture += bs.work;
-                s.bridge = None;
-            } else {
-                let b = Bridge {
+            s.bridge = Some(Box::new(BridgeState::new(
+                bridge_model(laws.bridge),
+                Bridge {
                     r1: k.r1,
                     r2: k.r2,
-                    volume: bs.volume,
+                    volume,
                     gamma: liq.gamma,
                     theta: liq.theta,
-                };
+                },
+                k.gap,
+                share,
+            )));
+        }
+        if let Some(bs) = s.bridge.as_deref_mut() {
+            if bs.coeffs.model() != bridge_model(laws.bridge) {
+                bs.rebuild(bridge_model(laws.bridge));
+            }
+            if k.gap > bs.s_c {
+                // Rupture: the work done against the bridge is lost (Lian §5.7); book the
+                // second half of the last step's forces.
+                bs.work += 0.5 * bs.f_static * v_n * dt;
+                acc.viscous += -0.5 * bs.f_visc * v_n * dt;
+                acc.rupture += bs.work;
+                s.released = bs.share;
+                s.bridge = None;
+            } else {
                 let sgap = k.gap.max(0.0);
-                let fs = bridge::static_force(model(laws.bridge), &b, sgap);
+                let fs = bs.coeffs.force(sgap);
+                // Viscous normal force, compressive positive: −6πηR*² v_n / max(S, S_min).
                 let fv = if liq.eta > 0.0 {
-                    bridge::viscous_normal(liq.eta, k.r_star, v_n, sgap, laws.smin)
+                    bridge::viscous_normal(
+                        liq.eta,
+                        k.r_star,
+                        v_n,
+                        sgap,
+                        laws.smin.unwrap_or(0.01 * k.r_star),
+                    )
                 } else {
                     0.0
                 };
-                // Work against the attractive force while opening (stored), viscous loss.
+                // Work done against the attractive force while opening (stored) and the
+                // viscous loss, booked as ½(F_old + F_new)·v_n Δt.
                 bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
-                acc.viscous += 0.5 * (fv + bs.f_visc) * v_n * dt;
+                acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
                 bs.f_static = fs;
                 bs.f_visc = fv;
                 bs.gap = k.gap;
-                fn_b += -fs - fv;
+                fn_b += fv - fs;
             }
         }
     }

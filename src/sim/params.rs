@@ -120,8 +120,14 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     // particle of mass m with up to 14 such neighbours: dt < 2 m / (14 c)); half of it.
     if let Some(l) = &scene.liquid {
         if l.eta > 0.0 && !p.is_empty() {
+            // The strongest dashpot: the largest R*²/S_min, i.e. the largest pair (R*/100
+            // by default) or a wall contact (R* = R).
             let rmax = scene.max_radius();
-            let rstar = 0.5 * rmax;
+            let rstar = if scene.walls.is_empty() {
+                0.5 * rmax
+            } else {
+                rmax
+            };
             let smin = scene.settings.smin.unwrap_or(rstar / 100.0);
             let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
             let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);

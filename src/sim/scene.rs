@@ -67,6 +67,8 @@ pub struct Particles {
     pub fixed: Vec<u8>,
     /// Displacement since the last mapping into the search grid.
     pub disp: Vec<Vec3>,
+    /// Free liquid carried by the particle (liquid-conserving mode), m³.
+    pub liquid: Vec<f64>,
 }
 
 impl Particles {
@@ -104,6 +106,7 @@ impl Particles {
         self.agg.push(agg as u8);
         self.fixed.push(0);
         self.disp.push(Vec3::zeros());
+        self.liquid.push(0.0);
     }
 
     /// Removes particle `i` (order of the rest is kept).
@@ -122,6 +125,7 @@ impl Particles {
         self.agg.remove(i);
         self.fixed.remove(i);
         self.disp.remove(i);
+        self.liquid.remove(i);
     }
 
     pub fn inertia(&self, i: usize) -> f64 {

@@ -378,10 +378,13 @@ pub fn validate(model: BridgeModel, b: &Bridge) -> Result<Vec<String>, String> {
     match model {
         BridgeModel::Fit | BridgeModel::Toroidal => {
             if n.is_wall() {
-                if model == BridgeModel::Fit && v > 0.05 {
+                if model == BridgeModel::Fit && (v > 0.01 || b.theta > 10f64.to_radians()) {
                     w.push(format!(
-                        "V/R^3 = {v:.3e}: the sphere-plane formula of Olsson/Rabinovich \
-                         (33)-(35) is a small-bridge approximation"
+                        "V/R^3 = {v:.3e}, theta = {:.1} deg: the sphere-plane formula of \
+                         Olsson/Rabinovich (33)-(35) is a small-bridge approximation (errors \
+                         of 25-60 % against Laplace-Young here, see doc/bridge.md): use the \
+                         Toroidal model",
+                        b.theta.to_degrees()
                     ));
                 }
             } else {
