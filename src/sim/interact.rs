@@ -200,7 +200,11 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         if gamma == 0.0 && s.normal_force + fd < 0.0 {
             fd = -s.normal_force;
         }
-        s.damp_force = fd;
+        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
+        // step are kept, since they are the ones the next booking must pair with.
+        if dt > 0.0 {
+            s.damp_force = fd;
+        }
         acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
         fn_b += fd;
 
@@ -209,7 +213,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
         }
         s.normal = k.n;
-    } else if fd_prev != 0.0 || td_prev != Vec3::zeros() {
+    } else if dt > 0.0 && (fd_prev != 0.0 || td_prev != Vec3::zeros()) {
         // The contact ended: book the second half of the last dashpot forces.
         let v_t = k.v_rel - k.n * v_n;
         acc.damping_contact += -0.5 * fd_prev * v_n * dt - 0.5 * td_prev.dot(&v_t) * dt;
@@ -275,8 +279,10 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                 // viscous loss, booked as ½(F_old + F_new)·v_n Δt.
                 bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
                 acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
-                bs.f_static = fs;
-                bs.f_visc = fv;
+                if dt > 0.0 {
+                    bs.f_static = fs;
+                    bs.f_visc = fv;
+                }
                 bs.gap = k.gap;
                 fn_b += fv - fs;
             }
@@ -394,12 +400,15 @@ fn tangential_step(
         }
     }
     let mut ft = s.tforce;
-    let td_prev = s.tdamp;
-    s.tdamp = Vec3::zeros();
-    if laws.beta > 0.0 {
-        s.tdamp = -v_t * (laws.beta * kt0);
-        ft += s.tdamp;
+    let td = if laws.beta > 0.0 {
+        -v_t * (laws.beta * kt0)
+    } else {
+        Vec3::zeros()
+    };
+    ft += td;
+    acc.damping_contact += -0.5 * (td + s.tdamp).dot(&v_t) * dt;
+    if dt > 0.0 {
+        s.tdamp = td;
     }
-    acc.damping_contact += -0.5 * (s.tdamp + td_prev).dot(&v_t) * dt;
     ft
 }
