@@ -6,6 +6,18 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Radius distribution of a size type: every generated particle draws its radius.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum SizeDist {
+    /// All particles have radius r.
+    #[default]
+    Fixed,
+    /// Normal with standard deviation sd, truncated at ±3 sd (Lian ch. 7: 30 ± 3 µm).
+    Normal { sd: f64 },
+    /// Uniform in [rmin, rmax] (Olsson's size ranges).
+    Uniform { min: f64, max: f64 },
+}
+
 /// Geometry of a wall: a plane `a x + b y + c z = d`, a spherical container (particles inside)
 /// or a spherical obstacle/indenter (particles outside).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -149,6 +161,8 @@ pub enum Setting {
     /// `SET GENoverlap f`: overlap allowed between generated particles, as a fraction of
     /// R_i + R_j (default 1e-9, i.e. touching within round-off).
     GenOverlap(f64),
+    /// `SET FRAgment eps`: neighbour radius of Olsson's DBSCAN fragments (DEFault: 4 R_mean).
+    Fragment(Option<f64>),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -286,6 +300,19 @@ pub enum Command {
     Radius {
         r: f64,
         size: usize,
+        dist: SizeDist,
+    },
+    /// `MOVe nagg dx dy dz`: translate agglomerate nagg (particles and region).
+    Move {
+        nagg: usize,
+        d: [f64; 3],
+    },
+    /// `RELax kmax fmax nmax`: cycle until the kinetic energy is below kmax (J) and the largest
+    /// contact force below fmax (N), checking every 100 cycles, at most nmax cycles.
+    Relax {
+        kmax: f64,
+        fmax: f64,
+        nmax: u64,
     },
     Reset,
     Restart {

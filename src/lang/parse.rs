@@ -95,6 +95,8 @@ pub fn command_name(c: &Command) -> &'static str {
         Print { .. } => "PRint",
         Probe { .. } => "PRObe",
         Radius { .. } => "RAdius",
+        Move { .. } => "MOVe",
+        Relax { .. } => "RELax",
         Reset => "RESEt",
         Restart { .. } => "RESTart",
         Rgenerate { .. } | RgenerateSeed { .. } => "RGEnerate",

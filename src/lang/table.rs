@@ -134,6 +134,7 @@ enum SetKw {
     Snapshot,
     History,
     GenOverlap,
+    Fragment,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -150,6 +151,7 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("SNApshot", SetKw::Snapshot),
     kw("HIStory", SetKw::History),
     kw("GENoverlap", SetKw::GenOverlap),
+    kw("FRAgment", SetKw::Fragment),
 ];
 
 const BRIDGES: &[Keyword<BridgeChoice>] = &[
@@ -445,11 +447,34 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "RAdius",
-        "r isize",
-        &[],
+        "r isize [NORmal sd | UNIform rmin rmax]",
+        &["NORmal", "UNIform"],
         true,
         b_radius,
-        "Radius (m) of size type isize."
+        "Radius (m) of size type isize. NORmal sd: generated particles draw radii from a normal distribution (mean r, standard deviation sd, truncated at 3 sd); UNIform rmin rmax: uniform in [rmin, rmax] (r is then the nominal radius). Existing particles of the type keep their radii unless the type is Fixed."
+    ),
+    def!(
+        "MOVe",
+        "nagg dx dy dz",
+        &[],
+        false,
+        |a| Ok(Command::Move {
+            nagg: a.int_in("nagg", 1, 2)? as usize,
+            d: a.vec3(["dx", "dy", "dz"])?,
+        }),
+        "Translate every particle of agglomerate nagg (and its region) by (dx, dy, dz); contacts with other particles are re-made at the next cycle."
+    ),
+    def!(
+        "RELax",
+        "kmax fmax nmax",
+        &[],
+        false,
+        |a| Ok(Command::Relax {
+            kmax: a.non_negative("kmax")?,
+            fmax: a.non_negative("fmax")?,
+            nmax: a.count("nmax")? as u64,
+        }),
+        "Cycle until the kinetic energy is below kmax (J) and the largest contact force below fmax (N) (checked every 100 cycles), or nmax cycles have run; prints which happened."
     ),
     def!(
         "RESEt",
@@ -511,11 +536,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "VIEw",
             "SNApshot",
             "HIStory",
-            "GENoverlap"
+            "GENoverlap",
+            "FRAgment"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius)."
     ),
     def!(
         "STArt",
@@ -917,10 +943,41 @@ fn b_print(a: &mut Args) -> Result<Command, ParseError> {
 }
 
 fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
-    Ok(Command::Radius {
-        r: a.positive("r")?,
-        size: a.index("isize")?,
-    })
+    #[derive(Clone, Copy)]
+    enum D {
+        N,
+        U,
+    }
+    const DISTS: &[Keyword<D>] = &[kw("NORmal", D::N), kw("UNIform", D::U)];
+    let r = a.positive("r")?;
+    let size = a.index("isize")?;
+    let dist = match a.try_keyword(DISTS)? {
+        None => SizeDist::Fixed,
+        Some(D::N) => {
+            let t = a.peek();
+            let sd = a.positive("sd")?;
+            if 3.0 * sd >= r {
+                return Err(ParseError::at(
+                    t.expect("consumed"),
+                    format!("sd = {sd} is too large: r - 3 sd must stay positive"),
+                ));
+            }
+            SizeDist::Normal { sd }
+        }
+        Some(D::U) => {
+            let min = a.positive("rmin")?;
+            let t = a.peek();
+            let max = a.positive("rmax")?;
+            if max < min {
+                return Err(ParseError::at(
+                    t.expect("consumed"),
+                    "rmax must not be below rmin",
+                ));
+            }
+            SizeDist::Uniform { min, max }
+        }
+    };
+    Ok(Command::Radius { r, size, dist })
 }
 
 fn optional_file(a: &mut Args) -> Result<Option<String>, ParseError> {
@@ -995,6 +1052,7 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::View => Setting::View(a.keyword(VIEWS, "view")?),
         SetKw::Snapshot => Setting::Snapshot(a.count("n")? as u64),
         SetKw::History => Setting::History(a.count("n")? as u64),
+        SetKw::Fragment => Setting::Fragment(length_or_default(a, "eps")?),
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

@@ -25,7 +25,8 @@ fn thesis_examples_parse() {
         one("rad 0.004330127 1"),
         Command::Radius {
             r: 0.004330127,
-            size: 1
+            size: 1,
+            dist: SizeDist::Fixed
         }
     );
     assert!(matches!(
@@ -126,6 +127,12 @@ fn every_command_parses() {
         "w 0 1 0 1 0 1",
         "ymd 70e9 1",
         "z 1",
+        "rad 30e-6 1 normal 3e-6",
+        "rad 16.5e-6 2 uniform 11e-6 22e-6",
+        "mov 1 1e-4 0 0",
+        "rel 1e-15 1e-6 10000",
+        "set fra 7e-5",
+        "set gen 1e-4",
         "cgr 1 9.81",
         "help",
         "help pr",
@@ -171,9 +178,20 @@ fn clashes_are_settled_by_the_rule() {
 fn comments_and_separators() {
     assert_eq!(
         one("rad(0.1,1) ; radius"),
-        Command::Radius { r: 0.1, size: 1 }
+        Command::Radius {
+            r: 0.1,
+            size: 1,
+            dist: SizeDist::Fixed
+        }
     );
-    assert_eq!(one("rad 0.1/1 # x"), Command::Radius { r: 0.1, size: 1 });
+    assert_eq!(
+        one("rad 0.1/1 # x"),
+        Command::Radius {
+            r: 0.1,
+            size: 1,
+            dist: SizeDist::Fixed
+        }
+    );
     assert!(parse_line("; only a comment").unwrap().is_empty());
 }
 

@@ -237,6 +237,7 @@ fn energy_item(scene: &Scene) -> (String, Value) {
     let l = &scene.ledger;
     let res = energy::residual(scene);
     let input = l.input();
+    let frac = |x: f64| if input != 0.0 { x / input } else { 0.0 };
     let s = format!(
         "energy (J) at cycle {}\n  kinetic        translation {:.6e}  rotation {:.6e}\n  \
          stored         normal {:.6e}  tangential {:.6e}  bridges {:.6e}\n  \
@@ -278,6 +279,11 @@ fn energy_item(scene: &Scene) -> (String, Value) {
             "adhesion": l.adhesion, "rupture": l.rupture, "total": l.dissipated(),
         },
         "residual": res,
+        "fractions": {
+            "friction": frac(l.friction), "damping_mass": frac(l.damping_mass),
+            "damping_contact": frac(l.damping_contact), "viscous": frac(l.viscous),
+            "adhesion": frac(l.adhesion), "rupture": frac(l.rupture),
+        },
     });
     (s, j)
 }

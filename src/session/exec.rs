@@ -1,6 +1,8 @@
 //! Applies a command to the scene. Every function here either succeeds or returns an error
 //! and leaves the scene as it was (the caller works on a copy for multi-step changes).
 
+#[allow(unused_imports)]
+use crate::lang::command::SizeDist;
 use crate::lang::command::*;
 use crate::sim::generate::{OverlapIndex, inside, lattice_sites, sphere_mass};
 use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall};
@@ -69,7 +71,7 @@ fn refresh_masses(scene: &mut Scene, m: usize) {
 /// Applies a scene command. Returns a message to print (possibly empty).
 pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
     match cmd {
-        Command::Radius { r, size } => {
+        Command::Radius { r, size, dist } => {
             if *size > MAX_SIZES {
                 return Err(format!(
                     "size type {size} is beyond the limit of {MAX_SIZES}"
@@ -77,12 +79,14 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             }
             if *size > scene.sizes.len() {
                 scene.sizes.resize(*size, 0.0);
+                scene.size_dist.resize(*size, Default::default());
             }
             scene.sizes[size - 1] = *r;
-            // Particles of that size change radius (and mass).
+            scene.size_dist[size - 1] = *dist;
+            // Particles of a fixed size type change radius (and mass).
             let p = &mut scene.particles;
             for i in 0..p.len() {
-                if p.size[i] as usize == *size {
+                if *dist == SizeDist::Fixed && p.size[i] as usize == *size {
                     let rho = p.mass[i] / sphere_mass(1.0, p.radius[i]);
                     p.radius[i] = *r;
                     p.mass[i] = sphere_mass(rho, *r);
@@ -245,11 +249,18 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 None => (Vec3::zeros(), Vec3::from(scene.size)),
             };
             let limit = 1000 * n + 10_000;
-            let mut idx = OverlapIndex::new(scene, r);
+            let r_big = scene.max_radius_of(*size).unwrap_or(r);
+            let mut idx = OverlapIndex::new(scene, r_big);
             let mut made = 0;
             let mut tries = 0;
+            let mut r = r;
+            let mut need_radius = true;
             while made < *n && tries < limit {
                 tries += 1;
+                if need_radius {
+                    r = scene.draw_radius(*size).unwrap_or(r);
+                    need_radius = false;
+                }
                 let x = Vec3::new(
                     lo.x + (hi.x - lo.x) * scene.rng.uniform(),
                     lo.y + (hi.y - lo.y) * scene.rng.uniform(),
@@ -279,6 +290,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 );
                 idx.insert(&x, i);
                 made += 1;
+                need_radius = true;
             }
             scene.contacts.stale = true;
             if made < *n {
@@ -290,6 +302,28 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     "RGEnerate: {made} particles placed in {tries} tries (limit {limit})"
                 ))
             }
+        }
+        Command::Move { nagg, d } => {
+            let dv = Vec3::from(*d);
+            let p = &mut scene.particles;
+            let mut moved = 0;
+            for i in 0..p.len() {
+                if p.agg[i] as usize == *nagg {
+                    p.pos[i] += dv;
+                    moved += 1;
+                }
+            }
+            if moved == 0 {
+                return Err(format!("agglomerate {nagg} has no particles"));
+            }
+            if let Some(r) = scene.regions[nagg - 1].as_mut() {
+                for k in 0..3 {
+                    r.centre[k] += d[k];
+                }
+            }
+            // Bonds inside the agglomerate keep their geometry; pairs with others are re-made.
+            scene.contacts.stale = true;
+            Ok(format!("moved {moved} particles of agglomerate {nagg}"))
         }
         Command::RgenerateSeed { n } => {
             for _ in 0..*n {
@@ -571,6 +605,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 Setting::Snapshot(n) => st.snapshot_every = *n,
                 Setting::History(n) => st.history_every = *n,
                 Setting::GenOverlap(f) => st.gen_overlap = *f,
+                Setting::Fragment(e) => st.fragment_eps = *e,
             }
             scene.contacts.stale = true;
             Ok(String::new())

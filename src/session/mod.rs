@@ -272,6 +272,25 @@ fn join(dir: &Path, name: &str) -> PathBuf {
     }
 }
 
+/// Largest contact force (solid normal force or bridge force) in the scene.
+fn max_contact_force(scene: &Scene) -> f64 {
+    let mut f: f64 = 0.0;
+    for c in scene.contacts.pairs.iter().chain(std::iter::empty()) {
+        if c.s.touching {
+            f = f.max((c.s.normal_force + c.s.damp_force).abs());
+        }
+        if let Some(b) = &c.s.bridge {
+            f = f.max((b.f_visc - b.f_static).abs());
+        }
+    }
+    for c in &scene.contacts.wall_pairs {
+        if c.s.touching {
+            f = f.max((c.s.normal_force + c.s.damp_force).abs());
+        }
+    }
+    f
+}
+
 /// Runs a command that needs a scene; returns the output text and warnings.
 fn scene_command(
     scene: &mut Scene,
@@ -291,6 +310,30 @@ fn scene_command(
             }
             warnings.extend(cycle::warnings(scene));
             cycle::run(scene, *n).map_err(|b| b.message)?;
+        }
+        Command::Relax { kmax, fmax, nmax } => {
+            warnings.extend(cycle::warnings(scene));
+            let mut done = 0;
+            let (mut ke, mut fm) = (f64::INFINITY, f64::INFINITY);
+            while done < *nmax {
+                let n = (*nmax - done).min(100);
+                cycle::run(scene, n).map_err(|b| b.message)?;
+                done += n;
+                let st = energy::stored(scene);
+                ke = st.kinetic_translation + st.kinetic_rotation;
+                fm = max_contact_force(scene);
+                if ke < *kmax && fm < *fmax {
+                    break;
+                }
+            }
+            out = format!(
+                "RELax: {} after {done} cycles: kinetic energy {ke:.4e} J (limit {kmax:.4e}), largest contact force {fm:.4e} N (limit {fmax:.4e})",
+                if ke < *kmax && fm < *fmax {
+                    "relaxed"
+                } else {
+                    "not relaxed"
+                }
+            );
         }
         Command::Print { items } => {
             for it in items {

@@ -179,6 +179,8 @@ pub struct Settings {
     pub window: Option<[f64; 6]>,
     /// Overlap allowed between generated particles (fraction of R_i + R_j).
     pub gen_overlap: f64,
+    /// Neighbour radius of Olsson's DBSCAN fragments (None: 4 × mean radius).
+    pub fragment_eps: Option<f64>,
 }
 
 impl Default for Settings {
@@ -199,6 +201,7 @@ impl Default for Settings {
             fraction: DEFAULT_FRACTION,
             window: None,
             gen_overlap: 1e-9,
+            fragment_eps: None,
         }
     }
 }
@@ -223,6 +226,8 @@ pub struct Scene {
     pub nball: usize,
     pub nwall: usize,
     pub sizes: Vec<f64>,
+    /// Radius distribution of each size type.
+    pub size_dist: Vec<crate::lang::command::SizeDist>,
     pub materials: Vec<Material>,
     pub regions: [Option<Region>; 2],
     pub particles: Particles,
@@ -259,6 +264,7 @@ impl Scene {
             nball,
             nwall,
             sizes: vec![0.0; 10],
+            size_dist: vec![Default::default(); 10],
             materials: vec![Material::default(); 5],
             regions: [None, None],
             particles: Particles::default(),
@@ -294,6 +300,37 @@ impl Scene {
 
     pub fn material(&self, m: usize) -> &Material {
         &self.materials[m - 1]
+    }
+
+    /// Draws a radius for a new particle of a size type (the nominal radius for Fixed).
+    pub fn draw_radius(&mut self, size: usize) -> Option<f64> {
+        use crate::lang::command::SizeDist;
+        let r = self.radius_of(size)?;
+        Some(
+            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
+                SizeDist::Fixed => r,
+                SizeDist::Normal { sd } => loop {
+                    let z = self.rng.normal();
+                    if z.abs() <= 3.0 {
+                        break r + sd * z;
+                    }
+                },
+                SizeDist::Uniform { min, max } => min + (max - min) * self.rng.uniform(),
+            },
+        )
+    }
+
+    /// Largest radius a size type can produce.
+    pub fn max_radius_of(&self, size: usize) -> Option<f64> {
+        use crate::lang::command::SizeDist;
+        let r = self.radius_of(size)?;
+        Some(
+            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
+                SizeDist::Fixed => r,
+                SizeDist::Normal { sd } => r + 3.0 * sd,
+                SizeDist::Uniform { max, .. } => max,
+            },
+        )
     }
 
     /// Largest particle radius present (0 if none).
