@@ -4,7 +4,7 @@
 #[allow(unused_imports)]
 use crate::lang::command::SizeDist;
 use crate::lang::command::*;
-use crate::sim::generate::{OverlapIndex, inside, lattice_sites, sphere_mass};
+use crate::sim::generate::{OverlapIndex, first_overlap, inside, lattice_sites, sphere_mass};
 use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall};
 
 fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
@@ -152,8 +152,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     pos[0], pos[1], pos[2]
                 ));
             }
-            let idx = OverlapIndex::new(scene, r);
-            if let Some(j) = idx.overlaps(scene, &x, r) {
+            if let Some(j) = first_overlap(scene, &x, r) {
                 return Err(format!(
                     "the particle would overlap particle {}",
                     scene.particles.id[j]
@@ -191,7 +190,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             };
             let sites = lattice_sites(scene, *origin, *step);
             let mut idx = OverlapIndex::new(scene, r);
-            let mut made = 0;
+            let mut accepted = Vec::new();
             let mut skipped = 0;
             for x in sites {
                 if !inside(scene, region.as_ref(), &x, r) {
@@ -201,10 +200,15 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     skipped += 1;
                     continue;
                 }
-                check_capacity(scene, 1)?;
+                idx.insert(&x, r);
+                accepted.push(x);
+            }
+            // All or nothing: the capacity is checked before anything is added.
+            check_capacity(scene, accepted.len())?;
+            let made = accepted.len();
+            for x in accepted {
                 let id = scene.next_id;
                 scene.next_id += 1;
-                let i = scene.particles.len();
                 scene.particles.push(
                     id,
                     x,
@@ -216,8 +220,6 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     *material,
                     *nagg,
                 );
-                idx.insert(&x, i);
-                made += 1;
             }
             scene.contacts.stale = true;
             Ok(format!(
@@ -288,7 +290,8 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     *material,
                     *nagg,
                 );
-                idx.insert(&x, i);
+                idx.insert(&x, r);
+                let _ = i;
                 made += 1;
                 need_radius = true;
             }

@@ -375,14 +375,13 @@ fn scene_command(
             ));
         }
         _ => {
-            // Work on a copy so that a failing command changes nothing; the energy the
-            // command adds or removes (new particles, VELocity, Zero, ...) is booked.
-            let mut copy = scene.clone();
-            let before = energy::stored(&copy).total();
-            out = exec::apply(&mut copy, cmd)?;
-            let after = energy::stored(&copy).total();
-            copy.ledger.commands += after - before;
-            *scene = copy;
+            // exec::apply checks everything before it changes anything, so a failing
+            // command changes nothing. The kinetic energy the command adds or removes (new
+            // particles, VELocity, Zero, ...) is booked; strain energy of new overlaps is
+            // booked when the next Cycle evaluates the contacts (cycle::prime).
+            let before = energy::kinetic(scene);
+            out = exec::apply(scene, cmd)?;
+            scene.ledger.commands += energy::kinetic(scene) - before;
         }
     }
     Ok((out, warnings))

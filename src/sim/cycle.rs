@@ -77,14 +77,14 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
             need = need.max(crate::physics::bridge::rupture_distance(&b));
         }
     }
-    let auto = (0.2 * rmean).max(1.5 * need);
+    let auto = (0.35 * rmean).max(1.5 * need);
     let tol = scene.settings.tol.unwrap_or(auto).max(1.5 * need);
     let xres_max = tol / (2.0 * 3f64.sqrt());
     let xres = scene
         .settings
         .xres
         .map(|x| x.min(xres_max * 0.999))
-        .unwrap_or(0.25 * tol);
+        .unwrap_or(xres_max * 0.999);
     (tol, xres)
 }
 
@@ -216,7 +216,9 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     for step in 0..n {
         if step > 0 && step % every == 0 {
             let e_now = super::energy::stored(scene).total();
-            if e_now.is_finite() && e_now > 1e3 * e_ref.max(1e-300) && e_now > 0.0 {
+            // Gravity and moving walls put energy in as the run goes: compare with that too.
+            e_ref = e_ref.max(scene.ledger.input().abs());
+            if !e_now.is_finite() || (e_now > 1e3 * e_ref.max(1e-300) && e_now > 0.0) {
                 let mut e = runaway(scene, e_now, e_ref);
                 e.message.push_str(&format!(
                     "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",

@@ -62,6 +62,17 @@ impl Ledger {
     }
 }
 
+/// Kinetic energy (translation + rotation) with the half-step velocities.
+pub fn kinetic(scene: &Scene) -> f64 {
+    let p = &scene.particles;
+    (0..p.len())
+        .map(|i| {
+            0.5 * p.mass[i] * p.vel[i].norm_squared()
+                + 0.5 * p.inertia(i) * p.spin[i].norm_squared()
+        })
+        .sum()
+}
+
 /// Kinetic energy with the half-step velocities of the leap-frog scheme.
 pub fn stored(scene: &Scene) -> Stored {
     let p = &scene.particles;

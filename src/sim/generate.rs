@@ -12,24 +12,29 @@ use std::collections::HashMap;
 
 use super::scene::{Region, Scene, Vec3};
 
-/// Spatial hash of the existing particles for the overlap check.
+/// Spatial hash of particles (the scene's, then the ones being generated) for the overlap
+/// check. Entry k is particle k of the scene for k < the scene's count at creation.
 pub struct OverlapIndex {
     h: f64,
     cells: HashMap<(i64, i64, i64), Vec<usize>>,
     rmax: f64,
+    pos: Vec<Vec3>,
+    radius: Vec<f64>,
 }
 
 impl OverlapIndex {
+    /// Indexes the scene's particles; `r_new` is the largest radius that will be checked.
     pub fn new(scene: &Scene, r_new: f64) -> Self {
         let rmax = scene.max_radius().max(r_new);
-        let h = 2.0 * rmax;
         let mut idx = OverlapIndex {
-            h,
+            h: 2.0 * rmax,
             cells: HashMap::new(),
             rmax,
+            pos: Vec::new(),
+            radius: Vec::new(),
         };
         for i in 0..scene.particles.len() {
-            idx.insert(&scene.particles.pos[i], i);
+            idx.insert(&scene.particles.pos[i], scene.particles.radius[i]);
         }
         idx
     }
@@ -42,14 +47,19 @@ impl OverlapIndex {
         )
     }
 
-    pub fn insert(&mut self, x: &Vec3, i: usize) {
+    /// Adds a sphere; returns its entry number.
+    pub fn insert(&mut self, x: &Vec3, r: f64) -> usize {
         let k = self.key(x);
+        let i = self.pos.len();
+        self.pos.push(*x);
+        self.radius.push(r);
         self.cells.entry(k).or_default().push(i);
+        i
     }
 
-    /// Whether a sphere (x, r) overlaps any indexed particle (minimum image on periodic axes).
+    /// The first indexed sphere that a sphere (x, r) overlaps (minimum image on periodic
+    /// axes), by entry number.
     pub fn overlaps(&self, scene: &Scene, x: &Vec3, r: f64) -> Option<usize> {
-        let p = &scene.particles;
         let reach = ((r + self.rmax) / self.h).ceil() as i64;
         let mut images = vec![*x];
         for k in 0..3 {
@@ -73,8 +83,8 @@ impl OverlapIndex {
                     for dx in -reach..=reach {
                         if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
                             for &j in v {
-                                let d = (p.pos[j] - y).norm();
-                                if d < (r + p.radius[j]) * (1.0 - scene.settings.gen_overlap) {
+                                let d = (self.pos[j] - y).norm();
+                                if d < (r + self.radius[j]) * (1.0 - scene.settings.gen_overlap) {
                                     return Some(j);
                                 }
                             }
@@ -85,6 +95,16 @@ impl OverlapIndex {
         }
         None
     }
+}
+
+/// The first particle of the scene that a sphere (x, r) would overlap: a plain scan (no
+/// index to build), for single particles (`CReate`).
+pub fn first_overlap(scene: &Scene, x: &Vec3, r: f64) -> Option<usize> {
+    let p = &scene.particles;
+    (0..p.len()).find(|&j| {
+        let d = scene.branch(&p.pos[j], x).norm();
+        d < (r + p.radius[j]) * (1.0 - scene.settings.gen_overlap)
+    })
 }
 
 /// Whether a particle (x, r) is acceptable with respect to the region / work-space.
