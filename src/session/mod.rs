@@ -265,7 +265,8 @@ impl Session {
 
 fn join(dir: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
-    if p.is_absolute() {
+    // Relative to the current directory: keep the name as given (messages show it so).
+    if p.is_absolute() || dir == Path::new(".") {
         p.to_path_buf()
     } else {
         dir.join(p)
