@@ -74,10 +74,11 @@ impl Session {
         }
     }
 
-    /// Diagnostics go to standard error (and the log).
+    /// Diagnostics go to standard error (and the log). Write errors are ignored (a closed
+    /// pipe must not panic, as `eprintln!` would).
     pub fn emit_err(&mut self, text: &str) {
         let _ = self.out.flush();
-        eprintln!("{text}");
+        let _ = writeln!(std::io::stderr(), "{text}");
         if let Some(f) = &mut self.log {
             let _ = writeln!(f, "{text}");
         }
