@@ -14,7 +14,7 @@
 //! 1. bump [`VERSION`];
 //! 2. keep reading the old version: copy the old definitions of the changed types into a
 //!    module `v{OLD}` here (unchanged types can be reused), decode the payload with them in
-//!    [`decode_payload`] and convert to the current [`Scene`] (new fields get the value that
+//!    `decode_payload` and convert to the current [`Scene`] (new fields get the value that
 //!    reproduces the old behaviour). Only if that is impossible raise [`OLDEST_READABLE`]: the
 //!    file is then refused with a message naming both versions;
 //! 3. add a fixture of the new version under `tests/fixtures/` (the `#[ignore]`d test
@@ -45,6 +45,7 @@ pub fn fnv1a(data: &[u8]) -> u64 {
     }
     h
 }
+
 /// Serialises a scene to bytes.
 pub fn to_bytes(scene: &Scene) -> Result<Vec<u8>, String> {
     let payload = bincode::serde::encode_to_vec(scene, bincode::config::standard())
