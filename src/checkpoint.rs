@@ -1,8 +1,27 @@
 //! Checkpoints (`SAve`/`RESTart`): bincode 2 through serde. Layout: the magic bytes
 //! `TRUBALCK`, a little-endian u32 format version, a u64 length and an FNV-1a 64 checksum of
 //! the payload, then the payload (the whole [`Scene`]). A file is refused with a reason when
-//! the magic, the version, the length or the checksum does not match, and the current state is
-//! untouched. Saving writes a temporary file and renames it over the target.
+//! the magic, the version, the length, the checksum or the consistency of the decoded state
+//! does not match, and the current state is untouched. Saving writes a temporary file next to
+//! the target and renames it over the target, so an existing file survives a failed save.
+//!
+//! # Format evolution
+//!
+//! bincode is not self-describing: the payload is the fields of [`Scene`] (and of every type
+//! inside it) in declaration order. **Any** change of those types — a field added, removed,
+//! re-ordered or re-typed, an enum variant added in the middle — changes the format. Then:
+//!
+//! 1. bump [`VERSION`];
+//! 2. keep reading the old version: copy the old definitions of the changed types into a
+//!    module `v{OLD}` here (unchanged types can be reused), decode the payload with them in
+//!    `decode_payload` and convert to the current [`Scene`] (new fields get the value that
+//!    reproduces the old behaviour). Only if that is impossible raise [`OLDEST_READABLE`]: the
+//!    file is then refused with a message naming both versions;
+//! 3. add a fixture of the new version under `tests/fixtures/` (the `#[ignore]`d test
+//!    `write_fixture` in `tests/checkpoint.rs` writes it) and keep the old ones.
+//!
+//! `tests/checkpoint.rs` fails when the fixture of the current version no longer decodes to
+//! the same bytes, i.e. when the layout changed without a version bump.
 
 use std::io::Write;
 use std::path::Path;
@@ -10,10 +29,15 @@ use std::path::Path;
 use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
+/// Format version written by this program.
 pub const VERSION: u32 = 1;
-const HEADER: usize = 8 + 4 + 8 + 8;
+/// Oldest format version this program still reads.
+pub const OLDEST_READABLE: u32 = 1;
+/// Bytes before the payload: magic, version, length, checksum.
+pub const HEADER: usize = 8 + 4 + 8 + 8;
 
-fn fnv1a(data: &[u8]) -> u64 {
+/// FNV-1a 64 of the payload (detects any single changed byte).
+pub fn fnv1a(data: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for &b in data {
         h ^= b as u64;
@@ -41,6 +65,9 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
     if data.is_empty() {
         return Err("the file is empty".into());
     }
+    if data.len() < 8 && MAGIC.starts_with(data) {
+        return Err("the checkpoint is truncated (incomplete header)".into());
+    }
     if data.len() < 8 || &data[..8] != MAGIC {
         return Err("not a trubal checkpoint (no TRUBALCK header)".into());
     }
@@ -53,9 +80,9 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
             "the checkpoint has format version {version}, newer than this program's version {VERSION}: use a newer trubal"
         ));
     }
-    if version < 1 {
+    if version < OLDEST_READABLE {
         return Err(format!(
-            "the checkpoint has format version {version}, which no trubal wrote (this program reads 1..={VERSION})"
+            "the checkpoint has format version {version}, which this program (format version {VERSION}) no longer reads (it reads versions {OLDEST_READABLE} to {VERSION}): load it with an older trubal"
         ));
     }
     let len = u64::from_le_bytes(data[12..20].try_into().expect("8 bytes")) as usize;
@@ -70,16 +97,132 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
     if fnv1a(payload) != sum {
         return Err("the checkpoint is corrupt (checksum mismatch)".into());
     }
-    let (scene, used): (Scene, usize) =
-        bincode::serde::decode_from_slice(payload, bincode::config::standard())
-            .map_err(|e| format!("the checkpoint is corrupt: {e}"))?;
-    if used != payload.len() {
-        return Err("the checkpoint has trailing bytes".into());
-    }
+    let scene = decode_payload(version, payload)?;
+    check_consistency(&scene).map_err(|e| format!("the checkpoint is inconsistent: {e}"))?;
     Ok(scene)
 }
 
-/// Writes atomically: temporary file in the same directory, then rename.
+/// Decodes the payload of a given (readable) format version into the current [`Scene`].
+fn decode_payload(version: u32, payload: &[u8]) -> Result<Scene, String> {
+    match version {
+        VERSION => decode_all::<Scene>(payload),
+        // Older versions: decode with their frozen types and convert (see "Format evolution").
+        v => Err(format!(
+            "the checkpoint has format version {v}, for which this program (format version {VERSION}) has no reader"
+        )),
+    }
+}
+
+fn decode_all<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
+    let (value, used): (T, usize) =
+        bincode::serde::decode_from_slice(payload, bincode::config::standard())
+            .map_err(|e| format!("the checkpoint is corrupt: {e}"))?;
+    if used != payload.len() {
+        return Err("the checkpoint is corrupt: trailing bytes after the state".into());
+    }
+    Ok(value)
+}
+
+/// The invariants the simulation relies on (array lengths, indices, ids), so that a file that
+/// passed the checksum but holds an impossible state is refused instead of making a later
+/// command panic.
+pub fn check_consistency(scene: &Scene) -> Result<(), String> {
+    use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES};
+    let p = &scene.particles;
+    let n = p.len();
+    let lens = [
+        p.pos.len(),
+        p.vel.len(),
+        p.spin.len(),
+        p.rot.len(),
+        p.force.len(),
+        p.moment.len(),
+        p.radius.len(),
+        p.mass.len(),
+        p.size.len(),
+        p.material.len(),
+        p.agg.len(),
+        p.fixed.len(),
+        p.disp.len(),
+    ];
+    if lens.iter().any(|&l| l != n) {
+        return Err(format!(
+            "particle arrays of unequal length ({n} ids, {lens:?})"
+        ));
+    }
+    if scene.sizes.len() > MAX_SIZES || scene.materials.len() > MAX_MATERIALS {
+        return Err("too many size or material types".into());
+    }
+    let mut ids = p.id.clone();
+    ids.sort_unstable();
+    if ids.windows(2).any(|w| w[0] == w[1]) {
+        return Err("two particles share an id".into());
+    }
+    if ids.last().is_some_and(|&m| m >= scene.next_id) {
+        return Err("a particle id is not below the next id".into());
+    }
+    for i in 0..n {
+        let s = p.size[i] as usize;
+        let m = p.material[i] as usize;
+        if s == 0 || s > scene.sizes.len() || m == 0 || m > scene.materials.len() {
+            return Err(format!(
+                "particle {} has size type {s} or material type {m} out of range",
+                p.id[i]
+            ));
+        }
+        if !(p.radius[i] > 0.0 && p.mass[i] > 0.0) || p.agg[i] > 2 {
+            return Err(format!(
+                "particle {} has a bad radius, mass or agglomerate",
+                p.id[i]
+            ));
+        }
+    }
+    for w in &scene.walls {
+        if w.material == 0 || w.material > scene.materials.len() {
+            return Err(format!(
+                "a wall has material type {} out of range",
+                w.material
+            ));
+        }
+    }
+    let c = &scene.contacts;
+    for (k, pair) in c.pairs.iter().enumerate() {
+        let (i, j) = (pair.i as usize, pair.j as usize);
+        if i >= n || j >= n || pair.ida >= pair.idb {
+            return Err("a contact refers to a particle that does not exist".into());
+        }
+        if !c.stale && (p.id[i] != pair.ida || p.id[j] != pair.idb) {
+            return Err("a contact's particle indices do not match its ids".into());
+        }
+        if k > 0 && (c.pairs[k - 1].ida, c.pairs[k - 1].idb) >= (pair.ida, pair.idb) {
+            return Err("the contacts are not sorted by ids".into());
+        }
+    }
+    for (k, wp) in c.wall_pairs.iter().enumerate() {
+        if wp.i as usize >= n || wp.wall as usize >= scene.walls.len() {
+            return Err("a wall contact refers to a particle or wall that does not exist".into());
+        }
+        if !c.stale && p.id[wp.i as usize] != wp.id {
+            return Err("a wall contact's particle index does not match its id".into());
+        }
+        if k > 0 && (c.wall_pairs[k - 1].id, c.wall_pairs[k - 1].wall) >= (wp.id, wp.wall) {
+            return Err("the wall contacts are not sorted by ids".into());
+        }
+    }
+    if let Some(r) = &scene.reference {
+        if r.pos.len() != r.ids.len() || r.rot.len() != r.ids.len() {
+            return Err("the reference state (PLot SAve) has arrays of unequal length".into());
+        }
+    }
+    let cols = crate::sim::history::COLUMNS.len();
+    if scene.history.rows.iter().any(|r| r.len() != cols) {
+        return Err("a history row has the wrong number of columns".into());
+    }
+    Ok(())
+}
+
+/// Writes atomically: a temporary file (`NAME.tmp`, or `NAME.EXT.tmp`) in the same directory,
+/// flushed to disk, then renamed over the target. If anything fails the target is untouched.
 pub fn save(scene: &Scene, path: &Path) -> Result<(), String> {
     let bytes = to_bytes(scene)?;
     let tmp = path.with_extension(format!(
@@ -88,18 +231,34 @@ pub fn save(scene: &Scene, path: &Path) -> Result<(), String> {
             .map(|e| format!("{}.", e.to_string_lossy()))
             .unwrap_or_default()
     ));
-    let write = || -> std::io::Result<()> {
+    let mut created = false;
+    let mut write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
+        created = true;
         f.write_all(&bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        f.sync_all()
     };
-    write().map_err(|e| {
+    if let Err(e) = write() {
+        if created {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        return Err(format!(
+            "cannot save to {}: cannot write the temporary file {}: {e} (the old file, if any, is untouched)",
+            path.display(),
+            tmp.display()
+        ));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        format!("cannot save to {}: {e}", path.display())
+        format!(
+            "cannot save to {}: cannot rename {} over it: {e} (the old file, if any, is untouched)",
+            path.display(),
+            tmp.display()
+        )
     })
 }
 
+/// Reads a checkpoint file.
 pub fn load(path: &Path) -> Result<Scene, String> {
     let data = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     from_bytes(&data).map_err(|e| format!("{}: {e}", path.display()))

@@ -5,6 +5,21 @@ use std::process::ExitCode;
 
 use trubal::session::{Session, input};
 
+/// `println!`/`eprintln!` panic when the stream is a pipe whose reader has gone
+/// (`trubal --help | head -0`); these ignore write errors instead.
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+macro_rules! complain {
+    ($($t:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), $($t)*);
+    }};
+}
+
 const USAGE: &str = "usage: trubal [FILE | -] [--json] [--keep-going] [--set NAME=VALUE]... [--threads N]
   FILE          run a command file;  -  (or a pipe) reads commands from standard input
   (no FILE)     interactive session on a terminal; TRUBAL.DIR with BATCH: run TRUBAL.DAT into TRUBAL.OUT
@@ -30,32 +45,32 @@ fn main() -> ExitCode {
             }) {
                 Some(kv) => vars.push(kv),
                 None => {
-                    eprintln!("--set needs NAME=VALUE\n{USAGE}");
+                    complain!("--set needs NAME=VALUE\n{USAGE}");
                     return ExitCode::from(2);
                 }
             },
             "--threads" => match args.next().and_then(|n| n.parse().ok()) {
                 Some(n) if n > 0 => threads = Some(n),
                 _ => {
-                    eprintln!("--threads needs a positive number\n{USAGE}");
+                    complain!("--threads needs a positive number\n{USAGE}");
                     return ExitCode::from(2);
                 }
             },
             "-h" | "--help" => {
-                println!("{USAGE}");
+                say!("{USAGE}");
                 return ExitCode::SUCCESS;
             }
             "--version" => {
-                println!("trubal {}", env!("CARGO_PKG_VERSION"));
+                say!("trubal {}", env!("CARGO_PKG_VERSION"));
                 return ExitCode::SUCCESS;
             }
             s if s.starts_with("--") => {
-                eprintln!("unknown option {s}\n{USAGE}");
+                complain!("unknown option {s}\n{USAGE}");
                 return ExitCode::from(2);
             }
             s => {
                 if file.is_some() {
-                    eprintln!("only one command file may be given\n{USAGE}");
+                    complain!("only one command file may be given\n{USAGE}");
                     return ExitCode::from(2);
                 }
                 file = Some(s.to_string());
@@ -72,7 +87,7 @@ fn main() -> ExitCode {
         match std::fs::File::create("TRUBAL.OUT") {
             Ok(f) => Box::new(std::io::BufWriter::new(f)),
             Err(e) => {
-                eprintln!("cannot write TRUBAL.OUT: {e}");
+                complain!("cannot write TRUBAL.OUT: {e}");
                 return ExitCode::FAILURE;
             }
         }
@@ -85,7 +100,7 @@ fn main() -> ExitCode {
         match input::run_file(&mut session, "TRUBAL.DAT", keep_going) {
             Ok(n) => n,
             Err(e) => {
-                eprintln!("{e}");
+                complain!("{e}");
                 return ExitCode::FAILURE;
             }
         }
@@ -95,14 +110,14 @@ fn main() -> ExitCode {
             Some(f) => match input::run_file(&mut session, f, keep_going) {
                 Ok(n) => n,
                 Err(e) => {
-                    eprintln!("{e}");
+                    complain!("{e}");
                     return ExitCode::FAILURE;
                 }
             },
             None if std::io::stdin().is_terminal() => match input::run_interactive(&mut session) {
                 Ok(()) => 0,
                 Err(e) => {
-                    eprintln!("{e}");
+                    complain!("{e}");
                     return ExitCode::FAILURE;
                 }
             },

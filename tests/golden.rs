@@ -1,8 +1,14 @@
 //! Golden files: every `golden/NAME.tru` is run through the binary (in a scratch directory,
 //! `--json` if the file's first line says `# json`) and its standard output is compared with
-//! `golden/NAME.out` number by number. The relative tolerance is stated in the command file as
-//! `# tolerance: 1e-9` (default 1e-12). `TRUBAL_BLESS=1 cargo test --release --test golden`
-//! rewrites the expected files.
+//! `golden/NAME.out` number by number. Header lines of the command file:
+//!
+//! - `# tolerance: 1e-9 REASON` (required): the relative tolerance and why it is that loose;
+//! - `# absolute: 1e-25 REASON` (optional): numbers closer than this always match (for
+//!   quantities that are round-off noise around zero, such as an energy residual);
+//! - `# run: scripts/NAME.tru` (optional): run that script (path from the crate root) instead
+//!   of the golden file's own lines, so that an example is tested without a copy.
+//!
+//! `TRUBAL_BLESS=1 cargo test --release --test golden` rewrites the expected files.
 
 use std::path::Path;
 use std::process::Command;
@@ -14,26 +20,44 @@ fn tokens(s: &str) -> Vec<String> {
         .collect()
 }
 
-fn close(a: &str, b: &str, tol: f64) -> bool {
+fn close(a: &str, b: &str, tol: f64, abs: f64) -> bool {
     if a == b {
         return true;
     }
     match (a.parse::<f64>(), b.parse::<f64>()) {
-        (Ok(x), Ok(y)) => (x - y).abs() <= tol * x.abs().max(y.abs()) + 1e-300,
+        (Ok(x), Ok(y)) => (x - y).abs() <= (tol * x.abs().max(y.abs())).max(abs) + 1e-300,
         _ => false,
     }
 }
 
+/// The value of a `# NAME: VALUE REASON` header line; panics without a reason.
+fn header(text: &str, name: &str, file: &Path) -> Option<String> {
+    text.lines().find_map(|l| {
+        let rest = l.trim().strip_prefix(&format!("# {name}:"))?;
+        let mut words = rest.split_whitespace();
+        let value = words.next()?.to_string();
+        if name != "run" {
+            assert!(
+                words.next().is_some(),
+                "{}: `# {name}: {value}` needs a reason after the value",
+                file.display()
+            );
+        }
+        Some(value)
+    })
+}
+
 fn run_one(tru: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(tru).unwrap();
-    let tol = text
-        .lines()
-        .find_map(|l| {
-            l.trim()
-                .strip_prefix("# tolerance:")
-                .map(|t| t.trim().parse::<f64>().unwrap())
-        })
-        .unwrap_or(1e-12);
+    let tol: f64 = header(&text, "tolerance", tru)
+        .unwrap_or_else(|| panic!("{}: no `# tolerance: x REASON` line", tru.display()))
+        .parse()
+        .unwrap();
+    let abs: f64 = header(&text, "absolute", tru).map_or(0.0, |a| a.parse().unwrap());
+    let script = match header(&text, "run", tru) {
+        Some(p) => Path::new(env!("CARGO_MANIFEST_DIR")).join(p),
+        None => tru.to_path_buf(),
+    };
     let json = text.lines().next().is_some_and(|l| l.trim() == "# json");
     let dir = std::env::temp_dir().join(format!(
         "trubal-golden-{}-{}",
@@ -43,7 +67,7 @@ fn run_one(tru: &Path) -> Result<(), String> {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_trubal"));
-    cmd.arg(std::fs::canonicalize(tru).unwrap())
+    cmd.arg(std::fs::canonicalize(&script).unwrap())
         .current_dir(&dir);
     if json {
         cmd.arg("--json");
@@ -72,9 +96,9 @@ fn run_one(tru: &Path) -> Result<(), String> {
     })?;
     let (g, e) = (tokens(&got), tokens(&expected));
     for (k, (a, b)) in g.iter().zip(e.iter()).enumerate() {
-        if !close(a, b, tol) {
+        if !close(a, b, tol, abs) {
             return Err(format!(
-                "{}: token {k} differs: got `{a}`, expected `{b}` (tolerance {tol})\n--- got ---\n{got}\n--- expected ---\n{expected}",
+                "{}: token {k} differs: got `{a}`, expected `{b}` (tolerance {tol}, absolute {abs})\n--- got ---\n{got}\n--- expected ---\n{expected}",
                 tru.display()
             ));
         }

@@ -74,10 +74,11 @@ impl Session {
         }
     }
 
-    /// Diagnostics go to standard error (and the log).
+    /// Diagnostics go to standard error (and the log). Write errors are ignored (a closed
+    /// pipe must not panic, as `eprintln!` would).
     pub fn emit_err(&mut self, text: &str) {
         let _ = self.out.flush();
-        eprintln!("{text}");
+        let _ = writeln!(std::io::stderr(), "{text}");
         if let Some(f) = &mut self.log {
             let _ = writeln!(f, "{text}");
         }
@@ -265,7 +266,8 @@ impl Session {
 
 fn join(dir: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
-    if p.is_absolute() {
+    // Relative to the current directory: keep the name as given (messages show it so).
+    if p.is_absolute() || dir == Path::new(".") {
         p.to_path_buf()
     } else {
         dir.join(p)

@@ -142,8 +142,14 @@ pub struct ContactStore {
     pub adj: Vec<u32>,
     pub pairs: Vec<Pair>,
     pub wall_pairs: Vec<WallPair>,
-    /// The candidate list must be rebuilt before the next force evaluation.
+    /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
+    /// states at the current positions (`cycle::prime`) before the next step.
     pub stale: bool,
+    /// Particles moved more than XRES (or TOL changed) since the last rebuild: rebuild the
+    /// candidate list before the next force evaluation. The contact states are those of the
+    /// last step and must not be re-evaluated (that would advance history-dependent laws twice
+    /// and break exact continuation across `Cycle` commands and `SAve`/`RESTart`).
+    pub remap: bool,
     /// Search distance used at the last rebuild.
     pub tol: f64,
     /// Number of rebuilds so far (for PRint Entries).
@@ -191,6 +197,7 @@ impl ContactStore {
         }
         self.wall_pairs = new_walls;
         self.stale = false;
+        self.remap = false;
         self.rebuilds += 1;
         self.adj_start.clear();
     }

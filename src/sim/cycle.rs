@@ -197,16 +197,19 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         message: m,
     })?;
     if scene.particles.is_empty() {
-        scene.cycle += n;
-        scene.time += n as f64 * model.dt;
+        // Step by step, as with particles, so that Cycle N; Cycle M == Cycle N+M exactly.
+        for _ in 0..n {
+            scene.cycle += 1;
+            scene.time += model.dt;
+        }
         return Ok(model);
     }
     let (tol, xres) = search_distances(scene, &model);
-    if scene.contacts.tol != tol {
-        scene.contacts.stale = true;
-    }
     if scene.contacts.stale {
         prime(scene, &model, tol);
+    } else if scene.contacts.tol != tol {
+        // Only the search distance changed: re-map, keep the states of the last step.
+        scene.contacts.remap = true;
     }
     let mut snapshot = scene.clone();
     let every = scene.settings.snapshot_every.max(1);
@@ -278,7 +281,7 @@ fn runaway(scene: &Scene, e_now: f64, e_ref: f64) -> Blowup {
 /// One time step.
 pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result<(), Blowup> {
     let dt = model.dt;
-    if scene.contacts.stale {
+    if scene.contacts.stale || scene.contacts.remap {
         rebuild(scene, tol);
     }
     remove_lost(scene);
@@ -617,7 +620,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         }
     }
     if max_disp > xres {
-        scene.contacts.stale = true;
+        scene.contacts.remap = true;
     }
 
     let l = &mut scene.ledger;

@@ -1,0 +1,655 @@
+//! Checkpoints: the whole state round-trips; files of every format version kept under
+//! `tests/fixtures/` still load (or are refused with a message naming both versions); bad
+//! files (future version, truncated, flipped bytes, empty, not a checkpoint, impossible
+//! content) are refused with a clear message and never panic; a failed RESTart changes
+//! nothing; a failed SAve keeps the old file.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::{Value, json};
+use trubal::checkpoint::{self, HEADER, OLDEST_READABLE, VERSION, fnv1a, from_bytes, to_bytes};
+use trubal::session::Session;
+use trubal::sim::{Scene, Vec3};
+
+/// A small scene with a bit of everything: periodic x/y and open z, two size and material
+/// types, restitution and Rayleigh damping, liquid bridges, gravity, a servo-controlled wall,
+/// an agglomerate region, an advanced random generator, a PLot SAve reference, history rows,
+/// a sliding particle pair (tangential history and a bridge) and a particle on the wall.
+const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
+set open z
+set tol 40e-6
+set history 5
+set snapshot 25
+set view yz
+rad 100e-6 1
+rad 80e-6 2
+ymd 1e8 1
+pra 0.3 1
+density 2500 1
+friction 0.3 1
+ymd 2e8 2
+pra 0.25 2
+density 7800 2
+friction 0.5 2
+damping restitution 0.7 1
+damping 0.05 1000 0 1 1
+liquid 1 0.072 20 0.001
+gravity 0 0 -9.81
+agglomerate 1 0.002 0.002 0.002 0.0005
+rge seed 3
+create 0.0019 0.002 0.0011 0.01 0.05 0 0 0 0 1 1
+create 0.0021000001 0.002 0.0011 -0.01 -0.05 0 0 0 0 1 1
+create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
+create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
+dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
+plot save
+cycle 40";
+
+fn session(lines: &str) -> Session {
+    let mut s = Session::new(Box::new(std::io::sink()), false);
+    for (k, l) in lines.lines().enumerate() {
+        if let Err(e) = s.run_line(l) {
+            panic!("line {}: `{l}`: {}", k + 1, e.message);
+        }
+    }
+    s
+}
+
+fn fixture_scene() -> Scene {
+    session(FIXTURE_SCRIPT).scene.unwrap()
+}
+
+fn fixtures_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+}
+
+fn fixture_path(version: u32, ext: &str) -> PathBuf {
+    fixtures_dir().join(format!("checkpoint-v{version}.{ext}"))
+}
+
+// ---- facts: every part of the state, written field by field ---------------------------------
+
+/// Floats as their shortest round-trip decimal: equal strings ⇔ equal bits.
+fn f(x: f64) -> Value {
+    json!(format!("{x:e}"))
+}
+fn fs(x: &[f64]) -> Value {
+    Value::Array(x.iter().map(|&x| f(x)).collect())
+}
+fn v3(v: &Vec3) -> Value {
+    fs(&[v.x, v.y, v.z])
+}
+fn v3s(v: &[Vec3]) -> Value {
+    Value::Array(v.iter().map(v3).collect())
+}
+
+fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
+    json!({
+        "touching": s.touching, "overlap": f(s.overlap), "normal_force": f(s.normal_force),
+        "damp_force": f(s.damp_force), "strain": f(s.strain), "tang_energy": f(s.tang_energy),
+        "a": f(s.a), "gamma": f(s.gamma), "delta": v3(&s.delta), "tforce": v3(&s.tforce),
+        "tdamp": v3(&s.tdamp), "tdelta": f(s.tdelta),
+        "tang": {
+            "t": f(s.tang.t), "tp": fs(&s.tang.tp), "n_tp": s.tang.n_tp, "sense": s.tang.sense,
+            "peeled": s.tang.peeled, "stored": f(s.tang.stored),
+        },
+        "normal": v3(&s.normal),
+        "bridge": s.bridge.as_ref().map(|b| json!({
+            "volume": f(b.volume), "s_c": f(b.s_c), "f_static": f(b.f_static),
+            "f_visc": f(b.f_visc), "phi": f(b.phi), "gap": f(b.gap), "work": f(b.work),
+        })),
+        "wetted": s.wetted,
+    })
+}
+
+/// Everything a checkpoint holds, field by field (not through serde, so that a future format
+/// has to reproduce the values, not the layout).
+fn facts(sc: &Scene) -> Value {
+    let p = &sc.particles;
+    let mut rng = sc.rng.clone();
+    let rng_next: Vec<String> = (0..4).map(|_| rng.next_u64().to_string()).collect();
+    let l = &sc.ledger;
+    let st = &sc.settings;
+    json!({
+        "size": fs(&sc.size), "nbox": sc.nbox, "nball": sc.nball, "nwall": sc.nwall,
+        "sizes": fs(&sc.sizes),
+        "materials": sc.materials.iter().map(|m| json!({
+            "density": f(m.density), "young": f(m.young), "poisson": f(m.poisson),
+            "friction": f(m.friction), "gamma": f(m.gamma), "restitution": m.restitution.map(f),
+        })).collect::<Vec<_>>(),
+        "regions": sc.regions.iter().map(|r| r.map(|r| json!({
+            "centre": fs(&r.centre), "radius": f(r.radius)
+        }))).collect::<Vec<_>>(),
+        "particles": {
+            "id": p.id, "pos": v3s(&p.pos), "vel": v3s(&p.vel), "spin": v3s(&p.spin),
+            "rot": v3s(&p.rot), "force": v3s(&p.force), "moment": v3s(&p.moment),
+            "radius": fs(&p.radius), "mass": fs(&p.mass), "size": p.size,
+            "material": p.material, "agg": p.agg, "fixed": p.fixed, "disp": v3s(&p.disp),
+        },
+        "next_id": sc.next_id,
+        "walls": sc.walls.iter().map(|w| json!({
+            "geom": format!("{:?}", w.geom), "vel": fs(&w.vel), "vr": f(w.vr),
+            "material": w.material,
+            "servo": w.servo.map(|s| fs(&[s.force, s.vmax, s.gain])),
+            "force": fs(&w.force), "normal_force": f(w.normal_force), "disp": fs(&w.disp),
+        })).collect::<Vec<_>>(),
+        "pairs": sc.contacts.pairs.iter().map(|c| json!({
+            "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb, "s": contact_facts(&c.s),
+        })).collect::<Vec<_>>(),
+        "wall_pairs": sc.contacts.wall_pairs.iter().map(|c| json!({
+            "i": c.i, "id": c.id, "wall": c.wall, "s": contact_facts(&c.s),
+        })).collect::<Vec<_>>(),
+        "contacts": {
+            "stale": sc.contacts.stale, "remap": sc.contacts.remap, "tol": f(sc.contacts.tol),
+            "rebuilds": sc.contacts.rebuilds,
+        },
+        "settings": {
+            "tol": st.tol.map(f), "xres": st.xres.map(f), "smin": st.smin.map(f),
+            "bridge": format!("{:?}", st.bridge), "tangential": format!("{:?}", st.tangential),
+            "liquid_mode": format!("{:?}", st.liquid_mode), "periodic": st.periodic,
+            "out_dir": st.out_dir, "view": format!("{:?}", st.view),
+            "snapshot_every": st.snapshot_every, "history_every": st.history_every,
+            "two_d": st.two_d, "fraction": f(st.fraction), "window": st.window.map(|w| fs(&w)),
+        },
+        "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
+        "zero_always": sc.zero_always,
+        "damping_pp": fs(&[sc.damping_pp.alpha, sc.damping_pp.beta]),
+        "damping_pw": fs(&[sc.damping_pw.alpha, sc.damping_pw.beta]),
+        "liquid": sc.liquid.map(|q| fs(&[q.pvol, q.gamma, q.theta, q.eta])),
+        "impact": sc.impact,
+        "rng_next": rng_next,
+        "cycle": sc.cycle, "time": f(sc.time),
+        "ledger": {
+            "commands": f(l.commands), "gravity": f(l.gravity), "walls": f(l.walls),
+            "friction": f(l.friction), "damping_mass": f(l.damping_mass),
+            "damping_contact": f(l.damping_contact), "viscous": f(l.viscous),
+            "adhesion": f(l.adhesion), "rupture": f(l.rupture),
+        },
+        "lost": sc.lost,
+        "reference": sc.reference.as_ref().map(|r| json!({
+            "cycle": r.cycle, "ids": r.ids,
+            "pos": r.pos.iter().map(|x| fs(x)).collect::<Vec<_>>(),
+            "rot": r.rot.iter().map(|x| fs(x)).collect::<Vec<_>>(),
+            "contacts": r.contacts, "bridges": r.bridges,
+        })),
+        "history": sc.history.rows.iter().map(|r| fs(r)).collect::<Vec<_>>(),
+    })
+}
+
+/// First difference between two JSON values, as a path. Keys of `b` that `a` lacks count
+/// only when `strict`.
+fn diff_in(a: &Value, b: &Value, path: &str, strict: bool) -> Option<String> {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            for (k, v) in x {
+                match y.get(k) {
+                    None => return Some(format!("{path}.{k}: missing")),
+                    Some(w) => {
+                        if let Some(d) = diff_in(v, w, &format!("{path}.{k}"), strict) {
+                            return Some(d);
+                        }
+                    }
+                }
+            }
+            y.keys()
+                .find(|k| strict && !x.contains_key(*k))
+                .map(|k| format!("{path}.{k}: unexpected"))
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            if x.len() != y.len() {
+                return Some(format!("{path}: length {} vs {}", x.len(), y.len()));
+            }
+            x.iter()
+                .zip(y)
+                .enumerate()
+                .find_map(|(i, (v, w))| diff_in(v, w, &format!("{path}[{i}]"), strict))
+        }
+        _ if a == b => None,
+        _ => Some(format!("{path}: {a} vs {b}")),
+    }
+}
+
+fn diff(a: &Value, b: &Value, path: &str) -> Option<String> {
+    diff_in(a, b, path, true)
+}
+
+// ---- the fixture ------------------------------------------------------------------------
+
+/// Writes `tests/fixtures/checkpoint-v{VERSION}.sav` and its facts (`.json`). Run once per
+/// format version: `cargo test --release --test checkpoint write_fixture -- --ignored`.
+/// Refuses to overwrite an existing fixture: old fixtures are evidence, never regenerated.
+#[test]
+#[ignore]
+fn write_fixture() {
+    let sav = fixture_path(VERSION, "sav");
+    assert!(
+        !sav.exists(),
+        "{} exists: fixtures are never regenerated",
+        sav.display()
+    );
+    std::fs::create_dir_all(fixtures_dir()).unwrap();
+    let sc = fixture_scene();
+    checkpoint::save(&sc, &sav).unwrap();
+    let facts = facts(&sc);
+    std::fs::write(
+        fixture_path(VERSION, "json"),
+        serde_json::to_string_pretty(&facts).unwrap() + "\n",
+    )
+    .unwrap();
+}
+
+fn read_version(data: &[u8]) -> u32 {
+    u32::from_le_bytes(data[8..12].try_into().unwrap())
+}
+
+/// Every fixture ever written still loads to the same facts, or (only if its version was
+/// deliberately dropped) is refused with a message naming its version and ours.
+#[test]
+fn fixtures_of_every_version_still_load() {
+    let mut versions = Vec::new();
+    for e in std::fs::read_dir(fixtures_dir()).unwrap() {
+        let path = e.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !(name.starts_with("checkpoint-v") && name.ends_with(".sav")) {
+            continue;
+        }
+        let data = std::fs::read(&path).unwrap();
+        let v = read_version(&data);
+        assert_eq!(
+            name,
+            format!("checkpoint-v{v}.sav"),
+            "fixture name vs header"
+        );
+        versions.push(v);
+        match from_bytes(&data) {
+            Ok(sc) => {
+                let want: Value = serde_json::from_str(
+                    &std::fs::read_to_string(path.with_extension("json")).unwrap(),
+                )
+                .unwrap();
+                // Values that did not exist in that version may be added to `facts` later:
+                // compare the facts the fixture recorded.
+                let got = facts(&sc);
+                if let Some(d) = diff_in(&want, &got, "", false) {
+                    panic!("{name}: the loaded state differs from the recorded facts at {d}");
+                }
+                if v == VERSION {
+                    assert!(
+                        to_bytes(&sc).unwrap() == data,
+                        "{name}: re-encoding the fixture gives different bytes: the layout of Scene \
+                         changed without a version bump (see \"Format evolution\" in src/checkpoint.rs)"
+                    );
+                }
+            }
+            Err(e) => {
+                if v == VERSION {
+                    panic!(
+                        "{name}: the fixture of the current format version no longer loads ({e}): \
+                         the layout of Scene (or a type inside it) changed. Bump checkpoint::VERSION, \
+                         add a reader for version {v} and a new fixture (see \"Format evolution\" in \
+                         src/checkpoint.rs)"
+                    );
+                }
+                assert!(
+                    v < OLDEST_READABLE,
+                    "{name}: version {v} should still be readable (OLDEST_READABLE = {OLDEST_READABLE}) but: {e}"
+                );
+                assert!(
+                    e.contains(&format!("version {v}")) && e.contains(&format!("{VERSION}")),
+                    "{name}: the refusal must name both versions: {e}"
+                );
+            }
+        }
+    }
+    assert!(
+        versions.contains(&VERSION),
+        "no fixture for the current format version {VERSION}: run `cargo test --release --test checkpoint write_fixture -- --ignored`"
+    );
+}
+
+#[test]
+fn the_whole_state_round_trips() {
+    let sc = fixture_scene();
+    // The fixture scene exercises every part of the state.
+    assert!(sc.particles.len() == 4 && sc.walls.len() == 1);
+    assert!(sc.walls[0].servo.is_some());
+    let pair = &sc.contacts.pairs[0].s;
+    assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
+    assert!(pair.tang.t != 0.0 && pair.tang.stored > 0.0);
+    let wall = &sc.contacts.wall_pairs[0].s;
+    assert!(wall.touching && wall.bridge.is_some());
+    assert!(sc.reference.as_ref().is_some_and(|r| r.ids.len() == 4));
+    assert_eq!(sc.history.rows.len(), 8);
+    assert_eq!(sc.settings.periodic, [true, true, false]);
+    assert!(sc.settings.tol.is_some() && sc.liquid.is_some() && sc.regions[0].is_some());
+    assert!(sc.damping_pp.alpha > 0.0 && sc.materials[0].restitution.is_some());
+    assert!(
+        sc.rng != trubal::sim::rng::Rng::new(0),
+        "RGEnerate Seed advanced the generator"
+    );
+    let l = &sc.ledger;
+    assert!(l.friction > 0.0 && l.damping_contact > 0.0 && l.damping_mass > 0.0);
+    assert!(l.gravity != 0.0 && l.commands > 0.0);
+    assert!(sc.particles.spin.iter().any(|w| w.norm() > 0.0));
+
+    let bytes = to_bytes(&sc).unwrap();
+    let back = from_bytes(&bytes).unwrap();
+    assert_eq!(diff(&facts(&sc), &facts(&back), ""), None);
+    assert_eq!(format!("{sc:?}"), format!("{back:?}"));
+    assert!(to_bytes(&back).unwrap() == bytes);
+}
+
+// ---- bad files --------------------------------------------------------------------------
+
+fn current_fixture_bytes() -> Vec<u8> {
+    to_bytes(&fixture_scene()).unwrap()
+}
+
+fn with_version(data: &[u8], v: u32) -> Vec<u8> {
+    let mut d = data.to_vec();
+    d[8..12].copy_from_slice(&v.to_le_bytes());
+    d
+}
+
+fn refused(data: &[u8]) -> String {
+    match std::panic::catch_unwind(|| from_bytes(data)) {
+        Ok(Ok(_)) => panic!("a bad file was accepted"),
+        Ok(Err(e)) => e,
+        Err(_) => panic!("from_bytes panicked"),
+    }
+}
+
+#[test]
+fn a_file_from_the_future_is_refused_naming_both_versions() {
+    let data = current_fixture_bytes();
+    let e = refused(&with_version(&data, VERSION + 1));
+    assert!(
+        e.contains(&format!("version {}", VERSION + 1))
+            && e.contains(&format!("version {VERSION}")),
+        "{e}"
+    );
+    assert!(e.contains("newer"), "{e}");
+    let e = refused(&with_version(&data, u32::MAX));
+    assert!(e.contains("newer"), "{e}");
+}
+
+#[test]
+fn a_version_below_the_oldest_readable_is_refused_naming_both_versions() {
+    let data = current_fixture_bytes();
+    let e = refused(&with_version(&data, OLDEST_READABLE - 1));
+    assert!(
+        e.contains(&format!("version {}", OLDEST_READABLE - 1))
+            && e.contains(&format!("{VERSION}")),
+        "{e}"
+    );
+}
+
+#[test]
+fn empty_and_foreign_files_are_refused() {
+    assert!(refused(b"").contains("empty"));
+    for foreign in [
+        &b"start 1 1 1 10 10 1\ncycle 10\n"[..],
+        b"TRUBALCX and more bytes than a header needs....",
+        b"\x89PNG\r\n\x1a\n",
+        b"x",
+    ] {
+        let e = refused(foreign);
+        assert!(e.contains("not a trubal checkpoint"), "{e}");
+    }
+}
+
+#[test]
+fn truncated_files_are_refused() {
+    let data = current_fixture_bytes();
+    let mut cuts: Vec<usize> = (1..HEADER + 8).collect();
+    cuts.extend([data.len() / 2, data.len() - 8, data.len() - 1]);
+    for n in cuts {
+        let e = refused(&data[..n]);
+        assert!(e.contains("truncated"), "cut at {n}: {e}");
+    }
+    // Padded: bytes appended.
+    let mut padded = data.clone();
+    padded.extend_from_slice(b"junk");
+    assert!(refused(&padded).contains("padded"));
+}
+
+/// Every single changed byte (header or payload) is refused, each with a message.
+#[test]
+fn flipped_bytes_are_refused() {
+    let data = current_fixture_bytes();
+    for k in 0..data.len() {
+        for mask in [0x01u8, 0x80, 0xff] {
+            let mut d = data.clone();
+            d[k] ^= mask;
+            let e = refused(&d);
+            let ok = match k {
+                0..8 => e.contains("not a trubal checkpoint"),
+                8..12 => e.contains("version"),
+                12..20 => e.contains("truncated or padded"),
+                _ => e.contains("checksum"),
+            };
+            assert!(ok, "byte {k} ^ {mask:#x}: {e}");
+        }
+    }
+}
+
+/// A payload that passes the checksum but is garbage (a bug or a crafted file) gives an
+/// error or a consistent state, never a panic.
+#[test]
+fn garbage_with_a_valid_checksum_never_panics() {
+    let data = current_fixture_bytes();
+    let payload = &data[HEADER..];
+    let reseal = |p: &[u8]| {
+        let mut d = data[..8 + 4].to_vec();
+        d.extend_from_slice(&(p.len() as u64).to_le_bytes());
+        d.extend_from_slice(&fnv1a(p).to_le_bytes());
+        d.extend_from_slice(p);
+        d
+    };
+    let mut accepted = 0;
+    for k in 0..payload.len() {
+        for mask in [0x01u8, 0x40, 0xff] {
+            let mut p = payload.to_vec();
+            p[k] ^= mask;
+            let d = reseal(&p);
+            match std::panic::catch_unwind(|| from_bytes(&d)) {
+                Ok(Ok(sc)) => {
+                    accepted += 1;
+                    checkpoint::check_consistency(&sc).unwrap();
+                }
+                Ok(Err(e)) => assert!(!e.is_empty()),
+                Err(_) => panic!("from_bytes panicked on payload byte {k} ^ {mask:#x}"),
+            }
+        }
+        // Cut the payload short (header resealed): decoding runs out of bytes.
+        if k % 7 == 0 {
+            let d = reseal(&payload[..k]);
+            let e = refused(&d);
+            assert!(e.contains("corrupt") || e.contains("inconsistent"), "{e}");
+        }
+    }
+    // Most single flips land in float bits and decode to a (different) valid state.
+    assert!(accepted > 0);
+}
+
+#[test]
+fn impossible_states_are_refused() {
+    let good = fixture_scene();
+    type Breaker = fn(&mut Scene);
+    let breakers: &[(&str, Breaker)] = &[
+        ("unequal", |s| {
+            s.particles.vel.pop();
+        }),
+        ("contact", |s| s.contacts.pairs[0].j = 99),
+        ("wall contact", |s| s.contacts.wall_pairs[0].wall = 5),
+        ("share an id", |s| s.particles.id[1] = s.particles.id[0]),
+        ("material", |s| s.particles.material[0] = 9),
+        ("material", |s| s.walls[0].material = 0),
+        ("reference", |s| {
+            s.reference.as_mut().unwrap().pos.pop();
+        }),
+        ("history", |s| s.history.rows[0].pop().map(|_| ()).unwrap()),
+        ("next id", |s| s.next_id = 2),
+    ];
+    for (want, brk) in breakers {
+        let mut sc = good.clone();
+        brk(&mut sc);
+        let e = refused(&to_bytes(&sc).unwrap());
+        assert!(
+            e.contains("inconsistent") && e.contains(want),
+            "{want}: {e}"
+        );
+    }
+}
+
+// ---- through the binary -----------------------------------------------------------------
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trubal-ckpt-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs a command file in `dir` with --keep-going --json; returns (stdout, stderr).
+fn trubal(dir: &Path, script: &str) -> (String, String) {
+    std::fs::write(dir.join("run.tru"), script).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+        .args(["run.tru", "--keep-going", "--json"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!err.contains("panicked"), "{err}");
+    (String::from_utf8_lossy(&out.stdout).to_string(), err)
+}
+
+fn info_lines(out: &str) -> Vec<Value> {
+    out.lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str::<Value>(l).unwrap())
+        .filter(|v| v["print"] == "info")
+        .collect()
+}
+
+#[test]
+fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
+    let dir = scratch("restart");
+    let good = current_fixture_bytes();
+    std::fs::write(dir.join("good.sav"), &good).unwrap();
+    let bad: Vec<(&str, Vec<u8>)> = vec![
+        ("future.sav", with_version(&good, VERSION + 1)),
+        ("truncated.sav", good[..good.len() / 3].to_vec()),
+        ("flipped.sav", {
+            let mut d = good.clone();
+            d[HEADER + 100] ^= 0x10;
+            d
+        }),
+        ("empty.sav", Vec::new()),
+        ("foreign.sav", b"start 1 1 1 10 10 1\n".to_vec()),
+    ];
+    for (name, bytes) in &bad {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    let expect = [
+        "newer than this program",
+        "truncated",
+        "checksum",
+        "empty",
+        "not a trubal checkpoint",
+    ];
+    for ((name, _), want) in bad.iter().zip(expect) {
+        // As the first command: refused, no scene afterwards; a valid RESTart then works.
+        let (out, err) = trubal(
+            &dir,
+            &format!("restart {name}\nprint info\nrestart good.sav\nprint info\n"),
+        );
+        assert!(err.contains(want), "{name}: {err}");
+        assert!(err.contains(name), "the message names the file: {err}");
+        assert!(
+            err.contains("give STArt (or RESTart) first"),
+            "{name}: {err}"
+        );
+        let infos = info_lines(&out);
+        assert_eq!(infos.len(), 1, "{out}");
+        assert_eq!(infos[0]["cycle"], 40);
+        assert_eq!(infos[0]["balls"], 4);
+
+        // After New: still no scene after the failure; STArt works.
+        let (out, err) = trubal(
+            &dir,
+            &format!(
+                "restart good.sav\ncycle 5\nnew\nrestart {name}\ncycle 1\nstart 1 1 1 10 10 1\nprint info\n"
+            ),
+        );
+        assert!(err.contains(want), "{name}: {err}");
+        let infos = info_lines(&out);
+        assert_eq!(infos.len(), 1, "{out}\n{err}");
+        assert_eq!(infos[0]["balls"], 0);
+        assert_eq!(infos[0]["cycle"], 0);
+    }
+    // RESTart with a problem defined is refused and the problem is kept.
+    let (out, err) = trubal(
+        &dir,
+        "restart good.sav\ncycle 3\nrestart good.sav\nprint info\n",
+    );
+    assert!(err.contains("give New first"), "{err}");
+    assert_eq!(info_lines(&out)[0]["cycle"], 43);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn default_file_names() {
+    let dir = scratch("defaults");
+    std::fs::write(dir.join("save.old"), current_fixture_bytes()).unwrap();
+    let (out, err) = trubal(&dir, "restart\ncycle 2\nsave\nprint info\n");
+    assert!(err.is_empty(), "{err}");
+    assert!(out.contains("restarted from save.old at cycle 40"), "{out}");
+    assert!(out.contains("saved cycle 42 to save.new"), "{out}");
+    let sc = checkpoint::load(&dir.join("save.new")).unwrap();
+    assert_eq!(sc.cycle, 42);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Saving over an existing file never loses it: with the temporary file's path blocked (a
+/// directory in its place) the save fails with a message and the old file is intact.
+#[test]
+fn a_failed_save_keeps_the_old_file() {
+    let dir = scratch("atomic");
+    let (_, err) = trubal(&dir, &format!("{FIXTURE_SCRIPT}\nsave state.sav\n"));
+    assert!(err.is_empty(), "{err}");
+    let old = std::fs::read(dir.join("state.sav")).unwrap();
+    std::fs::create_dir(dir.join("state.sav.tmp")).unwrap();
+    let (out, err) = trubal(
+        &dir,
+        "restart state.sav\ncycle 10\nsave state.sav\nprint info\n",
+    );
+    assert!(err.contains("cannot save to state.sav"), "{err}");
+    assert!(err.contains("state.sav.tmp"), "{err}");
+    assert!(err.contains("untouched"), "{err}");
+    assert_eq!(
+        info_lines(&out)[0]["cycle"],
+        50,
+        "the session goes on after a failed save"
+    );
+    assert!(std::fs::read(dir.join("state.sav")).unwrap() == old);
+    assert!(
+        dir.join("state.sav.tmp").is_dir(),
+        "the blocking directory is left alone"
+    );
+    // Without the obstacle the same save replaces the file and leaves no temporary file.
+    std::fs::remove_dir(dir.join("state.sav.tmp")).unwrap();
+    let (_, err) = trubal(&dir, "restart state.sav\ncycle 10\nsave state.sav\n");
+    assert!(err.is_empty(), "{err}");
+    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 50);
+    assert!(!dir.join("state.sav.tmp").exists());
+    // A directory that does not exist (library API: `/` separates words in the language).
+    let target = dir.join("no").join("such").join("x.sav");
+    let e = checkpoint::save(&fixture_scene(), &target).unwrap_err();
+    assert!(
+        e.contains("cannot save to") && e.contains("x.sav.tmp"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

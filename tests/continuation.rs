@@ -1,0 +1,277 @@
+//! Continuation is exact: `Cycle N; SAve; (new session) RESTart; Cycle M` and `Cycle N; Cycle M`
+//! give bitwise the same state as `Cycle N+M` (DECISIONS.md, "Output, determinism,
+//! checkpoints"), for a dry frictional scene with walls, an adhesive (JKR) scene and a wet
+//! (liquid bridge) scene. The split points are chosen so that some fall on a step after which
+//! the candidate list is due for a rebuild (the case where a continuation used to re-evaluate
+//! the contacts before its first step).
+
+use std::path::PathBuf;
+
+use trubal::checkpoint;
+use trubal::session::Session;
+use trubal::sim::Scene;
+
+fn session_in(dir: &std::path::Path, lines: &str) -> Session {
+    let mut s = Session::new(Box::new(std::io::sink()), false);
+    s.dir = dir.to_path_buf();
+    for (k, l) in lines.lines().enumerate() {
+        if let Err(e) = s.run_line(l) {
+            panic!("line {}: `{l}`: {}", k + 1, e.message);
+        }
+    }
+    s
+}
+
+fn run(s: &mut Session, line: &str) {
+    if let Err(e) = s.run_line(line) {
+        panic!("`{line}`: {}", e.message);
+    }
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trubal-cont-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Bitwise comparison with a readable message, then the whole serialised state.
+fn assert_same(a: &Scene, b: &Scene, what: &str) {
+    assert_eq!(a.cycle, b.cycle, "{what}: cycle");
+    assert_eq!(a.time.to_bits(), b.time.to_bits(), "{what}: time");
+    let (p, q) = (&a.particles, &b.particles);
+    assert_eq!(p.id, q.id, "{what}: particle ids");
+    for i in 0..p.len() {
+        for (name, x, y) in [
+            ("position", &p.pos[i], &q.pos[i]),
+            ("velocity", &p.vel[i], &q.vel[i]),
+            ("spin", &p.spin[i], &q.spin[i]),
+            ("rotation", &p.rot[i], &q.rot[i]),
+            ("force", &p.force[i], &q.force[i]),
+        ] {
+            for k in 0..3 {
+                assert_eq!(
+                    x[k].to_bits(),
+                    y[k].to_bits(),
+                    "{what}: {name}[{k}] of particle {} differs: {} vs {}",
+                    p.id[i],
+                    x[k],
+                    y[k]
+                );
+            }
+        }
+    }
+    let (l, m) = (&a.ledger, &b.ledger);
+    for (name, x, y) in [
+        ("commands", l.commands, m.commands),
+        ("gravity", l.gravity, m.gravity),
+        ("walls", l.walls, m.walls),
+        ("friction", l.friction, m.friction),
+        ("damping_mass", l.damping_mass, m.damping_mass),
+        ("damping_contact", l.damping_contact, m.damping_contact),
+        ("viscous", l.viscous, m.viscous),
+        ("adhesion", l.adhesion, m.adhesion),
+        ("rupture", l.rupture, m.rupture),
+    ] {
+        assert_eq!(
+            x.to_bits(),
+            y.to_bits(),
+            "{what}: ledger {name} differs: {x} vs {y}"
+        );
+    }
+    assert_eq!(
+        a.contacts.pairs, b.contacts.pairs,
+        "{what}: contact history"
+    );
+    assert_eq!(
+        a.contacts.wall_pairs, b.contacts.wall_pairs,
+        "{what}: wall contact history"
+    );
+    assert_eq!(a.walls, b.walls, "{what}: walls");
+    // Everything else (rng, settings, reference, history, counters): the serialised state.
+    assert!(
+        checkpoint::to_bytes(a).unwrap() == checkpoint::to_bytes(b).unwrap(),
+        "{what}: the serialised states differ"
+    );
+}
+
+/// Runs the three variants for every split point; returns how many split points fell on a
+/// step after which the candidate list was due for a rebuild.
+fn check_continuation(tag: &str, setup: &str, total: u64, splits: &[u64]) -> usize {
+    let dir = scratch(tag);
+    let mut whole = session_in(&dir, setup);
+    run(&mut whole, &format!("cycle {total}"));
+    let whole = whole.scene.unwrap();
+    let mut stale_splits = 0;
+    for &n in splits {
+        // Cycle N; Cycle M in one session.
+        let mut two = session_in(&dir, setup);
+        run(&mut two, &format!("cycle {n}"));
+        if two.scene.as_ref().unwrap().contacts.remap {
+            stale_splits += 1;
+        }
+        run(&mut two, &format!("cycle {}", total - n));
+        assert_same(
+            &whole,
+            two.scene.as_ref().unwrap(),
+            &format!("{tag}: cycle {n}; cycle {}", total - n),
+        );
+
+        // Cycle N; SAve; RESTart in a fresh session; Cycle M.
+        let mut first = session_in(&dir, setup);
+        run(&mut first, &format!("cycle {n}"));
+        run(&mut first, &format!("save {tag}-{n}.sav"));
+        let mut second = session_in(&dir, &format!("restart {tag}-{n}.sav"));
+        assert_same(
+            first.scene.as_ref().unwrap(),
+            second.scene.as_ref().unwrap(),
+            &format!("{tag}: state restarted at cycle {n}"),
+        );
+        run(&mut second, &format!("cycle {}", total - n));
+        assert_same(
+            &whole,
+            second.scene.as_ref().unwrap(),
+            &format!("{tag}: cycle {n}; save; restart; cycle {}", total - n),
+        );
+
+        // SAve; New; RESTart in the same session.
+        run(&mut first, "new");
+        run(&mut first, &format!("restart {tag}-{n}.sav"));
+        run(&mut first, &format!("cycle {}", total - n));
+        assert_same(
+            &whole,
+            first.scene.as_ref().unwrap(),
+            &format!("{tag}: cycle {n}; save; new; restart; cycle {}", total - n),
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    stale_splits
+}
+
+/// A small agglomerate of frictional, damped spheres falling under gravity onto a floor while
+/// a side wall moves in; Rayleigh damping, a spinning particle, PLot SAve reference and history
+/// recording, and random generation (the generator state is part of the checkpoint).
+const DRY: &str = "start 0.1 0.1 0.1 1000 100 4
+set open all
+set history 50
+rad 0.004 1
+rad 0.003 2
+ymd 1e8 1
+pra 0.3 1
+density 2500 1
+friction 0.3 1
+damping restitution 0.6
+damping 0.02 50 0 1 1
+gravity 0 0 -9.81
+agglomerate 1 0.05 0.05 0.03 0.02
+rge 20 1 1 1
+rge 10 2 1 1
+velocity 0.1 0 -0.5 0
+create 0.05 0.05 0.07 0 0 -0.3 5 0 0 1 1
+dwall p 0 0 1 0.008
+dwall p 1 0 0 0.01 v 0.01 0 0
+plot save";
+
+#[test]
+fn dry_frictional_scene_with_walls_continues_bitwise() {
+    let stale = check_continuation("dry", DRY, 4000, &[1, 777, 1500, 2345, 3001, 3999]);
+    let mut more = 0;
+    // Also every split of a short stretch, so that a split right after a re-mapping is met.
+    let short = check_continuation(
+        "dry-short",
+        &format!("{DRY}\ncycle 2500"),
+        60,
+        &(1..60).step_by(3).collect::<Vec<_>>(),
+    );
+    more += short;
+    assert!(
+        stale + more > 0,
+        "no split point fell on a step after which the candidate list was due for a re-mapping"
+    );
+}
+
+/// JKR: a simple-cubic agglomerate of 27 touching adhesive, frictional spheres with a
+/// restitution dashpot hits a floor at 0.5 m/s; bonds break (adhesion loss) and the rest
+/// bounces off as a cluster.
+const ADHESIVE: &str = "start 0.01 0.01 0.01 1000 100 2
+set open all
+rad 100e-6 1
+ymd 1e8 1
+pra 0.3 1
+density 2500 1
+friction 0.3 1
+cohesion 0.05 1
+damping restitution 0.5
+agglomerate 1 0.005 0.005 0.005 0.00045
+agen 1 1 1 0 0 0 0.0002 0.0002 0.0002
+velocity 0 0 -0.5 0
+dwall p 0 0 1 0.00468";
+
+#[test]
+fn adhesive_scene_continues_bitwise() {
+    let dir = scratch("adh-probe");
+    let mut s = session_in(&dir, ADHESIVE);
+    run(&mut s, "cycle 3000");
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.ledger.adhesion > 0.0, "some bonds must break");
+    assert!(
+        sc.contacts
+            .pairs
+            .iter()
+            .any(|p| p.s.touching && p.s.gamma > 0.0),
+        "the adhesive scene must have JKR contacts"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let stale = check_continuation("adh", ADHESIVE, 6000, &[1, 1234, 2999, 4500, 5999]);
+    let short = check_continuation(
+        "adh-short",
+        &format!("{ADHESIVE}\ncycle 30"),
+        150,
+        &(1..150).collect::<Vec<_>>(),
+    );
+    assert!(
+        stale + short > 0,
+        "no split point fell on a step before a re-mapping"
+    );
+}
+
+/// Wet: the same agglomerate with pendular bridges (water, 1 % volume, viscous) and gravity,
+/// dropped onto a floor: bridges form, stretch and rupture.
+const WET: &str = "start 0.01 0.01 0.01 1000 100 2
+set open all
+rad 100e-6 1
+ymd 1e8 1
+pra 0.3 1
+density 2500 1
+friction 0.3 1
+liquid 1 0.072 20 0.001
+gravity 0 0 -9.81
+agglomerate 1 0.005 0.005 0.005 0.00045
+agen 1 1 1 0 0 0 0.0002 0.0002 0.0002
+velocity 0 0 -0.5 0
+dwall p 0 0 1 0.00468";
+
+#[test]
+fn wet_scene_continues_bitwise() {
+    let dir = scratch("wet-probe");
+    let mut s = session_in(&dir, WET);
+    run(&mut s, "cycle 3000");
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.ledger.rupture > 0.0, "some bridges must rupture");
+    assert!(
+        sc.contacts.pairs.iter().any(|p| p.s.bridge.is_some()),
+        "the wet scene must have liquid bridges"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let stale = check_continuation("wet", WET, 6000, &[1, 1234, 2999, 4500, 5999]);
+    let short = check_continuation(
+        "wet-short",
+        &format!("{WET}\ncycle 100"),
+        150,
+        &(1..150).collect::<Vec<_>>(),
+    );
+    assert!(
+        stale + short > 0,
+        "no split point fell on a step before a re-mapping"
+    );
+}
