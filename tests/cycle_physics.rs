@@ -235,10 +235,10 @@ fn search_matches_brute_force() {
 
 #[test]
 fn blow_up_stops_with_a_message_and_keeps_a_good_state() {
-    // A sphere resting on a floor at FRAction 10: the explicit scheme is unstable and the
-    // contact oscillation grows without bound.
+    // A sphere squeezed between a floor and a ceiling at FRAction 10: the explicit scheme is
+    // unstable and the contact oscillation grows without bound until the sphere is thrown out.
     let mut s = session(&wall_scene(
-        "fraction 10\nset snapshot 100\ngravity 0 0 -9.81",
+        "fraction 10\nset snapshot 100\ngravity 0 0 -9.81\ndwall p 0 0 -1 -0.03999 m 1",
         0.0,
     ));
     let err = s.run_line("cycle 100000").expect_err("must blow up");

@@ -202,6 +202,13 @@ impl ContactStore {
         self.adj_start.clear();
     }
 
+    /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
+    pub fn clear_derived(&mut self) {
+        self.out.clear();
+        self.adj_start.clear();
+        self.adj.clear();
+    }
+
     /// Builds the particle → pairs adjacency (counting sort: deterministic order).
     pub fn build_adjacency(&mut self, np: usize) {
         let mut count = vec![0u32; np + 1];

@@ -233,7 +233,26 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
             e_ref = e_ref.max(scale(scene));
             snapshot.clone_from(scene);
         }
-        if let Err(mut e) = one_step(scene, &model, tol, xres) {
+        let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
+        let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);
+        let mut result = one_step(scene, &model, tol, xres);
+        // A particle that leaves through an open side carrying far more energy than was
+        // ever put in is a blow-up, not an exit.
+        let carried = commands_before - scene.ledger.commands;
+        if result.is_ok() && scene.lost > lost_before && carried > allowed {
+            result = Err(Blowup {
+                cycle: scene.cycle,
+                message: format!(
+                    "energy runaway at cycle {}: {} particle(s) left the work-space carrying {carried:.3e} J, \
+                     more than 1000 times the energy put in ({:.3e} J). Hint: reduce FRAction, check \
+                     contact damping (istiff), servo gains and deep overlaps",
+                    scene.cycle,
+                    scene.lost - lost_before,
+                    allowed / 1e3
+                ),
+            });
+        }
+        if let Err(mut e) = result {
             e.message.push_str(&format!(
                 "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
                 snapshot.cycle
