@@ -16,10 +16,10 @@ pub const MAX_SWEEP: f64 = 5.0 * PI / 3.0;
 pub const VECTOR_RADII: f64 = 4.0;
 /// Radius of rotation/couple arcs as a fraction of the particle radius.
 pub const ARC_RADIUS: f64 = 0.6;
-/// Width of a CND line, in mean particle radii.
-pub const CND_WIDTH: f64 = 0.2;
+/// Width of a CND line, in mean particle radii (the renderer draws at least 2 pixels).
+pub const CND_WIDTH: f64 = 0.05;
 /// Width of the line of the largest force, in mean particle radii.
-pub const FORCE_WIDTH: f64 = 1.0;
+pub const FORCE_WIDTH: f64 = 0.25;
 /// Margin around the drawn things, as a fraction of the larger span.
 pub const MARGIN: f64 = 0.04;
 
@@ -626,10 +626,12 @@ fn pair_line(
 }
 
 /// Normal force of a contact, compressive positive: the solid part (elastic + dashpot, when
-/// touching) and the bridge part (−(static + viscous), when a bridge exists).
+/// touching) and the bridge part (viscous − static, when a bridge exists), following the
+/// conventions documented on `ContactState` and `BridgeState` (static: attractive positive;
+/// viscous: positive = resisting approach, as `physics::bridge::viscous_normal` returns it).
 pub fn contact_force(s: &crate::sim::contacts::ContactState, set: ForceSet) -> Option<f64> {
     let solid = s.touching.then(|| s.normal_force + s.damp_force);
-    let bridge = s.bridge.as_ref().map(|b| -(b.f_static + b.f_visc));
+    let bridge = s.bridge.as_ref().map(|b| b.f_visc - b.f_static);
     match set {
         ForceSet::Solid => solid,
         ForceSet::Bridge => bridge,
@@ -757,7 +759,8 @@ fn cnd(
     let classes = classify_bonds(reference, &now);
     let mut counts = [0usize; 3];
     let mut lost = 0;
-    for order in [Mark::Kept, Mark::Broken, Mark::New] {
+    // Broken underneath, then the survivors, new ones on top.
+    for order in [Mark::Broken, Mark::Kept, Mark::New] {
         for &((a, b), m) in classes.iter().filter(|c| c.1 == order) {
             let (Some(&i), Some(&j)) = (index.get(&a), index.get(&b)) else {
                 lost += 1;

@@ -143,6 +143,7 @@ fn draw_picture(
                 (_, Mark::Hatch) => 1.0,
                 (Layer::Boundary, _) => 2.0,
                 (Layer::Wall, _) => 3.0,
+                (Layer::Cnd(_), _) => 2.0,
                 _ => 1.0,
             };
             let wpx = (sg.width * s).max(min_px);
@@ -482,6 +483,8 @@ pub fn encode_png(w: u32, h: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
+        enc.set_compression(png::Compression::Best);
+        enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
         let mut wr = enc
             .write_header()
             .map_err(|e| format!("PNG encoding failed: {e}"))?;
