@@ -197,8 +197,8 @@ fn the_example_script_runs() {
         "/scripts/plot_examples.tru"
     ))
     .expect("the script")
-    .replace("cycle 1000\n", "cycle 50\n")
-    .replace("cycle 12000\n", "cycle 100\n");
+    .replace("cycle 1000\n", "cycle 200\n")
+    .replace("cycle 12000\n", "cycle 200\n");
     let file = dir.join("examples.tru");
     std::fs::write(&file, script).expect("write");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_trubal"))
@@ -213,10 +213,10 @@ fn the_example_script_runs() {
         String::from_utf8_lossy(&out.stderr)
     );
     for name in [
-        "plot_c00000050_forces_wall.png",
-        "plot_c00000150_lcluster_wall.png",
-        "plot_c00000150_lcnd.png",
-        "plot_c00000150_history.png",
+        "plot_c00000200_forces_wall.png",
+        "plot_c00000400_lcluster_wall.png",
+        "plot_c00000400_lcnd.png",
+        "plot_c00000400_history.png",
     ] {
         assert!(
             text.contains(&format!("plot written to img/{name}")),

@@ -279,9 +279,7 @@ pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
             PlotItem::Ball | PlotItem::Disks | PlotItem::Cluster | PlotItem::LCluster => {}
             PlotItem::Bou | PlotItem::Grid => boundary(scene, &proj, &mut pic),
             PlotItem::Wall => walls_of(scene, &proj, &mut pic, &mut planes),
-            PlotItem::Forces => forces(scene, &proj, &index, r_mean, ForceSet::Total, &mut pic),
-            PlotItem::MForces => forces(scene, &proj, &index, r_mean, ForceSet::Solid, &mut pic),
-            PlotItem::LForces => forces(scene, &proj, &index, r_mean, ForceSet::Bridge, &mut pic),
+            PlotItem::Forces | PlotItem::MForces | PlotItem::LForces => {}
             PlotItem::Cnd => cnd(scene, &proj, &index, r_mean, BondSet::Contacts, &mut pic),
             PlotItem::LCnd => cnd(scene, &proj, &index, r_mean, BondSet::Bridges, &mut pic),
             PlotItem::Velocity => vectors(scene, &proj, r_mean, VectorKind::Velocity, &mut pic),
@@ -290,6 +288,10 @@ pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
             PlotItem::Couple => arcs(scene, &proj, ArcKind::Couple, &mut pic),
             PlotItem::Save | PlotItem::History => {}
         }
+    }
+    let sets = force_sets(items);
+    if !sets.is_empty() {
+        forces(scene, &proj, &index, r_mean, &sets, &mut pic);
     }
     if has(PlotItem::Ball)
         || has(PlotItem::Disks)
@@ -642,23 +644,31 @@ pub fn contact_force(s: &crate::sim::contacts::ContactState, set: ForceSet) -> O
     }
 }
 
-fn forces(
-    scene: &Scene,
-    proj: &Projection,
-    index: &HashMap<u32, usize>,
-    r_mean: f64,
-    set: ForceSet,
-    pic: &mut Picture,
-) {
+/// One contact of a force network: force (compressive positive), tag, particle index, and
+/// the other end (a wall point or another particle index).
+struct ForceLine {
+    f: f64,
+    tag: Tag,
+    i: usize,
+    end: Option<Vec3>,
+    j: Option<usize>,
+}
+
+fn force_list(scene: &Scene, index: &HashMap<u32, usize>, set: ForceSet) -> Vec<ForceLine> {
     let p = &scene.particles;
-    // (force, tag, centre a, end b or None for the other particle)
-    let mut list: Vec<(f64, Tag, usize, Option<Vec3>, Option<usize>)> = Vec::new();
+    let mut list = Vec::new();
     for c in &scene.contacts.pairs {
         let (Some(&i), Some(&j)) = (index.get(&c.ida), index.get(&c.idb)) else {
             continue;
         };
         if let Some(f) = contact_force(&c.s, set) {
-            list.push((f, Tag::Pair(c.ida, c.idb), i, None, Some(j)));
+            list.push(ForceLine {
+                f,
+                tag: Tag::Pair(c.ida, c.idb),
+                i,
+                end: None,
+                j: Some(j),
+            });
         }
     }
     for c in &scene.contacts.wall_pairs {
@@ -667,80 +677,123 @@ fn forces(
         };
         if let Some(f) = contact_force(&c.s, set) {
             let (gap, nrm) = walls::wall_gap(&w.geom, &p.pos[i], p.radius[i]);
-            let end = p.pos[i] + nrm * (p.radius[i] + gap);
-            list.push((
+            list.push(ForceLine {
                 f,
-                Tag::WallContact(c.id, c.wall as usize),
+                tag: Tag::WallContact(c.id, c.wall as usize),
                 i,
-                Some(end),
-                None,
-            ));
+                end: Some(p.pos[i] + nrm * (p.radius[i] + gap)),
+                j: None,
+            });
         }
     }
-    let what = match set {
-        ForceSet::Total => "contact forces (solid + bridge)",
-        ForceSet::Solid => "solid contact forces",
-        ForceSet::Bridge => "liquid-bridge forces",
-    };
-    if list.is_empty() {
-        pic.notes.push(format!("no {what} to draw"));
-        return;
-    }
-    let fmax = list.iter().map(|l| l.0.abs()).fold(0.0, f64::max);
-    list.sort_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
-    let (mut nc, mut nt) = (0, 0);
-    for (f, tag, i, end, j) in list {
-        let tensile = f < 0.0;
-        if tensile {
-            nt += 1;
-        } else {
-            nc += 1;
-        }
-        let seg = Segment {
-            a: [0.0; 2],
-            b: [0.0; 2],
-            width: if fmax > 0.0 {
-                f.abs() / fmax * FORCE_WIDTH * r_mean
-            } else {
-                0.0
-            },
-            colour: if tensile {
-                colour::TENSILE
-            } else {
-                colour::COMPRESSIVE
-            },
-            layer: Layer::Force(set),
-            mark: if tensile {
-                Mark::Tensile
-            } else {
-                Mark::Compressive
-            },
-            tag,
-            value: f,
+    list
+}
+
+/// The force sets asked for, in order.
+fn force_sets(items: &[PlotItem]) -> Vec<ForceSet> {
+    items
+        .iter()
+        .filter_map(|it| match it {
+            PlotItem::Forces => Some(ForceSet::Total),
+            PlotItem::MForces => Some(ForceSet::Solid),
+            PlotItem::LForces => Some(ForceSet::Bridge),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The force networks of all force items, with widths scaled to one maximum over all of
+/// them, drawn widest first so that thin lines stay visible on top of thick ones.
+fn forces(
+    scene: &Scene,
+    proj: &Projection,
+    index: &HashMap<u32, usize>,
+    r_mean: f64,
+    sets: &[ForceSet],
+    pic: &mut Picture,
+) {
+    let p = &scene.particles;
+    let lists: Vec<(ForceSet, Vec<ForceLine>)> = sets
+        .iter()
+        .map(|&s| (s, force_list(scene, index, s)))
+        .collect();
+    let fmax = lists
+        .iter()
+        .flat_map(|(_, l)| l.iter())
+        .map(|l| l.f.abs())
+        .fold(0.0, f64::max);
+    let mut segs = Vec::new();
+    for (set, list) in lists {
+        let what = match set {
+            ForceSet::Total => "contact forces, solid + bridge (FORces)",
+            ForceSet::Solid => "solid contact forces (MFOrces)",
+            ForceSet::Bridge => "liquid-bridge forces (LFOrces)",
         };
-        match (end, j) {
-            (Some(e), _) => {
-                let mut s = seg;
-                s.a = proj.project(&p.pos[i]);
-                s.b = proj.project(&e);
-                pic.bounds.add(s.b, 0.0);
-                pic.segments.push(s);
-            }
-            (None, Some(j)) => pair_line(scene, proj, &p.pos[i], &p.pos[j], seg, &mut pic.segments),
-            (None, None) => {}
+        if list.is_empty() {
+            pic.notes.push(format!("no {what} to draw"));
+            continue;
         }
+        let (mut nc, mut nt) = (0, 0);
+        for l in list {
+            let tensile = l.f < 0.0;
+            if tensile {
+                nt += 1;
+            } else {
+                nc += 1;
+            }
+            let mut seg = Segment {
+                a: [0.0; 2],
+                b: [0.0; 2],
+                width: if fmax > 0.0 {
+                    l.f.abs() / fmax * FORCE_WIDTH * r_mean
+                } else {
+                    0.0
+                },
+                colour: if tensile {
+                    colour::TENSILE
+                } else {
+                    colour::COMPRESSIVE
+                },
+                layer: Layer::Force(set),
+                mark: if tensile {
+                    Mark::Tensile
+                } else {
+                    Mark::Compressive
+                },
+                tag: l.tag,
+                value: l.f,
+            };
+            match (l.end, l.j) {
+                (Some(e), _) => {
+                    seg.a = proj.project(&p.pos[l.i]);
+                    seg.b = proj.project(&e);
+                    pic.bounds.add(seg.b, 0.0);
+                    segs.push(seg);
+                }
+                (None, Some(j)) => pair_line(scene, proj, &p.pos[l.i], &p.pos[j], seg, &mut segs),
+                (None, None) => {}
+            }
+        }
+        pic.legend.push(LegendEntry {
+            swatch: Swatch::None,
+            text: what.into(),
+        });
+        pic.legend.push(LegendEntry {
+            swatch: Swatch::Line(colour::COMPRESSIVE),
+            text: format!("compressive: {nc}"),
+        });
+        pic.legend.push(LegendEntry {
+            swatch: Swatch::Line(colour::TENSILE),
+            text: format!("tensile: {nt}"),
+        });
     }
-    pic.legend.push(LegendEntry {
-        swatch: Swatch::Line(colour::COMPRESSIVE),
-        text: format!("compressive: {nc}"),
-    });
-    pic.legend.push(LegendEntry {
-        swatch: Swatch::Line(colour::TENSILE),
-        text: format!("tensile: {nt}"),
-    });
-    pic.notes.push(format!(
-        "{what}: line width proportional to |F|, widest = {fmax:.3e} N"
-    ));
+    if !segs.is_empty() {
+        pic.notes.push(format!(
+            "force lines: width proportional to |F|, the widest = {fmax:.3e} N"
+        ));
+    }
+    segs.sort_by(|a, b| b.value.abs().total_cmp(&a.value.abs()));
+    pic.segments.extend(segs);
 }
 
 fn cnd(
@@ -928,6 +981,7 @@ fn arcs(scene: &Scene, proj: &Projection, kind: ArcKind, pic: &mut Picture) {
                 colour::CLOCKWISE
             },
             kind,
+            depth: proj.depth(&p.pos[k]),
             value: val,
         });
     }

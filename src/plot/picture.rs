@@ -202,6 +202,8 @@ pub struct Arc {
     pub sweep: f64,
     pub colour: Rgb,
     pub kind: ArcKind,
+    /// Depth of the particle (drawn with it, so that nearer discs hide it).
+    pub depth: f64,
     /// The signed quantity about the viewing axis (rad or N m).
     pub value: f64,
 }

@@ -1,6 +1,7 @@
 //! [`Picture`] and [`Chart`] → RGB pixels → PNG bytes, with plotters' bitmap backend and the
 //! bundled DejaVu Sans font (no system fonts).
 
+use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -8,7 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use super::picture::{Chart, Layer, Mark, Picture, Rgb, Shade, Swatch, colour};
+use super::picture::{Arc, Chart, Layer, Mark, Picture, Rgb, Shade, Swatch, colour};
 
 /// The bundled font (assets/DejaVuSans.ttf; licence in assets/DejaVu-LICENSE).
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
@@ -32,6 +33,8 @@ const PAD: u32 = 30;
 const TITLE_H: u32 = 56;
 const BOTTOM_H: u32 = 70;
 const LINE_H: i32 = 26;
+/// Characters per line of legend text.
+const LEGEND_CHARS: usize = 34;
 
 /// Width of the scene pictures (pixels).
 pub const WIDTH: u32 = PAD + PLOT_W as u32 + PAD + LEGEND_W;
@@ -83,8 +86,13 @@ fn layout(pic: &Picture) -> Layout {
     let ph = (h * scale).round().clamp(1.0, PLOT_H_MAX) as u32;
     let x0 = PAD as f64 + (PLOT_W - pw as f64) / 2.0;
     let y0 = TITLE_H as f64;
-    let legend_lines: usize =
-        pic.legend.len() + pic.notes.iter().map(|n| wrap(n, 40).len()).sum::<usize>() + 3;
+    let legend_lines: usize = pic
+        .legend
+        .iter()
+        .map(|e| wrap(&e.text, LEGEND_CHARS).len().max(1))
+        .sum::<usize>()
+        + pic.notes.iter().map(|n| wrap(n, 40).len()).sum::<usize>()
+        + 3;
     let legend_h = TITLE_H + (legend_lines as u32) * LINE_H as u32 + PAD;
     let height = (TITLE_H + ph + BOTTOM_H).max(legend_h).max(600);
     Layout {
@@ -176,9 +184,19 @@ fn draw_picture(
     };
 
     seg(&|l| l == Layer::Boundary)?;
+    // Arcs belong to their particle: drawn right after its disc, so nearer discs hide them.
+    let mut arcs_of: HashMap<u32, Vec<&Arc>> = HashMap::new();
+    for a in &pic.arcs {
+        arcs_of.entry(a.id).or_default().push(a);
+    }
     for d in &pic.discs {
         draw_disc(&area, ipx(d.centre), d.radius * s, d.fill, d.shade)?;
+        for a in arcs_of.remove(&d.id).unwrap_or_default() {
+            draw_arc(&area, a, s, px(a.centre))?;
+        }
     }
+    let mut rest: Vec<&Arc> = arcs_of.into_values().flatten().collect();
+    rest.sort_by(|a, b| b.depth.total_cmp(&a.depth).then(a.id.cmp(&b.id)));
     for r in &pic.rings {
         let c = ipx(r.centre);
         let rp = (r.radius * s).round().max(1.0) as i32;
@@ -195,29 +213,8 @@ fn draw_picture(
     }
     seg(&|l| l == Layer::Wall)?;
     seg(&|l| !matches!(l, Layer::Boundary | Layer::Wall))?;
-    for a in &pic.arcs {
-        let rp = a.radius * s;
-        let (cx, cy) = px(a.centre);
-        let pts = arc_points((cx, cy), rp.max(3.0), a.start, a.sweep);
-        let col = rgb(a.colour);
-        area.draw(&PathElement::new(
-            pts.clone(),
-            ShapeStyle::from(&col).stroke_width(2),
-        ))
-        .map_err(err)?;
-        // Arrow head along the tangent at the end.
-        let end = a.start + a.sweep;
-        let sign = a.sweep.signum();
-        let (ex, ey) = (cx + rp.max(3.0) * end.cos(), cy - rp.max(3.0) * end.sin());
-        let (tx, ty) = (-end.sin() * sign, -end.cos() * sign); // pixel y down
-        let hs = (rp * 0.5).clamp(3.0, 8.0);
-        let (nx, ny) = (-ty, tx);
-        let tip = (ex + tx * hs, ey + ty * hs);
-        let l1 = (ex + nx * hs * 0.6, ey + ny * hs * 0.6);
-        let l2 = (ex - nx * hs * 0.6, ey - ny * hs * 0.6);
-        let r = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
-        area.draw(&Polygon::new(vec![r(tip), r(l1), r(l2)], col.filled()))
-            .map_err(err)?;
+    for a in rest {
+        draw_arc(&area, a, s, px(a.centre))?;
     }
     for a in &pic.arrows {
         area.draw(&PathElement::new(
@@ -295,8 +292,10 @@ fn draw_picture(
         } else {
             lx + 40
         };
-        root.draw_text(&e.text, &text, (x, y)).map_err(err)?;
-        y += LINE_H;
+        for line in wrap(&e.text, LEGEND_CHARS) {
+            root.draw_text(&line, &text, (x, y)).map_err(err)?;
+            y += LINE_H;
+        }
     }
     y += LINE_H / 2;
     for n in &pic.notes {
@@ -306,6 +305,40 @@ fn draw_picture(
         }
         y += 4;
     }
+    Ok(())
+}
+
+/// A rotation or couple arc with its arrow head; `c` is its centre in pixels.
+fn draw_arc<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    a: &Arc,
+    s: f64,
+    c: (f64, f64),
+) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| format!("drawing the picture failed: {x:?}");
+    let (cx, cy) = c;
+    let rp = (a.radius * s).max(3.0);
+    let pts = arc_points((cx, cy), rp, a.start, a.sweep);
+    let col = rgb(a.colour);
+    area.draw(&PathElement::new(
+        pts,
+        ShapeStyle::from(&col).stroke_width(2),
+    ))
+    .map_err(e)?;
+    // Arrow head along the tangent at the end (pixel y points down).
+    let end = a.start + a.sweep;
+    let sign = a.sweep.signum();
+    let (ex, ey) = (cx + rp * end.cos(), cy - rp * end.sin());
+    let (tx, ty) = (-end.sin() * sign, -end.cos() * sign);
+    let hs = (rp * 0.5).clamp(3.0, 8.0);
+    let (nx, ny) = (-ty, tx);
+    let r = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
+    let head = vec![
+        r((ex + tx * hs, ey + ty * hs)),
+        r((ex + nx * hs * 0.6, ey + ny * hs * 0.6)),
+        r((ex - nx * hs * 0.6, ey - ny * hs * 0.6)),
+    ];
+    area.draw(&Polygon::new(head, col.filled())).map_err(e)?;
     Ok(())
 }
 

@@ -198,15 +198,15 @@ fn solid_forces_are_the_touching_contacts() {
     let s = force_scene();
     let l = force_lines(&s, PlotItem::MForces);
     assert_eq!(l.len(), 2, "{l:?}");
-    // Sorted by |F|: the widest is drawn last.
-    assert_eq!(l[0].0, Tag::Pair(3, 4));
-    assert_eq!(l[1].0, Tag::Pair(1, 2));
-    assert!(close(l[1].1, 2.5));
+    // Widest first, so that thin lines stay visible on top.
+    assert_eq!(l[0].0, Tag::Pair(1, 2));
+    assert_eq!(l[1].0, Tag::Pair(3, 4));
+    assert!(close(l[0].1, 2.5));
     assert!(
-        close(l[1].2, FORCE_WIDTH * R),
+        close(l[0].2, FORCE_WIDTH * R),
         "widest = the current maximum"
     );
-    assert!(close(l[0].2, 1.0 / 2.5 * FORCE_WIDTH * R));
+    assert!(close(l[1].2, 1.0 / 2.5 * FORCE_WIDTH * R));
     assert!(
         l.iter()
             .all(|x| x.3 == colour::COMPRESSIVE && x.4 == Mark::Compressive)
@@ -218,12 +218,12 @@ fn bridge_forces_are_tensile_and_separate() {
     let s = force_scene();
     let l = force_lines(&s, PlotItem::LForces);
     assert_eq!(l.len(), 2, "{l:?}");
-    assert_eq!(l[0].0, Tag::Pair(3, 4));
-    assert!(close(l[0].1, -0.2));
-    assert!(close(l[0].2, 0.2 * FORCE_WIDTH * R));
-    assert_eq!(l[1].0, Tag::Pair(2, 3));
-    assert!(close(l[1].1, -1.0));
-    assert!(close(l[1].2, FORCE_WIDTH * R));
+    assert_eq!(l[0].0, Tag::Pair(2, 3));
+    assert!(close(l[0].1, -1.0));
+    assert!(close(l[0].2, FORCE_WIDTH * R));
+    assert_eq!(l[1].0, Tag::Pair(3, 4));
+    assert!(close(l[1].1, -0.2));
+    assert!(close(l[1].2, 0.2 * FORCE_WIDTH * R));
     assert!(
         l.iter()
             .all(|x| x.3 == colour::TENSILE && x.4 == Mark::Tensile)
@@ -250,16 +250,42 @@ fn total_forces_add_solid_and_bridge() {
         .expect("1-2");
     assert_eq!(g.a, [0.1, 0.5]);
     assert!(close(g.b[0], 0.1 + 2.0 * R) && g.b[1] == 0.5);
-    // Overlaid: both sets, solid first as given.
-    let pic = picture(&s, &[PlotItem::MForces, PlotItem::LForces]).expect("picture");
-    let layers: Vec<Layer> = pic.segments.iter().map(|g| g.layer).collect();
+}
+
+#[test]
+fn overlaid_force_sets_share_one_scale() {
+    let s = force_scene();
+    let pic = picture(&s, &[PlotItem::LForces, PlotItem::MForces]).expect("picture");
+    let l: Vec<(Layer, Tag, f64)> = pic
+        .segments
+        .iter()
+        .map(|g| (g.layer, g.tag, g.width / (FORCE_WIDTH * R)))
+        .collect();
+    let solid = Layer::Force(ForceSet::Solid);
+    let bridge = Layer::Force(ForceSet::Bridge);
+    // Widest first across both sets; ties keep the order of the items.
+    let want = [
+        (solid, Tag::Pair(1, 2), 1.0),
+        (bridge, Tag::Pair(2, 3), 0.4),
+        (solid, Tag::Pair(3, 4), 0.4),
+        (bridge, Tag::Pair(3, 4), 0.08),
+    ];
+    assert_eq!(l.len(), want.len(), "{l:?}");
+    for (got, want) in l.iter().zip(want.iter()) {
+        assert_eq!((got.0, got.1), (want.0, want.1), "{l:?}");
+        assert!(close(got.2, want.2), "{l:?}");
+    }
+    let headers: Vec<&str> = pic
+        .legend
+        .iter()
+        .filter(|e| e.swatch == Swatch::None)
+        .map(|e| e.text.as_str())
+        .collect();
     assert_eq!(
-        layers,
+        headers,
         vec![
-            Layer::Force(ForceSet::Solid),
-            Layer::Force(ForceSet::Solid),
-            Layer::Force(ForceSet::Bridge),
-            Layer::Force(ForceSet::Bridge)
+            "liquid-bridge forces (LFOrces)",
+            "solid contact forces (MFOrces)"
         ]
     );
 }
@@ -525,6 +551,9 @@ fn displacement_and_rotation_since_the_reference() {
     assert_eq!(pic.arcs[0].colour, colour::ANTICLOCKWISE);
     assert!(close(pic.arcs[1].sweep, -0.5 * MAX_SWEEP));
     assert_eq!(pic.arcs[1].colour, colour::CLOCKWISE);
+    // Arcs carry their particle's depth: the renderer draws each with its disc.
+    let xz = Projection::of(View::Xz, false);
+    assert_eq!(pic.arcs[0].depth, xz.depth(&s.particles.pos[0]));
     // Periodic: a particle that crossed the side moved a little, not the cell length.
     let mut s = scene_at(&[[0.999, 0.5, 0.5]]);
     s.settings.periodic = [true; 3];
