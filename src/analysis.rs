@@ -71,10 +71,20 @@ pub fn bonds_item(scene: &Scene) -> (String, Value) {
     (s, j)
 }
 
-/// Connected components of the graph of the given bonds over all particles: the cluster
-/// label of every particle (index order of `ids`; labels 0, 1, ... in order of first
-/// appearance) and the number of particles of each label. Bonds naming unknown ids are ignored.
-pub fn cluster_labels(ids: &[u32], bonds: &[(u32, u32)]) -> (Vec<usize>, Vec<usize>) {
+/// Cluster sizes (largest first) of the graph of the given bonds over all particles.
+pub fn cluster_sizes(ids: &[u32], bonds: &[(u32, u32)]) -> Vec<usize> {
+    let labels = cluster_labels(ids, bonds);
+    let mut count = vec![0usize; ids.len()];
+    for &l in &labels {
+        count[l] += 1;
+    }
+    let mut sizes: Vec<usize> = count.into_iter().filter(|&c| c > 0).collect();
+    sizes.sort_unstable_by(|a, b| b.cmp(a));
+    sizes
+}
+
+/// Cluster label (the smallest particle index of its cluster) of every particle.
+pub fn cluster_labels(ids: &[u32], bonds: &[(u32, u32)]) -> Vec<usize> {
     let mut index = std::collections::HashMap::new();
     for (k, &id) in ids.iter().enumerate() {
         index.insert(id, k);
@@ -95,27 +105,7 @@ pub fn cluster_labels(ids: &[u32], bonds: &[(u32, u32)]) -> (Vec<usize>, Vec<usi
             }
         }
     }
-    let mut label_of_root = vec![usize::MAX; ids.len()];
-    let mut labels = Vec::with_capacity(ids.len());
-    let mut sizes = Vec::new();
-    for i in 0..ids.len() {
-        let r = find(&mut parent, i);
-        if label_of_root[r] == usize::MAX {
-            label_of_root[r] = sizes.len();
-            sizes.push(0);
-        }
-        let l = label_of_root[r];
-        sizes[l] += 1;
-        labels.push(l);
-    }
-    (labels, sizes)
-}
-
-/// Cluster sizes (largest first) of the graph of the given bonds over all particles.
-pub fn cluster_sizes(ids: &[u32], bonds: &[(u32, u32)]) -> Vec<usize> {
-    let (_, mut sizes) = cluster_labels(ids, bonds);
-    sizes.sort_unstable_by(|a, b| b.cmp(a));
-    sizes
+    (0..ids.len()).map(|i| find(&mut parent, i)).collect()
 }
 
 pub fn clusters_item(scene: &Scene) -> (String, Value) {
@@ -175,16 +165,6 @@ mod tests {
         assert_eq!(bond_counts(&before, &after), (4, 1, 0));
         // A new bond 1-5 is counted as new.
         assert_eq!(bond_counts(&before, &[(1, 2), (1, 5)]), (4, 3, 1));
-    }
-
-    #[test]
-    fn labels_per_particle() {
-        // Chain 1-2-3 | 4-5 and a singlet 6 (ids in any order).
-        let ids = [5, 1, 6, 2, 4, 3];
-        let (labels, sizes) = cluster_labels(&ids, &[(1, 2), (2, 3), (4, 5), (5, 99)]);
-        assert_eq!(labels, vec![0, 1, 2, 1, 0, 1]);
-        assert_eq!(sizes, vec![2, 3, 1]);
-        assert_eq!(cluster_labels(&[], &[(1, 2)]), (vec![], vec![]));
     }
 
     #[test]

@@ -356,10 +356,15 @@ fn discs(scene: &Scene, proj: &Projection, items: &[PlotItem], pic: &mut Picture
     let fills: Vec<_> = match cluster {
         Some(bridges) => {
             let bonds = scene.contacts.bonded_pairs(p, bridges);
-            let (labels, sizes) = crate::analysis::cluster_labels(&p.id, &bonds);
+            // Label = a particle index of the cluster; size per label.
+            let labels = crate::analysis::cluster_labels(&p.id, &bonds);
+            let mut sizes = vec![0usize; labels.len()];
+            for &l in &labels {
+                sizes[l] += 1;
+            }
             let mut clusters = [0usize; 6];
             let mut members = [0usize; 6];
-            for &s in &sizes {
+            for &s in sizes.iter().filter(|&&s| s > 0) {
                 clusters[cluster_class(s)] += 1;
                 members[cluster_class(s)] += s;
             }

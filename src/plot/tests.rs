@@ -463,6 +463,15 @@ fn a_cluster_of_three_bridges() {
 }
 
 #[test]
+fn cluster_labels_per_particle() {
+    // Chain 1-2-3 | 4-5 and a singlet 6 (ids in any order); a bond to an unknown id is ignored.
+    let ids = [5, 1, 6, 2, 4, 3];
+    let labels = crate::analysis::cluster_labels(&ids, &[(1, 2), (2, 3), (4, 5), (5, 99)]);
+    assert_eq!(labels, vec![0, 1, 2, 1, 0, 1]);
+    assert!(crate::analysis::cluster_labels(&[], &[(1, 2)]).is_empty());
+}
+
+#[test]
 fn cluster_classes_follow_the_thesis() {
     let c: Vec<usize> = [1, 2, 10, 11, 50, 51, 200, 201, 600, 601, 5000]
         .iter()
