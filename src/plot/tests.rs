@@ -44,21 +44,47 @@ fn chain(n: usize) -> Scene {
     scene_at(&c)
 }
 
+/// A liquid bridge as the physics makes it (two wet spheres pressed together), so that the
+/// tests do not depend on the fields of `BridgeState` beyond the two forces they set.
+fn bridge_template() -> Box<BridgeState> {
+    let mut session = crate::session::Session::new(Box::new(std::io::sink()), false);
+    for l in [
+        "start 0.1 0.1 0.1 100 10 2",
+        "set open all",
+        "rad 0.001 1",
+        "density 2500 1",
+        "ymd 1e8 1",
+        "pra 0.3 1",
+        "cr 0.05 0.05 0.05 0.01 0 0 0 0 0 1 1",
+        "cr 0.052000000001 0.05 0.05 -0.01 0 0 0 0 0 1 1",
+        "liquid 1 0.07 0 0",
+        "cycle 2",
+    ] {
+        if let Err(e) = session.run_line(l) {
+            panic!("{l}: {}", e.message);
+        }
+    }
+    let scene = session.scene.expect("scene");
+    scene
+        .contacts
+        .pairs
+        .iter()
+        .find_map(|p| p.s.bridge.clone())
+        .expect("a bridge between touching wet spheres")
+}
+
+/// A contact state: solid (touching, elastic and dashpot force) and optionally a bridge
+/// (static attractive, viscous compressive-positive).
 fn state(touching: bool, normal: f64, damp: f64, bridge: Option<(f64, f64)>) -> ContactState {
     ContactState {
         touching,
         normal_force: normal,
         damp_force: damp,
         bridge: bridge.map(|(fs, fv)| {
-            Box::new(BridgeState {
-                volume: 1e-9,
-                s_c: 1e-3,
-                f_static: fs,
-                f_visc: fv,
-                phi: 0.1,
-                gap: 0.0,
-                work: 0.0,
-            })
+            let mut b = bridge_template();
+            b.f_static = fs;
+            b.f_visc = fv;
+            b
         }),
         ..Default::default()
     }
@@ -170,8 +196,8 @@ fn bounds_hold_the_particles_and_the_scale_bar_is_round() {
 // ---- force networks ---------------------------------------------------------------------
 
 /// 1-2: solid only (2.0 elastic + 0.5 dashpot); 2-3: bridge only, tensile (static 1.0);
-/// 3-4: both (solid 1.0, bridge static 0.3 attractive, viscous 0.1 resisting approach: net
-/// bridge −0.2); 4-5: a candidate with neither.
+/// 3-4: both (solid 1.0, bridge static 0.3 attractive, viscous 0.1 compressive, i.e.
+/// resisting approach: net bridge −0.2); 4-5: a candidate with neither.
 fn force_scene() -> Scene {
     let mut s = chain(5);
     let c = vec![
