@@ -397,7 +397,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_plot,
-        "Write a PNG picture of the items (overlaid). SAVe stores the reference state for RDIsp, ROTation, CND and the bond measures."
+        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded."
     ),
     def!(
         "PRA",
