@@ -2,7 +2,8 @@
 //!
 //! Lexical rules (doc/commands.md, `../shared/spec/commands.md`): separators are runs of
 //! blanks, tabs, commas, slashes and round brackets; `;` or `#` start a comment that runs to the
-//! end of the line. Every token keeps its column span so that errors can point at it.
+//! end of the line. A word in double quotes is taken as it is (`save "runs/a.sav"`). Every
+//! token keeps its column span so that errors can point at it.
 
 use nom::{
     IResult, Parser,
@@ -59,6 +60,21 @@ pub fn tokenize(line: &str) -> Vec<Token> {
             let _ = comment(input);
             break;
         }
+        if let Some(rest) = input.strip_prefix('"') {
+            // A quoted word: everything up to the closing quote (file names with `/`).
+            let start = line.len() - input.len();
+            let (text, after) = match rest.find('"') {
+                Some(k) => (&rest[..k], &rest[k + 1..]),
+                None => (rest, ""),
+            };
+            out.push(Token {
+                text: text.to_string(),
+                start,
+                end: line.len() - after.len(),
+            });
+            input = after;
+            continue;
+        }
         match word(input) {
             Ok((after, w)) => {
                 let start = line.len() - input.len();
@@ -114,6 +130,12 @@ mod tests {
         assert_eq!(texts("# whole line"), Vec::<String>::new());
         assert_eq!(texts(""), Vec::<String>::new());
         assert_eq!(texts("pr c#comment"), ["pr", "c"]);
+    }
+
+    #[test]
+    fn quoted_words_keep_slashes() {
+        assert_eq!(texts("save \"runs/a b.sav\" ; x"), ["save", "runs/a b.sav"]);
+        assert_eq!(texts("save \"unclosed/x"), ["save", "unclosed/x"]);
     }
 
     #[test]

@@ -509,7 +509,8 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     Err(e) => return Err(format!("LIQuid: {e}")),
                 }
             }
-            warn.dedup();
+            let mut seen = std::collections::HashSet::new();
+            warn.retain(|w| seen.insert(w.clone()));
             let warn: String = warn.iter().map(|w| format!("warning: {w}\n")).collect();
             scene.liquid = Some(l);
             // Existing bridges take the new parameters (rupture distance recomputed).

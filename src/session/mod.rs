@@ -357,6 +357,9 @@ fn scene_command(
             let mut drawn: Vec<PlotItem> = Vec::new();
             for it in items {
                 if *it == PlotItem::Save {
+                    // Contacts of a scene that changed since the last cycle are evaluated
+                    // first, so that the reference holds its bonds.
+                    cycle::prime_if_stale(scene);
                     scene.reference = Some(Reference::take(scene));
                 } else {
                     drawn.push(*it);
@@ -382,7 +385,17 @@ fn scene_command(
             // particles, VELocity, Zero, ...) is booked; strain energy of new overlaps is
             // booked when the next Cycle evaluates the contacts (cycle::prime).
             let before = energy::kinetic(scene);
-            out = exec::apply(scene, cmd)?;
+            let text = exec::apply(scene, cmd)?;
+            // Warnings go to standard error with the others.
+            for line in text.lines() {
+                match line.strip_prefix("warning: ") {
+                    Some(w) => warnings.push(w.to_string()),
+                    None => {
+                        out.push_str(line);
+                        out.push('\n');
+                    }
+                }
+            }
             scene.ledger.commands += energy::kinetic(scene) - before;
         }
     }

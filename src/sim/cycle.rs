@@ -483,6 +483,19 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     acc
 }
 
+/// Primes the contact states if commands changed the scene (no-op otherwise, or when the
+/// scene cannot cycle yet).
+pub fn prime_if_stale(scene: &mut Scene) {
+    if !scene.contacts.stale || scene.particles.is_empty() {
+        return;
+    }
+    if let Ok(model) = check(scene) {
+        let (tol, _) = search_distances(scene, &model);
+        prime(scene, &model, tol);
+        scene.contacts.tol = tol;
+    }
+}
+
 /// Re-evaluates the contact states at the current positions without moving anything (after
 /// commands changed the scene): initial overlaps get their strain energy, which is booked as
 /// energy put in by the commands.

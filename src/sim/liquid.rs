@@ -89,7 +89,7 @@ pub fn settle(scene: &mut Scene) {
 
 /// Total liquid: free liquid on the particles plus the liquid in bridges (m³).
 pub fn total_liquid(scene: &Scene) -> (f64, f64) {
-    let free: f64 = scene.particles.liquid.iter().sum();
+    let free: f64 = scene.particles.liquid.iter().fold(0.0, |a, b| a + b);
     let in_bridges: f64 = scene
         .contacts
         .pairs
@@ -102,7 +102,7 @@ pub fn total_liquid(scene: &Scene) -> (f64, f64) {
                 .iter()
                 .filter_map(|c| c.s.bridge.as_ref().map(|b| b.volume)),
         )
-        .sum();
+        .fold(0.0, |a, b| a + b);
     (free, in_bridges)
 }
 
