@@ -112,6 +112,23 @@ pub struct Pair {
     pub s: ContactState,
 }
 
+/// A candidate pair found by the search (no state yet).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct PairKey {
+    pub ida: u32,
+    pub idb: u32,
+    pub i: u32,
+    pub j: u32,
+}
+
+/// A candidate particle–wall pair found by the search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct WallKey {
+    pub id: u32,
+    pub wall: u32,
+    pub i: u32,
+}
+
 /// A candidate particle–wall pair.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WallPair {
@@ -160,42 +177,48 @@ impl ContactStore {
     /// Replaces the pair lists by new candidates (sorted by ids), carrying over the state of
     /// pairs present in both. Pairs that disappear lose their history (they were farther apart
     /// than TOL and carried no bond).
-    pub fn merge(&mut self, mut new_pairs: Vec<Pair>, mut new_walls: Vec<WallPair>) {
-        new_pairs.sort_unstable_by_key(|p| (p.ida, p.idb));
+    pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
+        // Sort the small keys (not the pairs with their states), then walk both sorted lists.
+        new_pairs.sort_unstable();
         let mut old = std::mem::take(&mut self.pairs).into_iter().peekable();
-        for p in new_pairs.iter_mut() {
-            while let Some(o) = old.peek() {
-                if (o.ida, o.idb) < (p.ida, p.idb) {
-                    old.next();
-                } else {
-                    break;
-                }
+        let mut pairs = Vec::with_capacity(new_pairs.len());
+        for k in new_pairs {
+            while old.peek().is_some_and(|o| (o.ida, o.idb) < (k.ida, k.idb)) {
+                old.next();
             }
-            if let Some(o) = old.peek() {
-                if (o.ida, o.idb) == (p.ida, p.idb) {
-                    p.s = old.next().expect("peeked").s;
-                }
-            }
+            let s = match old.peek() {
+                Some(o) if (o.ida, o.idb) == (k.ida, k.idb) => old.next().expect("peeked").s,
+                _ => ContactState::default(),
+            };
+            pairs.push(Pair {
+                i: k.i,
+                j: k.j,
+                ida: k.ida,
+                idb: k.idb,
+                s,
+            });
         }
-        self.pairs = new_pairs;
+        self.pairs = pairs;
 
-        new_walls.sort_unstable_by_key(|p| (p.id, p.wall));
+        new_walls.sort_unstable();
         let mut old = std::mem::take(&mut self.wall_pairs).into_iter().peekable();
-        for p in new_walls.iter_mut() {
-            while let Some(o) = old.peek() {
-                if (o.id, o.wall) < (p.id, p.wall) {
-                    old.next();
-                } else {
-                    break;
-                }
+        let mut walls = Vec::with_capacity(new_walls.len());
+        for k in new_walls {
+            while old.peek().is_some_and(|o| (o.id, o.wall) < (k.id, k.wall)) {
+                old.next();
             }
-            if let Some(o) = old.peek() {
-                if (o.id, o.wall) == (p.id, p.wall) {
-                    p.s = old.next().expect("peeked").s;
-                }
-            }
+            let s = match old.peek() {
+                Some(o) if (o.id, o.wall) == (k.id, k.wall) => old.next().expect("peeked").s,
+                _ => ContactState::default(),
+            };
+            walls.push(WallPair {
+                i: k.i,
+                id: k.id,
+                wall: k.wall,
+                s,
+            });
         }
-        self.wall_pairs = new_walls;
+        self.wall_pairs = walls;
         self.stale = false;
         self.remap = false;
         self.rebuilds += 1;

@@ -9,7 +9,7 @@
 //! (< TOL/(2√3)) in any component since the last rebuild, so no pair can come into contact
 //! unseen between rebuilds.
 
-use super::contacts::{ContactState, Pair, WallPair};
+use super::contacts::{PairKey, WallKey};
 use super::scene::{Scene, Vec3};
 use super::walls::wall_gap;
 
@@ -67,7 +67,7 @@ fn wrap(c: i64, n: usize) -> usize {
 }
 
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
-pub fn candidates(scene: &Scene, tol: f64) -> (Vec<Pair>, Vec<WallPair>, GridInfo) {
+pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridInfo) {
     let p = &scene.particles;
     let np = p.len();
     let (n, cell) = grid_dims(scene, tol);
@@ -172,12 +172,11 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<Pair>, Vec<WallPair>, GridInf
                 } else {
                     (j, i, idb, ida)
                 };
-                pairs.push(Pair {
+                pairs.push(PairKey {
                     i: i as u32,
                     j: j as u32,
                     ida,
                     idb,
-                    s: ContactState::default(),
                 });
             }
         }
@@ -188,11 +187,10 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<Pair>, Vec<WallPair>, GridInf
         for (w, wall) in scene.walls.iter().enumerate() {
             let (gap, _) = wall_gap(&wall.geom, &p.pos[i], p.radius[i]);
             if gap < tol {
-                walls.push(WallPair {
+                walls.push(WallKey {
                     i: i as u32,
                     id: p.id[i],
                     wall: w as u32,
-                    s: ContactState::default(),
                 });
             }
         }
