@@ -432,7 +432,9 @@ fn settings(scene: &Scene) -> (String, Value) {
         st.view,
         st.snapshot_every,
         st.history_every,
-        st.fraction,
+        st.fraction
+            .map(|f| f.to_string())
+            .unwrap_or_else(|| { "default (0.2, or 0.1 with adhesion)".into() }),
         st.two_d
     );
     let j = json!({

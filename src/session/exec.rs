@@ -449,7 +449,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             Ok(String::new())
         }
         Command::Fraction { f } => {
-            scene.settings.fraction = *f;
+            scene.settings.fraction = Some(*f);
             Ok(String::new())
         }
         Command::Gravity { g } => {

@@ -115,7 +115,11 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         let rho = p.mass[i] / (4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3));
         dt_r = dt_r.min(hertz::rayleigh_dt(p.radius[i], rho, m.shear(), m.poisson));
     }
-    let mut dt = scene.settings.fraction * dt_r;
+    let fraction = scene
+        .settings
+        .fraction
+        .unwrap_or_else(|| super::scene::default_fraction(adhesion));
+    let mut dt = fraction * dt_r;
     // Stability of the strongest viscous bridge dashpot (explicit update of a dashpot c on a
     // particle of mass m with up to 14 such neighbours: dt < 2 m / (14 c)); half of it.
     if let Some(l) = &scene.liquid {

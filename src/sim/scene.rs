@@ -175,7 +175,8 @@ pub struct Settings {
     pub snapshot_every: u64,
     pub history_every: u64,
     pub two_d: bool,
-    pub fraction: f64,
+    /// FRAction given by the user (None: the default for the scene, see [`default_fraction`]).
+    pub fraction: Option<f64>,
     pub window: Option<[f64; 6]>,
     /// Overlap allowed between generated particles (fraction of R_i + R_j).
     pub gen_overlap: f64,
@@ -198,7 +199,7 @@ impl Default for Settings {
             snapshot_every: 1000,
             history_every: 0,
             two_d: false,
-            fraction: DEFAULT_FRACTION,
+            fraction: None,
             window: None,
             gen_overlap: 1e-9,
             fragment_eps: None,
@@ -208,6 +209,18 @@ impl Default for Settings {
 
 /// Default FRAction (see doc/performance.md for the speed/accuracy study behind it).
 pub const DEFAULT_FRACTION: f64 = 0.2;
+/// Default FRAction of a scene with adhesion: the JKR snap-in and detachment are force jumps
+/// that the explicit scheme resolves to O(Δt); 0.1 keeps the sticking threshold within ~1 %.
+pub const DEFAULT_FRACTION_ADHESIVE: f64 = 0.1;
+
+/// The FRAction a scene uses when the user gave none (doc/performance.md, time-step study).
+pub fn default_fraction(adhesive: bool) -> f64 {
+    if adhesive {
+        DEFAULT_FRACTION_ADHESIVE
+    } else {
+        DEFAULT_FRACTION
+    }
+}
 
 /// Liquid parameters of `LIQuid` (None when no liquid).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
