@@ -236,3 +236,42 @@ fn liquid_bad_input() {
     }
     assert_eq!(out, [true]);
 }
+
+/// `SET GOLdman ON` adds the tangential viscous force (4.76): a sheared bridge slows down the
+/// relative tangential motion (with the closed-form magnitude at the start) and the books
+/// close; OFF (the default) leaves the tangential motion free.
+#[test]
+fn goldman_tangential_viscosity() {
+    for on in [false, true] {
+        let eta = 0.01;
+        let g = if on { "set goldman on" } else { "" };
+        let mut sc = pair(
+            &format!("liquid 0.1 1e-9 0 {eta}"),
+            &format!("set smin 1e-9\n{g}"),
+        );
+        step(&mut sc);
+        let s0 = 1e-6;
+        sc.particles.pos[1].x = 4e-4 + 2.0 * R + s0;
+        sc.particles.fixed = vec![0b111111, 0];
+        set_velocity(&mut sc, 1, Vec3::new(0.0, 0.01, 0.0));
+        sc.contacts.stale = true;
+        trubal::sim::cycle::run(&mut sc, 2).unwrap();
+        let ft = sc.contacts.pairs[0].s.bridge.as_ref().unwrap().f_tang;
+        if on {
+            let rs = R / 2.0;
+            let t_th = (8.0 / 15.0 * (rs / s0).ln() + 0.9588) * 6.0 * PI * eta * rs * 0.01;
+            assert!(rel(-ft.y, t_th) < 0.02, "Goldman force {} vs {t_th}", -ft.y);
+        } else {
+            assert_eq!(ft, Vec3::zeros());
+        }
+        trubal::sim::cycle::run(&mut sc, 2000).unwrap();
+        let vy = sc.particles.vel[1].y;
+        if on {
+            assert!(vy < 0.01 && sc.ledger.viscous > 0.0, "vy {vy}");
+        } else {
+            assert!((vy - 0.01).abs() < 1e-6, "vy {vy}");
+        }
+        let res = energy::residual(&sc);
+        assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+    }
+}

@@ -161,6 +161,8 @@ pub enum Setting {
     /// `SET GENoverlap f`: overlap allowed between generated particles, as a fraction of
     /// R_i + R_j (default 1e-9, i.e. touching within round-off).
     GenOverlap(f64),
+    /// `SET GOLdman ON|OFF`: tangential viscous force of the bridges (Goldman, Lian (4.76)).
+    Goldman(bool),
     /// `SET FRAgment eps`: neighbour radius of Olsson's DBSCAN fragments (DEFault: 4 R_mean).
     Fragment(Option<f64>),
 }

@@ -135,6 +135,7 @@ enum SetKw {
     History,
     GenOverlap,
     Fragment,
+    Goldman,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -152,6 +153,7 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("HIStory", SetKw::History),
     kw("GENoverlap", SetKw::GenOverlap),
     kw("FRAgment", SetKw::Fragment),
+    kw("GOLdman", SetKw::Goldman),
 ];
 
 const BRIDGES: &[Keyword<BridgeChoice>] = &[
@@ -537,11 +539,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "SNApshot",
             "HIStory",
             "GENoverlap",
-            "FRAgment"
+            "FRAgment",
+            "GOLdman"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default)."
     ),
     def!(
         "STArt",
@@ -1053,6 +1056,7 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::Snapshot => Setting::Snapshot(a.count("n")? as u64),
         SetKw::History => Setting::History(a.count("n")? as u64),
         SetKw::Fragment => Setting::Fragment(length_or_default(a, "eps")?),
+        SetKw::Goldman => Setting::Goldman(a.keyword(ONOFF, "ON or OFF")?),
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

@@ -610,6 +610,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 Setting::History(n) => st.history_every = *n,
                 Setting::GenOverlap(f) => st.gen_overlap = *f,
                 Setting::Fragment(e) => st.fragment_eps = *e,
+                Setting::Goldman(on) => st.goldman = *on,
             }
             scene.contacts.stale = true;
             Ok(String::new())

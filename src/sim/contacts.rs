@@ -27,6 +27,8 @@ pub struct BridgeState {
     pub share: [f64; 2],
     /// Not yet settled with the particles' liquid (conserving mode).
     pub fresh: bool,
+    /// Tangential viscous force on B of the last step (Goldman, `SET GOLdman ON`).
+    pub f_tang: Vec3,
     /// Precomputed shape coefficients of the bridge model (rebuilt on load).
     pub coeffs: BridgeCoeffs,
 }
@@ -43,6 +45,7 @@ impl BridgeState {
             work: 0.0,
             share,
             fresh: share != [0.0; 2],
+            f_tang: Vec3::zeros(),
             coeffs,
         }
     }

@@ -336,6 +336,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             liquid_share: (scene.settings.liquid_mode
                 == crate::lang::command::LiquidMode::Conserve)
                 .then_some(super::liquid::OLSSON_SHARE),
+            goldman: scene.settings.goldman,
         };
         let size = scene.size;
         let periodic = scene.settings.periodic;
@@ -439,6 +440,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             liquid_share: (scene.settings.liquid_mode
                 == crate::lang::command::LiquidMode::Conserve)
                 .then_some(super::liquid::OLSSON_SHARE),
+            goldman: scene.settings.goldman,
         };
         for w in scene.walls.iter_mut() {
             w.force = [0.0; 3];

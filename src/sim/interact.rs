@@ -40,6 +40,8 @@ pub struct Laws<'a> {
     pub impact: bool,
     /// Liquid-conserving bookkeeping: the share of a particle's liquid a new bridge draws.
     pub liquid_share: Option<f64>,
+    /// Tangential viscous force of bridges (Goldman, Lian (4.76)).
+    pub goldman: bool,
 }
 
 /// Energy increments of this step.
@@ -257,6 +259,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                 // second half of the last step's forces.
                 bs.work += 0.5 * bs.f_static * v_n * dt;
                 acc.viscous += -0.5 * bs.f_visc * v_n * dt;
+                acc.viscous += -0.5 * bs.f_tang.dot(&(k.v_rel - k.n * v_n)) * dt;
                 acc.rupture += bs.work;
                 s.released = bs.share;
                 s.bridge = None;
@@ -279,9 +282,23 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                 // viscous loss, booked as ½(F_old + F_new)·v_n Δt.
                 bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
                 acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
+                // Goldman's tangential viscous force (4.76), opposing the relative
+                // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
+                let v_t = k.v_rel - k.n * v_n;
+                let ft = if laws.goldman && liq.eta > 0.0 && v_t.norm() > 0.0 {
+                    let vt = v_t.norm();
+                    let smin = laws.smin.unwrap_or(0.01 * k.r_star);
+                    let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
+                    v_t * (t / vt)
+                } else {
+                    Vec3::zeros()
+                };
+                acc.viscous += -0.5 * (ft + bs.f_tang).dot(&v_t) * dt;
+                ft_b += ft;
                 if dt > 0.0 {
                     bs.f_static = fs;
                     bs.f_visc = fv;
+                    bs.f_tang = ft;
                 }
                 bs.gap = k.gap;
                 fn_b += fv - fs;

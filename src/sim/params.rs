@@ -76,7 +76,8 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         }
     }
     let mut table = vec![PairConst::default(); nmat * nmat];
-    let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0);
+    let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
+        || (scene.settings.goldman && scene.liquid.is_some_and(|l| l.eta > 0.0));
     let mut adhesion = false;
     for a in 0..nmat {
         for b in 0..nmat {

@@ -182,6 +182,8 @@ pub struct Settings {
     pub gen_overlap: f64,
     /// Neighbour radius of Olsson's DBSCAN fragments (None: 4 × mean radius).
     pub fragment_eps: Option<f64>,
+    /// Tangential viscous force of liquid bridges (Goldman), off by default.
+    pub goldman: bool,
 }
 
 impl Default for Settings {
@@ -203,6 +205,7 @@ impl Default for Settings {
             window: None,
             gen_overlap: 1e-9,
             fragment_eps: None,
+            goldman: false,
         }
     }
 }
