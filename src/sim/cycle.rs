@@ -216,6 +216,8 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     for step in 0..n {
         if step > 0 && step % every == 0 {
             let e_now = super::energy::stored(scene).total();
+            // Work put in since the last snapshot (gravity, walls) is not a runaway.
+            e_ref = e_ref.max(scene.ledger.input().abs());
             if e_now.is_finite() && e_now > 1e3 * e_ref.max(1e-300) && e_now > 0.0 {
                 let mut e = runaway(scene, e_now, e_ref);
                 e.message.push_str(&format!(
