@@ -60,6 +60,8 @@ LIAN6_V = [
     ("0.01", ["0.2", "0.3", "0.44", "0.6", "1", "2", "3"]),
     ("0.1", ["0.6", "1", "2", "4", "8"]),
 ]
+SMALL_BOX = {"box": "2.2e-3", "nbox": "27000", "centre": "1.0478907385791707e-3"}
+BIG_BOX = {"box": "6.2e-3", "nbox": "300000", "centre": "2.98778764305631e-3"}
 # Four printouts n cycles apart: 4 x 12500 x 12.8 ns = 640 us; eta = 0.1 runs at the viscous
 # step limit 3.8 ns: 4 x 21000 x 3.8 ns = 320 us.
 LIAN6_N = {"0": "12500", "0.01": "12500", "0.1": "21000"}
@@ -98,15 +100,25 @@ TABLES = {
     "lian6": {
         "title": "LIAN CH6 WALL IMPACT 4062 BCC: DAMAGE RATIO VS V",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", {"ra": "575e-6", "state": "lian_ch6.sav"}, "lian_ch6.sav")],
+        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
         "derive": "wall",
         "runs": lian6_runs(LIAN6_V, "lian_ch6.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+    },
+    # The attrition cases again in a work-space large enough to keep all debris (for the
+    # debris size distribution, Lian's Fig. 6.9).
+    "lian6_debris": {
+        "title": "LIAN CH6 4062 BCC, 6.2 MM WORK-SPACE: DAMAGE RATIO VS V",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": lian6_runs([("0", ["2"]), ("0.01", ["2", "3"])], "lian_ch6_big.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
     "lian6_small": {
         "title": "LIAN CH6 REDUCED 983 BCC: DAMAGE RATIO VS V",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", {"ra": "370e-6", "state": "lian_ch6_r370.sav"}, "lian_ch6_r370.sav")],
+        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="370e-6", state="lian_ch6_r370.sav"), "lian_ch6_r370.sav")],
         "derive": "wall",
         "runs": lian6_runs(LIAN6_V, "lian_ch6_r370.sav", {"0": "10000", "0.01": "10000", "0.1": "21000"}),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
@@ -276,8 +288,12 @@ def measures(objs, run):
     if not bonds or not clus or len(en) < 2:
         return None
     b, c, e0, e1 = bonds[-1], clus[-1], en[0], en[-1]
-    n = sum(c["sizes"])
-    debris = c["debris"]
+    info = [o for o in objs if o.get("print") == "info"][-1]
+    # Particles that left the open work-space were removed: they are debris (of unknown
+    # cluster size; mostly singlets) and count in Olsson's fragmentation.
+    lost = info["lost"]
+    n = sum(c["sizes"]) + lost
+    debris = c["debris"] + lost
     rest = c["sizes"][1:]
     big = sum(s for s in rest if s > 10)
     ke0 = b["incident_kinetic"]
@@ -301,15 +317,17 @@ def measures(objs, run):
         "largest": c["largest"],
         "largest_pct": 100.0 * c["largest"] / n if n else 0.0,
         "debris": debris,
+        "lost": lost,
         "debris_singlets_pct": 100.0 * c["singlets"] / debris if debris else 0.0,
         "debris_doublets_pct": 200.0 * c["doublets"] / debris if debris else 0.0,
         "debris_triplets_pct": 300.0 * c["triplets"] / debris if debris else 0.0,
         "debris_over10_pct": 100.0 * big / debris if debris else 0.0,
         "largest_debris_cluster": rest[0] if rest else 0,
-        "fragmentation": c["fragmentation"],
-        "fragmentation_pct": 100.0 * c["fragmentation"] / n if n else 0.0,
+        "fragmentation": c["fragmentation"] + lost,
+        "fragmentation_pct": 100.0 * (c["fragmentation"] + lost) / n if n else 0.0,
         "n_fragments": max(len(c["fragments"]) - 1, 0),
         "singles_and_pairs": n - sum(c["fragments"]),
+        "olsson_damage_ratio": b["damage_ratio"] - b["new_ratio"],
         "capture_ratio": c["capture_ratio"],
         "coalesced": c.get("coalesced", ""),
         "fractal_dimension": c["fractal_dimension"],
