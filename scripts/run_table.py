@@ -211,6 +211,47 @@ def balls_of(exe, work, state):
     raise RuntimeError("no balls printed for " + state)
 
 
+def state_summary(exe, work, state):
+    """One line on a prepared state: particles, bonds, coordination, bridges with a net
+    compressive / tensile force (solid + static + viscous, Lian's 7391 / 7515 count), the
+    largest net force, kinetic energy, circumscribing radius and fractal dimension (7.1)."""
+    tmp = os.path.join(work, "_state.tru")
+    with open(tmp, "w") as f:
+        f.write(f"restart {state}\nprint info contacts clusters energy balls\n")
+    r = subprocess.run([exe, tmp, "--json", "--threads", "1"], cwd=work, capture_output=True, text=True, check=True)
+    d = {}
+    for line in r.stdout.splitlines():
+        if line.startswith("{"):
+            o = json.loads(line)
+            d[o["print"]] = o
+    comp = tens = 0
+    fmax = 0.0
+    for c in d["contacts"]["contacts"]:
+        b = c.get("bridge")
+        net = (c["normal_force"] if c["touching"] else 0.0) + (b["viscous_force"] - b["static_force"] if b else 0.0)
+        fmax = max(fmax, abs(net))
+        if b:
+            if net > 0:
+                comp += 1
+            else:
+                tens += 1
+    out = []
+    for agg in sorted({x["agglomerate"] for x in d["balls"]["balls"]}):
+        bs = [x for x in d["balls"]["balls"] if x["agglomerate"] == agg]
+        c = [sum(x["pos"][k] for x in bs) / len(bs) for k in range(3)]
+        rc = max(math.dist(x["pos"], c) + x["radius"] for x in bs)
+        rm = sum(x["radius"] for x in bs) / len(bs)
+        df = math.log(len(bs)) / math.log(rc / rm)
+        out.append(f"agglomerate {agg}: {len(bs)} particles, R_c {1e6 * rc:.1f} um, D_f {df:.3f}")
+    i, cl = d["info"], d["clusters"]
+    return (
+        f"{state}: {i['balls']} particles, {i['contacts']} solid contacts, {i['bridges']} bridges "
+        f"({comp} net compressive, {tens} net tensile), coordination {cl['coordination']:.3f}, "
+        f"largest net contact force {fmax:.3e} N, kinetic energy {d['energy']['kinetic']:.3e} J; "
+        + "; ".join(out)
+    )
+
+
 def wall_height(exe, work, state, clearance=0.5e-6):
     """Plane z = h, `clearance` below the lowest particle surface."""
     b = balls_of(exe, work, state)
@@ -548,6 +589,11 @@ def main():
             print(f"  {state}: exit {rc}, {dt:.0f} s", flush=True)
             if rc != 0:
                 sys.exit(f"preparation failed, see {log}")
+        with open(os.path.join(DATA, a.table + "_states.txt"), "w") as f:
+            for _, _, state in t["prepare"]:
+                line = state_summary(exe, work, state)
+                print(line, flush=True)
+                f.write(line + "\n")
         cache = {}
         todo = []
         for r in runs:
