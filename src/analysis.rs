@@ -248,6 +248,13 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
             .map(|(l, _)| *l);
         (0..p.len()).filter(|&k| Some(labels[k]) == best).collect()
     };
+    // Where the largest cluster's particles come from (agglomerate 0 = none, 1, 2): both
+    // agglomerates in it means they coalesced (Lian ch. 7).
+    let mut largest_by_agglomerate = [0usize; 3];
+    for &k in &largest_members {
+        largest_by_agglomerate[(p.agg[k] as usize).min(2)] += 1;
+    }
+    let coalesced = largest_by_agglomerate[1] > 0 && largest_by_agglomerate[2] > 0;
     let df = fractal_dimension(
         &largest_members
             .iter()
@@ -289,6 +296,16 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
         100.0 * frac(2 * s2),
         100.0 * frac(3 * s3)
     );
+    let s = if largest_by_agglomerate[2] > 0 {
+        format!(
+            "{s}largest cluster: {} particles of agglomerate 1, {} of agglomerate 2{}\n",
+            largest_by_agglomerate[1],
+            largest_by_agglomerate[2],
+            if coalesced { " (coalesced)" } else { "" }
+        )
+    } else {
+        s
+    };
     let s = format!(
         "{s}coordination {coordination:.4}; fractal dimension of the largest cluster {df:.4}; capture ratio {capture_ratio:.4}; \
          Olsson fragmentation {fragmentation} particles (DBSCAN eps {eps:.3e} m, {} fragments)\n",
@@ -301,6 +318,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
         "coordination": coordination, "fractal_dimension": df,
         "capture_ratio": capture_ratio, "fragmentation": fragmentation,
         "fragments": frags, "fragment_eps": eps,
+        "largest_by_agglomerate": largest_by_agglomerate, "coalesced": coalesced,
     });
     (s, j)
 }

@@ -476,7 +476,7 @@ pub const COMMANDS: &[CommandDef] = &[
             fmax: a.non_negative("fmax")?,
             nmax: a.count("nmax")? as u64,
         }),
-        "Cycle until the kinetic energy is below kmax (J) and the largest contact force below fmax (N) (checked every 100 cycles), or nmax cycles have run; prints which happened."
+        "Cycle until the kinetic energy is below kmax (J) and the largest net contact force below fmax (N) (solid + liquid bridge of a pair, Lian's criterion; checked every 100 cycles), or nmax cycles have run; prints which happened."
     ),
     def!(
         "RESEt",

@@ -276,19 +276,26 @@ fn join(dir: &Path, name: &str) -> PathBuf {
 
 /// Largest contact force (solid normal force or bridge force) in the scene.
 fn max_contact_force(scene: &Scene) -> f64 {
+    // The net normal force of each pair or wall contact: solid (with its dashpot) plus
+    // liquid bridge (static attraction and viscous force). A bridge at contact pulls with
+    // its full static force, so solid and bridge forces must be added, not compared
+    // separately (Lian ch. 6: "total contact force (bridge + Hertz) < 1 µN").
+    fn net(s: &crate::sim::contacts::ContactState) -> f64 {
+        let mut f = 0.0;
+        if s.touching {
+            f += s.normal_force + s.damp_force;
+        }
+        if let Some(b) = &s.bridge {
+            f += b.f_visc - b.f_static;
+        }
+        f.abs()
+    }
     let mut f: f64 = 0.0;
-    for c in scene.contacts.pairs.iter().chain(std::iter::empty()) {
-        if c.s.touching {
-            f = f.max((c.s.normal_force + c.s.damp_force).abs());
-        }
-        if let Some(b) = &c.s.bridge {
-            f = f.max((b.f_visc - b.f_static).abs());
-        }
+    for c in &scene.contacts.pairs {
+        f = f.max(net(&c.s));
     }
     for c in &scene.contacts.wall_pairs {
-        if c.s.touching {
-            f = f.max((c.s.normal_force + c.s.damp_force).abs());
-        }
+        f = f.max(net(&c.s));
     }
     f
 }

@@ -359,8 +359,10 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                     }
                     let (ri, rj) = (p.radius[i], p.radius[j]);
                     let dist2 = d.norm_squared();
-                    // Far apart and nothing to remember: skip the contact laws.
-                    let reach = ri + rj;
+                    // Far apart and nothing to remember: skip the contact laws. The reach
+                    // includes the round-off allowance of bridge formation (gap ≤ 1e-6 R,
+                    // interact.rs), so pairs that touch exactly (lattices) are not skipped.
+                    let reach = (ri + rj) * (1.0 + 1e-6);
                     if dist2 > reach * reach && !c.s.touching && c.s.bridge.is_none() {
                         *o = PairForce::default();
                         continue;
@@ -450,7 +452,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             let i = c.i as usize;
             let w = &mut scene.walls[c.wall as usize];
             let (gap, n) = wall_gap(&w.geom, &p.pos[i], p.radius[i]);
-            if gap > 0.0 && !c.s.touching && c.s.bridge.is_none() {
+            if gap > 1e-6 * p.radius[i] && !c.s.touching && c.s.bridge.is_none() {
                 continue;
             }
             let ri = p.radius[i];

@@ -1,0 +1,656 @@
+#!/usr/bin/env python3
+"""Run a table of thesis experiments with trubal, collect the measures, write CSV and PNG.
+
+    python3 scripts/run_table.py TABLE [--jobs 2] [--work DIR] [--only key=value ...]
+                                      [--force] [--list] [--plot-only]
+
+TABLE is one of the names in TABLES below (`--list` shows them with their runs). Every run is
+`trubal SCRIPT --json --threads 1 --set k=v ...` in the work directory (default
+target/experiments/TABLE), where the prepared states (*.sav) also live; up to --jobs runs go at
+once (default 2: one per core). A run whose log already ends with its final printout is not run
+again (delete the log or give --force). The measures are read from the JSON printouts (the last
+PRint BONds / CLUsters / ENErgy; the first PRint ENErgy, taken right after `PLot SAve`, is the
+reference for the energy split of the impact) into doc/data/TABLE.csv, and a line chart of the
+table's main measure is drawn to doc/data/TABLE.png (a small PNG writer on zlib, no matplotlib).
+
+Python 3 standard library only.
+"""
+
+import argparse
+import concurrent.futures as cf
+import csv
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCRIPTS = os.path.join(ROOT, "scripts")
+DATA = os.path.join(ROOT, "doc", "data")
+
+
+def trubal_binary():
+    exe = os.path.join(ROOT, "target", "release", "trubal")
+    if not os.path.exists(exe):
+        subprocess.run(["cargo", "build", "--release"], cwd=ROOT, check=True)
+    return exe
+
+
+# ---------------------------------------------------------------------------------------------
+# The tables. A run is a dict of --set values; `x`, `group` and `y` name the chart's axes.
+# `prepare` lists (script, sets, state file) made once before the runs; `derive` computes
+# further --set values from the prepared states (e.g. the wall height).
+
+
+def lian6_runs(velocities, state, eta_cycles):
+    runs = []
+    for eta, vs in velocities:
+        n = eta_cycles[eta]
+        for v in vs:
+            runs.append({"state": state, "v": v, "eta": eta, "frac": "0.4", "n": n})
+    return runs
+
+
+LIAN6_V = [
+    ("0", ["0.2", "0.3", "0.4", "0.5", "1", "2"]),
+    ("0.01", ["0.2", "0.3", "0.44", "0.6", "1", "2", "3"]),
+    ("0.1", ["0.6", "1", "2", "4", "8"]),
+]
+SMALL_BOX = {"box": "2.2e-3", "nbox": "27000", "centre": "1.0478907385791707e-3"}
+BIG_BOX = {"box": "6.2e-3", "nbox": "300000", "centre": "2.98778764305631e-3"}
+# Four printouts n cycles apart: 4 x 12500 x 12.8 ns = 640 us; eta = 0.1 runs at the viscous
+# step limit 3.8 ns: 4 x 21000 x 3.8 ns = 320 us.
+LIAN6_N = {"0": "12500", "0.01": "12500", "0.1": "21000"}
+
+
+def lian7_runs():
+    runs = []
+    for eta, gam, vs in [
+        ("0.01", "0.025", ["0.5", "1", "2", "3", "5"]),
+        ("0.001", "0.025", ["0.5", "1", "2"]),
+        ("0.01", "0.05", ["2", "5"]),
+    ]:
+        for v in vs:
+            runs.append({"v": v, "theta": "0", "eta": eta, "gamma": gam})
+    return runs
+
+
+def lian7_oblique_runs():
+    return [
+        {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025"}
+        for t in ["15", "30", "45", "60", "75"]
+    ]
+
+
+def olsson_runs():
+    runs = []
+    for v in ["0.5", "1", "1.5", "2", "2.5", "3"]:
+        runs.append({"liquid": "dry", "v": v})
+    for pvol in ["0.01", "0.1", "1"]:
+        for v in ["1", "2", "3", "5.2"]:
+            runs.append({"liquid": pvol, "v": v})
+    return runs
+
+
+TABLES = {
+    "lian6": {
+        "title": "LIAN CH6 WALL IMPACT 4062 BCC: DAMAGE RATIO VS V",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
+        "derive": "wall",
+        "runs": lian6_runs(LIAN6_V, "lian_ch6.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+    },
+    # The attrition cases again in a work-space large enough to keep all debris (for the
+    # debris size distribution, Lian's Fig. 6.9).
+    "lian6_debris": {
+        "title": "LIAN CH6 4062 BCC, 6.2 MM WORK-SPACE: DAMAGE RATIO VS V",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": lian6_runs([("0", ["2"]), ("0.01", ["2", "3"])], "lian_ch6_big.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+    },
+    "lian6_small": {
+        "title": "LIAN CH6 REDUCED 983 BCC: DAMAGE RATIO VS V",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="370e-6", state="lian_ch6_r370.sav"), "lian_ch6_r370.sav")],
+        "derive": "wall",
+        "runs": lian6_runs(LIAN6_V, "lian_ch6_r370.sav", {"0": "10000", "0.01": "10000", "0.1": "21000"}),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+    },
+    "lian7": {
+        "title": "LIAN CH7 2X1000 NORMAL: DAMAGE RATIO VS V",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "runs": lian7_runs(),
+        "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
+    },
+    "lian7_oblique": {
+        "title": "LIAN CH7 OBLIQUE 2 M/S: DAMAGE RATIO VS ANGLE",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "runs": lian7_oblique_runs(),
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    "olsson": {
+        "title": "OLSSON 4000 POLYDISPERSE: FRAGMENTATION % VS V",
+        "script": "olsson_impact.tru",
+        "prepare": [
+            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
+        ],
+        "derive": "olsson",
+        "runs": olsson_runs(),
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+}
+
+# ---------------------------------------------------------------------------------------------
+# Running
+
+
+def run_name(run):
+    return "_".join(f"{k}{v}" for k, v in run.items() if k not in ("state", "frac", "n", "wall", "dx"))
+
+
+def json_lines(path):
+    out = []
+    if not os.path.exists(path):
+        return out
+    with open(path) as f:
+        for line in f:
+            if line.startswith("{"):
+                try:
+                    out.append(json.loads(line))
+                except json.JSONDecodeError:
+                    pass
+    return out
+
+
+def complete(path):
+    """A log is complete when its last line is the final PRint Info."""
+    objs = json_lines(path)
+    return bool(objs) and objs[-1].get("print") == "info"
+
+
+def trubal(exe, script, sets, work, log):
+    cmd = [exe, os.path.join(SCRIPTS, script), "--json", "--threads", "1"]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    t0 = time.time()
+    with open(log, "w") as f:
+        f.write("# " + " ".join(cmd) + "\n")
+        f.flush()
+        r = subprocess.run(cmd, cwd=work, stdout=f, stderr=subprocess.STDOUT)
+    dt = time.time() - t0
+    with open(log, "a") as f:
+        f.write(f"# exit {r.returncode} wall {dt:.1f} s\n")
+    return r.returncode, dt
+
+
+def balls_of(exe, work, state):
+    """Positions, radii, agglomerates of a saved state (through `PRint Balls`)."""
+    tmp = os.path.join(work, "_balls.tru")
+    with open(tmp, "w") as f:
+        f.write(f"restart {state}\nprint balls\n")
+    r = subprocess.run([exe, tmp, "--json", "--threads", "1"], cwd=work, capture_output=True, text=True, check=True)
+    for line in r.stdout.splitlines():
+        if line.startswith("{"):
+            d = json.loads(line)
+            if d.get("print") == "balls":
+                return d["balls"]
+    raise RuntimeError("no balls printed for " + state)
+
+
+def state_summary(exe, work, state):
+    """One line on a prepared state: particles, bonds, coordination, bridges with a net
+    compressive / tensile force (solid + static + viscous, Lian's 7391 / 7515 count), the
+    largest net force, kinetic energy, circumscribing radius and fractal dimension (7.1)."""
+    tmp = os.path.join(work, "_state.tru")
+    with open(tmp, "w") as f:
+        f.write(f"restart {state}\nprint info contacts clusters energy balls\n")
+    r = subprocess.run([exe, tmp, "--json", "--threads", "1"], cwd=work, capture_output=True, text=True, check=True)
+    d = {}
+    for line in r.stdout.splitlines():
+        if line.startswith("{"):
+            o = json.loads(line)
+            d[o["print"]] = o
+    comp = tens = 0
+    fmax = 0.0
+    for c in d["contacts"]["contacts"]:
+        b = c.get("bridge")
+        net = (c["normal_force"] if c["touching"] else 0.0) + (b["viscous_force"] - b["static_force"] if b else 0.0)
+        fmax = max(fmax, abs(net))
+        if b:
+            if net > 0:
+                comp += 1
+            else:
+                tens += 1
+    out = []
+    for agg in sorted({x["agglomerate"] for x in d["balls"]["balls"]}):
+        bs = [x for x in d["balls"]["balls"] if x["agglomerate"] == agg]
+        c = [sum(x["pos"][k] for x in bs) / len(bs) for k in range(3)]
+        rc = max(math.dist(x["pos"], c) + x["radius"] for x in bs)
+        rm = sum(x["radius"] for x in bs) / len(bs)
+        df = math.log(len(bs)) / math.log(rc / rm)
+        out.append(f"agglomerate {agg}: {len(bs)} particles, R_c {1e6 * rc:.1f} um, D_f {df:.3f}")
+    i, cl = d["info"], d["clusters"]
+    return (
+        f"{state}: {i['balls']} particles, {i['contacts']} solid contacts, {i['bridges']} bridges "
+        f"({comp} net compressive, {tens} net tensile), coordination {cl['coordination']:.3f}, "
+        f"largest net contact force {fmax:.3e} N, kinetic energy {d['energy']['kinetic']:.3e} J; "
+        + "; ".join(out)
+    )
+
+
+def wall_height(exe, work, state, clearance=0.5e-6):
+    """Plane z = h, `clearance` below the lowest particle surface."""
+    b = balls_of(exe, work, state)
+    return min(x["pos"][2] - x["radius"] for x in b) - clearance
+
+
+def approach_shift(exe, work, state, clearance=1e-6):
+    """MOVe distance (along -x) of agglomerate 2 that leaves `clearance` between the closest
+    surfaces of the two agglomerates (their centres lie on one x line)."""
+    b = balls_of(exe, work, state)
+    a1 = [x for x in b if x["agglomerate"] == 1]
+    a2 = [x for x in b if x["agglomerate"] == 2]
+    # Candidates: the 150 particles of each agglomerate nearest the other.
+    a1.sort(key=lambda x: -(x["pos"][0] + x["radius"]))
+    a2.sort(key=lambda x: x["pos"][0] - x["radius"])
+    shift = math.inf
+    for p in a1[:150]:
+        for q in a2[:150]:
+            rr = p["radius"] + q["radius"]
+            dy = q["pos"][1] - p["pos"][1]
+            dz = q["pos"][2] - p["pos"][2]
+            rho2 = dy * dy + dz * dz
+            if rho2 >= rr * rr:
+                continue
+            # q moved by -s along x touches p when qx - s - px = sqrt(rr^2 - rho^2).
+            s = q["pos"][0] - p["pos"][0] - math.sqrt(rr * rr - rho2)
+            shift = min(shift, s)
+    return shift - clearance
+
+
+def derive(kind, exe, work, run, cache):
+    sets = dict(run)
+    if kind == "wall":
+        key = ("wall", run["state"])
+        if key not in cache:
+            cache[key] = wall_height(exe, work, run["state"])
+        sets["wall"] = f"{cache[key]:.8e}"
+    elif kind == "approach":
+        key = ("approach", "lian_ch7.sav")
+        if key not in cache:
+            cache[key] = approach_shift(exe, work, "lian_ch7.sav")
+        v, th = float(run["v"]), math.radians(float(run["theta"]))
+        # Relative velocity v at angle theta to the line of centres, split equally.
+        sets.update(
+            {
+                "state": "lian_ch7.sav",
+                "dx": f"{cache[key]:.8e}",
+                "v1x": f"{0.5 * v * math.cos(th):.10g}",
+                "v1y": f"{0.5 * v * math.sin(th):.10g}",
+                "v2x": f"{-0.5 * v * math.cos(th):.10g}",
+                "v2y": f"{-0.5 * v * math.sin(th):.10g}",
+                "n": "12000",
+            }
+        )
+    elif kind == "olsson":
+        state = "olsson_dry.sav" if run["liquid"] == "dry" else f"olsson_{run['liquid']}.sav"
+        key = ("wall", state)
+        if key not in cache:
+            cache[key] = wall_height(exe, work, state)
+        # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
+        n = "4300" if run["liquid"] == "dry" else "12500"
+        sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n}
+    return sets
+
+
+# ---------------------------------------------------------------------------------------------
+# Measures
+
+
+def measures(objs, run):
+    """The row of one finished run."""
+    bonds = [o for o in objs if o.get("print") == "bonds"]
+    clus = [o for o in objs if o.get("print") == "clusters"]
+    en = [o for o in objs if o.get("print") == "energy"]
+    if not bonds or not clus or len(en) < 2:
+        return None
+    b, c, e0, e1 = bonds[-1], clus[-1], en[0], en[-1]
+    info = [o for o in objs if o.get("print") == "info"][-1]
+    # Particles that left the open work-space were removed: they are debris (of unknown
+    # cluster size; mostly singlets) and count in Olsson's fragmentation.
+    lost = info["lost"]
+    n = sum(c["sizes"]) + lost
+    debris = c["debris"] + lost
+    rest = c["sizes"][1:]
+    big = sum(s for s in rest if s > 10)
+    ke0 = b["incident_kinetic"]
+    d0, d1 = e0["dissipated"], e1["dissipated"]
+
+    def share(k):
+        return (d1[k] - d0[k]) / ke0 if ke0 > 0 else 0.0
+
+    row = {
+        "cycles": e1["cycle"] - e0["cycle"],
+        "time_us": 1e6 * (e1["time"] - e0["time"]),
+        "damage_ratio": b["damage_ratio"],
+        "damage_ratio_prev": bonds[-2]["damage_ratio"] if len(bonds) > 1 else "",
+        "new_ratio": b["new_ratio"],
+        "bond_probability_z8": 8.0 / 12.0 * (1.0 - b["damage_ratio"] + b["new_ratio"]),
+        "bond_probability": b["bond_probability"],
+        "initial_bonds": b["initial"],
+        "broken": b["broken"],
+        "new": b["new"],
+        "particles": n,
+        "largest": c["largest"],
+        "largest_pct": 100.0 * c["largest"] / n if n else 0.0,
+        "debris": debris,
+        "lost": lost,
+        "debris_singlets_pct": 100.0 * c["singlets"] / debris if debris else 0.0,
+        "debris_doublets_pct": 200.0 * c["doublets"] / debris if debris else 0.0,
+        "debris_triplets_pct": 300.0 * c["triplets"] / debris if debris else 0.0,
+        "debris_over10_pct": 100.0 * big / debris if debris else 0.0,
+        "largest_debris_cluster": rest[0] if rest else 0,
+        "fragmentation": c["fragmentation"] + lost,
+        "fragmentation_pct": 100.0 * (c["fragmentation"] + lost) / n if n else 0.0,
+        "n_fragments": max(len(c["fragments"]) - 1, 0),
+        "singles_and_pairs": n - sum(c["fragments"]),
+        "olsson_damage_ratio": b["damage_ratio"] - b["new_ratio"],
+        "capture_ratio": c["capture_ratio"],
+        "coalesced": c.get("coalesced", ""),
+        "fractal_dimension": c["fractal_dimension"],
+        "delta": b["delta"],
+        "incident_kinetic": ke0,
+        "e_viscous": share("viscous"),
+        "e_friction": share("friction"),
+        "e_rupture": share("rupture"),
+        "e_damping": share("damping_contact") + share("damping_mass"),
+        "e_adhesion": share("adhesion"),
+        "ke_left": e1["kinetic"] / ke0 if ke0 > 0 else 0.0,
+        "residual_rel": e1["residual"] / e1["input"] if e1["input"] else 0.0,
+    }
+    return row
+
+
+# ---------------------------------------------------------------------------------------------
+# A small PNG line chart (no plotting library on this machine).
+
+FONT = {  # 5x7 glyphs, rows top to bottom, 5 bits each
+    "0": "0E 11 13 15 19 11 0E", "1": "04 0C 04 04 04 04 0E", "2": "0E 11 01 02 04 08 1F",
+    "3": "1F 02 04 02 01 11 0E", "4": "02 06 0A 12 1F 02 02", "5": "1F 10 1E 01 01 11 0E",
+    "6": "06 08 10 1E 11 11 0E", "7": "1F 01 02 04 08 08 08", "8": "0E 11 11 0E 11 11 0E",
+    "9": "0E 11 11 0F 01 02 0C", ".": "00 00 00 00 00 0C 0C", "-": "00 00 00 1F 00 00 00",
+    "=": "00 00 1F 00 1F 00 00", "/": "01 01 02 04 08 10 10", ":": "00 0C 0C 00 0C 0C 00",
+    " ": "00 00 00 00 00 00 00", "%": "18 19 02 04 08 13 03", "(": "02 04 08 08 08 04 02",
+    ")": "08 04 02 02 02 04 08", ",": "00 00 00 00 0C 04 08", "+": "00 04 04 1F 04 04 00",
+    "A": "0E 11 11 1F 11 11 11", "B": "1E 11 11 1E 11 11 1E", "C": "0E 11 10 10 10 11 0E",
+    "D": "1E 11 11 11 11 11 1E", "E": "1F 10 10 1E 10 10 1F", "F": "1F 10 10 1E 10 10 10",
+    "G": "0E 11 10 17 11 11 0F", "H": "11 11 11 1F 11 11 11", "I": "0E 04 04 04 04 04 0E",
+    "J": "07 02 02 02 02 12 0C", "K": "11 12 14 18 14 12 11", "L": "10 10 10 10 10 10 1F",
+    "M": "11 1B 15 15 11 11 11", "N": "11 11 19 15 13 11 11", "O": "0E 11 11 11 11 11 0E",
+    "P": "1E 11 11 1E 10 10 10", "Q": "0E 11 11 11 15 12 0D", "R": "1E 11 11 1E 14 12 11",
+    "S": "0F 10 10 0E 01 01 1E", "T": "1F 04 04 04 04 04 04", "U": "11 11 11 11 11 11 0E",
+    "V": "11 11 11 11 11 0A 04", "W": "11 11 11 15 15 15 0A", "X": "11 11 0A 04 0A 11 11",
+    "Y": "11 11 11 0A 04 04 04", "Z": "1F 01 02 04 08 10 1F", "_": "00 00 00 00 00 00 1F",
+}
+COLOURS = [(200, 30, 30), (30, 90, 200), (20, 150, 40), (220, 140, 0), (140, 40, 170), (0, 150, 160)]
+
+
+class Canvas:
+    def __init__(self, w, h):
+        self.w, self.h = w, h
+        self.px = bytearray(b"\xff" * (w * h * 3))
+
+    def set(self, x, y, c):
+        if 0 <= x < self.w and 0 <= y < self.h:
+            k = 3 * (y * self.w + x)
+            self.px[k : k + 3] = bytes(c)
+
+    def line(self, x0, y0, x1, y1, c, width=1):
+        n = int(max(abs(x1 - x0), abs(y1 - y0))) + 1
+        for i in range(n + 1):
+            t = i / n
+            x, y = round(x0 + (x1 - x0) * t), round(y0 + (y1 - y0) * t)
+            for dx in range(-(width // 2), width - width // 2):
+                for dy in range(-(width // 2), width - width // 2):
+                    self.set(x + dx, y + dy, c)
+
+    def box(self, x, y, r, c):
+        for dx in range(-r, r + 1):
+            for dy in range(-r, r + 1):
+                self.set(x + dx, y + dy, c)
+
+    def text(self, x, y, s, c=(0, 0, 0), scale=2):
+        for ch in s.upper():
+            rows = FONT.get(ch, FONT[" "]).split()
+            for j, row in enumerate(rows):
+                bits = int(row, 16)
+                for i in range(5):
+                    if bits & (16 >> i):
+                        for a in range(scale):
+                            for b in range(scale):
+                                self.set(x + i * scale + a, y + j * scale + b, c)
+            x += 6 * scale
+
+    def png(self, path):
+        raw = b"".join(b"\x00" + bytes(self.px[3 * self.w * y : 3 * self.w * (y + 1)]) for y in range(self.h))
+
+        def chunk(t, d):
+            return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
+
+        with open(path, "wb") as f:
+            f.write(b"\x89PNG\r\n\x1a\n")
+            f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", self.w, self.h, 8, 2, 0, 0, 0)))
+            f.write(chunk(b"IDAT", zlib.compress(raw, 9)))
+            f.write(chunk(b"IEND", b""))
+
+
+def fmt_tick(v):
+    if v == 0:
+        return "0"
+    if abs(v) >= 100 or abs(v) < 0.01:
+        return f"{v:.0e}".replace("E+0", "E").replace("E-0", "E-")
+    return f"{v:.3g}"
+
+
+def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
+    """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])]."""
+    W, H, L, R, T, B = 900, 600, 90, 230, 50, 70
+    cv = Canvas(W, H)
+    pts = [p for _, s in list(series) + list(refs) for p in s]
+    if not pts:
+        return
+    fx = (lambda v: math.log10(v)) if logx else (lambda v: v)
+    xs = [fx(p[0]) for p in pts]
+    ys = [p[1] for p in pts]
+    x0, x1 = min(xs), max(xs)
+    y0, y1 = min(0.0, min(ys)), max(ys)
+    if x1 == x0:
+        x1 = x0 + 1
+    if y1 == y0:
+        y1 = y0 + 1
+    pad = 0.05 * (x1 - x0)
+    x0, x1 = x0 - pad, x1 + pad
+    y1 += 0.05 * (y1 - y0)
+
+    def X(v):
+        return round(L + (fx(v) - x0) / (x1 - x0) * (W - L - R))
+
+    def Y(v):
+        return round(H - B - (v - y0) / (y1 - y0) * (H - T - B))
+
+    grey = (190, 190, 190)
+    cv.line(L, H - B, W - R, H - B, (0, 0, 0))
+    cv.line(L, T, L, H - B, (0, 0, 0))
+    for k in range(6):
+        yv = y0 + (y1 - y0) * k / 5
+        cv.line(L - 4, Y(yv), W - R, Y(yv), grey if k else (0, 0, 0))
+        cv.text(5, Y(yv) - 7, fmt_tick(yv))
+    if logx:
+        ticks = [m * 10**e for e in range(-3, 4) for m in (1, 2, 5) if x0 <= math.log10(m * 10**e) <= x1]
+    else:
+        ticks = [x0 + (x1 - x0) * k / 5 for k in range(6)]
+    for t in ticks:
+        cv.line(X(t), H - B, X(t), H - B + 5, (0, 0, 0))
+        cv.text(X(t) - 10, H - B + 10, fmt_tick(t))
+    cv.text(L, 12, title)
+    cv.text((W - R) // 2 - 30, H - 25, xlabel)
+    cv.text(5, T - 25, ylabel)
+    ly = T
+    for k, (label, s) in enumerate(refs):
+        c = tuple(min(255, v + 110) for v in COLOURS[k % len(COLOURS)])
+        s = sorted(s)
+        for a, b in zip(s, s[1:]):
+            n = 12
+            for i in range(0, n, 2):
+                p = (a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n)
+                q = (a[0] + (b[0] - a[0]) * (i + 1) / n, a[1] + (b[1] - a[1]) * (i + 1) / n)
+                cv.line(X(p[0]), Y(p[1]), X(q[0]), Y(q[1]), c, 2)
+        cv.line(W - R + 10, ly + 7, W - R + 30, ly + 7, c, 2)
+        cv.text(W - R + 36, ly, label, c)
+        ly += 22
+    for k, (label, s) in enumerate(series):
+        c = COLOURS[k % len(COLOURS)]
+        s = sorted(s)
+        for a, b in zip(s, s[1:]):
+            cv.line(X(a[0]), Y(a[1]), X(b[0]), Y(b[1]), c, 2)
+        for p in s:
+            cv.box(X(p[0]), Y(p[1]), 4, c)
+        cv.box(W - R + 20, ly + 7, 4, c)
+        cv.text(W - R + 36, ly, label, c)
+        ly += 22
+    cv.png(path)
+
+
+# Thesis fits drawn as dashed references: Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
+REFERENCES = {
+    "lian6": [(f"LIAN ETA={eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)])
+              for eta, vo in (("0", 0.35), ("0.01", 0.44), ("0.1", 0.98))],
+    "lian7": [(f"LIAN ETA={eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.5, 0.7, 1, 1.5, 2, 3, 5)])
+              for eta, vo in (("0.001", 0.73), ("0.01", 0.91))],
+    "lian7_oblique": [("LIAN 0.342COS2", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
+    "olsson": [
+        ("OLSSON DRY", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
+        ("OLSSON 0.01", [(1.5, 0), (2, 0.2), (2.5, 0.4), (3, 3.1), (5.2, 24.6)]),
+        ("OLSSON 0.1", [(2, 0), (2.5, 0.15), (3, 1.4), (5.2, 17.0)]),
+        ("OLSSON 1", [(2.5, 0), (3, 0.05), (5.2, 6.5)]),
+    ],
+}
+REFERENCES["lian6_small"] = REFERENCES["lian6"]
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("table", nargs="?")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--work")
+    ap.add_argument("--only", action="append", default=[], help="key=value (run only matching runs)")
+    ap.add_argument("--force", action="store_true")
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--plot-only", action="store_true", help="only collect the logs and plot")
+    a = ap.parse_args()
+    if a.list or not a.table:
+        for name, t in TABLES.items():
+            print(f"{name}: {len(t['runs'])} runs of {t['script']}")
+            if a.list:
+                for r in t["runs"]:
+                    print("   ", run_name(r))
+        return
+    t = TABLES[a.table]
+    work = a.work or os.path.join(ROOT, "target", "experiments", a.table)
+    os.makedirs(os.path.join(work, "logs"), exist_ok=True)
+    os.makedirs(DATA, exist_ok=True)
+    exe = trubal_binary()
+    runs = [r for r in t["runs"] if all(str(r.get(k)) == v for k, v in (o.split("=", 1) for o in a.only))]
+
+    if not a.plot_only:
+        for script, sets, state in t["prepare"]:
+            if os.path.exists(os.path.join(work, state)) and not a.force:
+                continue
+            log = os.path.join(work, "logs", "prepare_" + state + ".log")
+            print(f"preparing {state} ({script}) ...", flush=True)
+            rc, dt = trubal(exe, script, sets, work, log)
+            print(f"  {state}: exit {rc}, {dt:.0f} s", flush=True)
+            if rc != 0:
+                sys.exit(f"preparation failed, see {log}")
+        with open(os.path.join(DATA, a.table + "_states.txt"), "w") as f:
+            for _, _, state in t["prepare"]:
+                line = state_summary(exe, work, state)
+                print(line, flush=True)
+                f.write(line + "\n")
+        cache = {}
+        todo = []
+        for r in runs:
+            log = os.path.join(work, "logs", run_name(r) + ".log")
+            if complete(log) and not a.force:
+                continue
+            todo.append((r, derive(t.get("derive"), exe, work, r, cache), log))
+        print(f"{a.table}: {len(todo)} runs to do of {len(runs)}, {a.jobs} at a time", flush=True)
+        with cf.ThreadPoolExecutor(max_workers=a.jobs) as ex:
+            futs = {ex.submit(trubal, exe, t["script"], sets, work, log): (r, log) for r, sets, log in todo}
+            for f in cf.as_completed(futs):
+                r, log = futs[f]
+                rc, dt = f.result()
+                print(f"  {run_name(r)}: exit {rc}, {dt:.0f} s", flush=True)
+
+    # Collect.
+    rows = []
+    for r in runs:
+        log = os.path.join(work, "logs", run_name(r) + ".log")
+        objs = json_lines(log)
+        m = measures(objs, r) if complete(log) else None
+        if m is None:
+            print(f"  (no result for {run_name(r)})")
+            continue
+        wall = ""
+        with open(log) as f:
+            for line in f:
+                if line.startswith("# exit"):
+                    wall = float(line.split()[4])
+        row = {k: v for k, v in r.items() if k not in ("state",)}
+        row.update(m)
+        row["wall_s"] = wall
+        rows.append(row)
+    if not rows:
+        return
+    keys = []
+    for row in rows:
+        for k in row:
+            if k not in keys:
+                keys.append(k)
+    out = os.path.join(DATA, a.table + ".csv")
+    with open(out, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    print("wrote", out)
+    group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
+    series = {}
+    for row in rows:
+        label = " ".join(f"{g}={row[g]}" for g in group)
+        series.setdefault(label, []).append((float(row[t["x"]]), float(row[t["y"]])))
+    png = os.path.join(DATA, a.table + ".png")
+    chart(png, t["title"], sorted(series.items()), t["x"].upper(), t["y"].upper(), t.get("logx", False),
+          REFERENCES.get(a.table, []))
+    print("wrote", png)
+
+
+if __name__ == "__main__":
+    main()
