@@ -151,7 +151,7 @@ fn facts(sc: &Scene) -> Value {
             "liquid_mode": format!("{:?}", st.liquid_mode), "periodic": st.periodic,
             "out_dir": st.out_dir, "view": format!("{:?}", st.view),
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
-            "two_d": st.two_d, "fraction": f(st.fraction), "window": st.window.map(|w| fs(&w)),
+            "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
         "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
         "zero_always": sc.zero_always,
