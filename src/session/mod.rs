@@ -290,7 +290,17 @@ fn scene_command(
                 );
             }
             warnings.extend(cycle::warnings(scene));
+            let t0 = std::time::Instant::now();
             cycle::run(scene, *n).map_err(|b| b.message)?;
+            // Benchmark hook (scripts/bench): wall-clock time of this Cycle on stderr.
+            if std::env::var_os("TRUBAL_TIMING").is_some() {
+                eprintln!(
+                    "TRUBAL_TIMING cycles={} balls={} cycle_wall_s={:.6}",
+                    n,
+                    scene.particles.len(),
+                    t0.elapsed().as_secs_f64()
+                );
+            }
         }
         Command::Print { items } => {
             for it in items {
