@@ -318,7 +318,26 @@ fn scene_command(
                 );
             }
             warnings.extend(cycle::warnings(scene));
+            // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle on stderr
+            // (CPU time of this thread from Linux's /proc/thread-self/schedstat, in ns).
+            let cpu_ns = || -> f64 {
+                std::fs::read_to_string("/proc/thread-self/schedstat")
+                    .ok()
+                    .and_then(|s| s.split_whitespace().next()?.parse().ok())
+                    .unwrap_or(f64::NAN)
+            };
+            let timing = std::env::var_os("TRUBAL_TIMING").is_some();
+            let (t0, c0) = (std::time::Instant::now(), if timing { cpu_ns() } else { 0.0 });
             cycle::run(scene, *n).map_err(|b| b.message)?;
+            if timing {
+                eprintln!(
+                    "TRUBAL_TIMING cycles={} balls={} cycle_wall_s={:.6} cycle_cpu_s={:.6}",
+                    n,
+                    scene.particles.len(),
+                    t0.elapsed().as_secs_f64(),
+                    (cpu_ns() - c0) * 1e-9
+                );
+            }
         }
         Command::Relax { kmax, fmax, nmax } => {
             warnings.extend(cycle::warnings(scene));

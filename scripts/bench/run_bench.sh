@@ -1,0 +1,138 @@
+#!/bin/bash
+# trubal vs. peer DEM codes (LIGGGHTS, LAMMPS) on the same scenes, in one run,
+# alternating the codes within every repetition (trubal, peer, trubal's next
+# scene, peer, ...), so that a change in machine load hits both alike.
+# Not part of `cargo test`. See scripts/bench/README.md.
+#
+# usage: scripts/bench/run_bench.sh
+# knobs (environment):
+#   OUT=dir              work/output folder (default: ./bench-out); results in OUT/results.tsv
+#   REPS=3               repetitions (medians reported); REP_START=1 first repetition number
+#   SCENES="s1 s2 moist" which scenes
+#   S1_SIZES="10000 50000"  S1_STEPS=20000  S1_STEPS_<N>=... per-size override (e.g. S1_STEPS_50000=10000)
+#   S2_STEPS=20000       agglomerate scenes (s2 = JKR, moist = bridges + dry reference)
+#   PEERS="liggghts lammps"  peers to run when installed (missing ones are skipped)
+#   PEER_RANKS="1"       MPI ranks for the peers ("1 2" adds 2-rank runs; trubal is serial)
+#   MOIST_LIGGGHTS=1     also run the LIGGGHTS easo/capillary/viscous deck (if present)
+#   QUIET_CORES=         if set (e.g. 1), wait before each run (up to MAX_WAIT=600 s) until
+#                        that many cores are idle (measured over 5 s)
+#   RETRIES=2            repeat a run that got < 90 % CPU up to this many times (all
+#                        attempts are recorded; summarize.py drops the disturbed ones)
+#   TRUBAL=path          the trubal binary (default: target/release/trubal of this tree)
+#   PEERS_DIR=/work/shared/peers   the peers' decks and generators
+# Requires: python3, /usr/bin/time (package `time`); peers from
+#   apt-get install -y --no-install-recommends liggghts lammps openmpi-bin time
+set -u
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+OUT=${OUT:-$PWD/bench-out}
+REPS=${REPS:-3}
+REP_START=${REP_START:-1}
+SCENES=${SCENES:-"s1 s2 moist"}
+S1_SIZES=${S1_SIZES:-"10000 50000"}
+S1_STEPS=${S1_STEPS:-20000}
+S2_STEPS=${S2_STEPS:-20000}
+PEERS=${PEERS:-"liggghts lammps"}
+PEER_RANKS=${PEER_RANKS:-"1"}
+MOIST_LIGGGHTS=${MOIST_LIGGGHTS:-1}
+MAX_WAIT=${MAX_WAIT:-600}
+TRUBAL=${TRUBAL:-$root/target/release/trubal}
+PEERS_DIR=${PEERS_DIR:-/work/shared/peers}
+MPIRUN="mpirun --allow-run-as-root --mca btl_vader_single_copy_mechanism none -np"
+
+[ -x "$TRUBAL" ] || { echo "no trubal binary at $TRUBAL: run 'cargo build --release' first" >&2; exit 1; }
+[ -x /usr/bin/time ] || { echo "/usr/bin/time is missing: apt-get install time" >&2; exit 1; }
+TRUBAL=$(cd "$(dirname "$TRUBAL")" && pwd)/$(basename "$TRUBAL")
+mkdir -p "$OUT/logs"
+OUT=$(cd "$OUT" && pwd)
+RES="$OUT/results.tsv"
+[ -f "$RES" ] || printf "scene\tcode\tN\tpar\tsteps\trep\twall_s\tloop_s\tcpu_s\tmaxrss_kB\tcontacts\textra\tloadavg_before\tcpu_pct\tloop_cpu_pct\n" > "$RES"
+
+have() {  # have PEER: the peer's binary is installed and wanted
+  case " $PEERS " in *" $1 "*) ;; *) return 1 ;; esac
+  case $1 in liggghts) command -v liggghts >/dev/null ;; lammps) command -v lmp >/dev/null ;; *) return 1 ;; esac
+}
+for p in $PEERS; do have "$p" || echo "note: peer $p is not installed: its runs are skipped"; done
+
+. "$here/lib.sh"
+
+peer_pre() { if [ "$1" = 1 ]; then echo ""; else echo "$MPIRUN $1"; fi; }
+
+# ---------------------------------------------------------------- inputs
+case " $SCENES " in *" s1 "*)
+  for n in $S1_SIZES; do
+    [ -f "$OUT/bed$n.data" ] || python3 "$PEERS_DIR/s1_settle/gen_bed.py" "$n" "$OUT/bed$n.data" 12345
+    # trubal: CReate the bed once and save it (CReate is O(N) per particle); timed runs RESTart it.
+    if [ ! -f "$OUT/bed$n.sav" ] || [ "$TRUBAL" -nt "$OUT/bed$n.sav" ]; then
+      echo "building trubal checkpoint bed$n.sav (N=$n, CReate lines; takes a while for large N)"
+      python3 "$here/bed2tru.py" "$OUT/bed$n.data" "$OUT/build_bed$n.tru" 0 "bed$n.sav"
+      (cd "$OUT" && /usr/bin/time -f "  build: %e s wall, %M kB" "$TRUBAL" build_bed$n.tru > "$OUT/logs/build_bed$n.out" 2>&1) \
+        || { echo "building bed$n.sav failed: see $OUT/logs/build_bed$n.out" >&2; exit 1; }
+      tail -1 "$OUT/logs/build_bed$n.out"
+    fi
+  done
+;; esac
+case " $SCENES " in *" s2 "*|*" moist "*)
+  for v in jkr dry moist; do
+    python3 "$here/agg2tru.py" "$v" "$S2_STEPS" "$OUT/agg_$v.tru" > "$OUT/agg_$v.info"
+  done
+  if have lammps; then
+    agg_info=$(python3 "$PEERS_DIR/s2_agglomerate/gen_agglomerate.py" "$OUT/agg.data")
+    zbot=$(echo "$agg_info" | sed -n 's/.*zbottom=\([-0-9.e+]*\).*/\1/p')
+    zwall=$(python3 -c "print('%.15e' % ($zbot - 1.0e-6))")
+  fi
+;; esac
+
+REP_END=$((REP_START + REPS - 1))
+for rep in $(seq "$REP_START" "$REP_END"); do
+  echo "=== repetition $rep ($REP_START..$REP_END)  $(date -u +%H:%M:%S)"
+  case " $SCENES " in *" s1 "*)
+    for n in $S1_SIZES; do
+      v="S1_STEPS_$n"; steps=${!v:-$S1_STEPS}
+      d="$OUT/s1_N${n}_rep$rep"; mkdir -p "$d"
+      printf "restart bed%s.sav\ncycle %s\nprint info\n" "$n" "$steps" > "$OUT/run_bed${n}_$steps.tru"
+      (cd "$OUT" && run_timed s1 trubal "$n" serial "$steps" "$rep" "$OUT/logs/s1_trubal_N${n}_r$rep" \
+        "$TRUBAL" "run_bed${n}_$steps.tru")
+      for np in $PEER_RANKS; do
+        pre=$(peer_pre "$np")
+        have liggghts && (cd "$d" && run_timed s1 liggghts "$n" "np$np" "$steps" "$rep" "$OUT/logs/s1_liggghts_N${n}_np${np}_r$rep" \
+          $pre liggghts -in "$PEERS_DIR/s1_settle/in.settle.liggghts" -var data "$OUT/bed$n.data" -var nsteps "$steps" -var px "$np" -log none)
+        have lammps && (cd "$d" && run_timed s1 lammps "$n" "np$np" "$steps" "$rep" "$OUT/logs/s1_lammps_N${n}_np${np}_r$rep" \
+          $pre lmp -in "$PEERS_DIR/s1_settle/in.settle.lammps" -var data "$OUT/bed$n.data" -var nsteps "$steps" -var px "$np" -log none -nocite)
+      done
+    done
+  ;; esac
+  case " $SCENES " in *" s2 "*)
+    n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_jkr.info")
+    (cd "$OUT" && run_timed s2 trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/s2_trubal_r$rep" "$TRUBAL" agg_jkr.tru)
+    if have lammps; then
+      n0=$(sed -n 's/.*N=\([0-9]*\).*/\1/p' <<< "$agg_info")
+      for np in $PEER_RANKS; do
+        d="$OUT/s2_np${np}_rep$rep"; mkdir -p "$d"
+        pre=$(peer_pre "$np")
+        (cd "$d" && run_timed s2 lammps "$n0" "np$np" "$S2_STEPS" "$rep" "$OUT/logs/s2_lammps_np${np}_r$rep" \
+          $pre lmp -in "$PEERS_DIR/s2_agglomerate/in.agglomerate.lammps" -var data "$OUT/agg.data" -var zwall "$zwall" \
+          -var nsteps "$S2_STEPS" -var px "$np" -var vimp 1.0 -var outdir "$d" -log none -nocite)
+      done
+    fi
+  ;; esac
+  case " $SCENES " in *" moist "*)
+    n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_dry.info")
+    (cd "$OUT" && run_timed dry trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/dry_trubal_r$rep" "$TRUBAL" agg_dry.tru)
+    if [ "$MOIST_LIGGGHTS" = 1 ] && have liggghts && [ -f "$here/in.agglomerate_moist.liggghts" ]; then
+      d="$OUT/moist_lig_rep$rep"; mkdir -p "$d"
+      python3 "$here/agg2tru.py" data "$OUT/agg_lig.data" > "$OUT/agg_lig.info"
+      zw=$(sed -n 's/.*zwall=\([-0-9.e+]*\).*/\1/p' "$OUT/agg_lig.info")
+      for wet in 0 1; do
+        sc=dry; [ "$wet" = 1 ] && sc=moist
+        (cd "$d" && run_timed "$sc" liggghts "$n" np1 "$S2_STEPS" "$rep" "$OUT/logs/${sc}_liggghts_r$rep" \
+          liggghts -in "$here/in.agglomerate_moist.liggghts" -var data "$OUT/agg_lig.data" -var zwall "$zw" \
+          -var nsteps "$S2_STEPS" -var wet "$wet" -log none)
+      done
+    fi
+    (cd "$OUT" && run_timed moist trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/moist_trubal_r$rep" "$TRUBAL" agg_moist.tru)
+  ;; esac
+done
+
+echo
+python3 "$here/summarize.py" "$RES"
