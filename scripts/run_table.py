@@ -366,6 +366,7 @@ def measures(objs, run):
     debris = c["debris"] + lost
     rest = c["sizes"][1:]
     big = sum(s for s in rest if s > 10)
+    two = "theta" in run and "largest_by_agglomerate" in c  # two agglomerates (Lian ch. 7)
     ke0 = b["incident_kinetic"]
     d0, d1 = e0["dissipated"], e1["dissipated"]
 
@@ -399,7 +400,10 @@ def measures(objs, run):
         "singles_and_pairs": n - sum(c["fragments"]),
         "olsson_damage_ratio": b["damage_ratio"] - b["new_ratio"],
         "capture_ratio": c["capture_ratio"],
-        "coalesced": c.get("coalesced", ""),
+        # Both agglomerates (of n/2 particles each) mostly in the largest cluster (the same
+        # rule as PRint CLUsters' `coalesced`, recomputed for logs of older binaries).
+        "coalesced": (min(c["largest_by_agglomerate"][1:]) > n / 4) if two else "",
+        "largest_from_1_2": "/".join(str(x) for x in c["largest_by_agglomerate"][1:]) if two else "",
         "fractal_dimension": c["fractal_dimension"],
         "delta": b["delta"],
         "incident_kinetic": ke0,
