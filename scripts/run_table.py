@@ -86,6 +86,13 @@ def lian7_oblique_runs():
     ]
 
 
+def lian7_oblique_long_runs():
+    return [
+        {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025", "n": "30000"}
+        for t in ["45", "60"]
+    ]
+
+
 def olsson_runs():
     runs = []
     for v in ["0.5", "1", "1.5", "2", "2.5", "3"]:
@@ -136,8 +143,29 @@ TABLES = {
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
+        "work": "lian7",  # shares the prepared state (and the log directory) with lian7
         "runs": lian7_oblique_runs(),
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
+    "lian7_oblique_long": {
+        "title": "LIAN CH7 OBLIQUE 2 M/S, 1.1 MS",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "runs": lian7_oblique_long_runs(),
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
+    # with it: 2 ns).
+    "lian7_smin": {
+        "title": "LIAN CH7 2 M/S, S_MIN = 30 NM",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "work": "lian7",
+        "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8"}],
+        "x": "v", "group": ("eta", "smin"), "y": "e_viscous", "logx": False,
     },
     "olsson": {
         "title": "OLSSON 4000 POLYDISPERSE: FRAGMENTATION % VS V",
@@ -303,7 +331,8 @@ def derive(kind, exe, work, run, cache):
                 "v1y": f"{0.5 * v * math.sin(th):.10g}",
                 "v2x": f"{-0.5 * v * math.cos(th):.10g}",
                 "v2y": f"{-0.5 * v * math.sin(th):.10g}",
-                "n": "12000",
+                "n": run.get("n", "12000"),
+                "smin": run.get("smin", "default"),
             }
         )
     elif kind == "olsson":
@@ -337,6 +366,7 @@ def measures(objs, run):
     debris = c["debris"] + lost
     rest = c["sizes"][1:]
     big = sum(s for s in rest if s > 10)
+    two = "theta" in run and "largest_by_agglomerate" in c  # two agglomerates (Lian ch. 7)
     ke0 = b["incident_kinetic"]
     d0, d1 = e0["dissipated"], e1["dissipated"]
 
@@ -370,7 +400,10 @@ def measures(objs, run):
         "singles_and_pairs": n - sum(c["fragments"]),
         "olsson_damage_ratio": b["damage_ratio"] - b["new_ratio"],
         "capture_ratio": c["capture_ratio"],
-        "coalesced": c.get("coalesced", ""),
+        # Both agglomerates (of n/2 particles each) mostly in the largest cluster (the same
+        # rule as PRint CLUsters' `coalesced`, recomputed for logs of older binaries).
+        "coalesced": (min(c["largest_by_agglomerate"][1:]) > n / 4) if two else "",
+        "largest_from_1_2": "/".join(str(x) for x in c["largest_by_agglomerate"][1:]) if two else "",
         "fractal_dimension": c["fractal_dimension"],
         "delta": b["delta"],
         "incident_kinetic": ke0,
@@ -468,11 +501,16 @@ def fmt_tick(v):
 
 def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
     """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])]."""
-    W, H, L, R, T, B = 900, 600, 90, 230, 50, 70
+    W, H, L, R, T, B = 900, 600, 90, 230, 60, 70
     cv = Canvas(W, H)
-    pts = [p for _, s in list(series) + list(refs) for p in s]
-    if not pts:
+    data = [p for _, s in series for p in s]
+    if not data:
         return
+    # Reference curves only over the data's x range, capped at the data's largest y or 1.
+    xa, xb = min(p[0] for p in data), max(p[0] for p in data)
+    ycap = max(1.0, max(p[1] for p in data))
+    refs = [(lab, [(x, min(y, ycap)) for x, y in s if xa <= x <= xb]) for lab, s in refs]
+    pts = data + [p for _, s in refs for p in s]
     fx = (lambda v: math.log10(v)) if logx else (lambda v: v)
     xs = [fx(p[0]) for p in pts]
     ys = [p[1] for p in pts]
@@ -506,9 +544,9 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
     for t in ticks:
         cv.line(X(t), H - B, X(t), H - B + 5, (0, 0, 0))
         cv.text(X(t) - 10, H - B + 10, fmt_tick(t))
-    cv.text(L, 12, title)
+    cv.text(L, 8, title)
     cv.text((W - R) // 2 - 30, H - 25, xlabel)
-    cv.text(5, T - 25, ylabel)
+    cv.text(5, T - 20, ylabel)
     ly = T
     for k, (label, s) in enumerate(refs):
         c = tuple(min(255, v + 110) for v in COLOURS[k % len(COLOURS)])
@@ -552,6 +590,28 @@ REFERENCES = {
 REFERENCES["lian6_small"] = REFERENCES["lian6"]
 
 
+def fit_thresholds(series, lo=0.02, hi=0.95):
+    """Lian's D_r = log10(v / v_o) per series: v_o with the slope fixed at 1 (mean of
+    log10 v - D_r), and a free least-squares line D_r = s log10(v / v_o'), over the points
+    with lo < D_r < hi."""
+    lines = []
+    for label, pts in sorted(series.items()):
+        p = [(math.log10(v), d) for v, d in pts if lo < d < hi]
+        if not p:
+            lines.append(f"{label}: no point with {lo} < D_r < {hi}")
+            continue
+        vo = 10 ** (sum(x - d for x, d in p) / len(p))
+        txt = f"{label}: v_o = {vo:.3f} m/s (slope 1, {len(p)} points)"
+        if len(p) > 1:
+            mx = sum(x for x, _ in p) / len(p)
+            md = sum(d for _, d in p) / len(p)
+            sxx = sum((x - mx) ** 2 for x, _ in p)
+            slope = sum((x - mx) * (d - md) for x, d in p) / sxx
+            txt += f"; free fit: slope {slope:.3f}, v_o = {10 ** (mx - md / slope):.3f} m/s"
+        lines.append(txt)
+    return lines
+
+
 # ---------------------------------------------------------------------------------------------
 
 
@@ -573,7 +633,7 @@ def main():
                     print("   ", run_name(r))
         return
     t = TABLES[a.table]
-    work = a.work or os.path.join(ROOT, "target", "experiments", a.table)
+    work = a.work or os.path.join(ROOT, "target", "experiments", t.get("work", a.table))
     os.makedirs(os.path.join(work, "logs"), exist_ok=True)
     os.makedirs(DATA, exist_ok=True)
     exe = trubal_binary()
@@ -589,11 +649,6 @@ def main():
             print(f"  {state}: exit {rc}, {dt:.0f} s", flush=True)
             if rc != 0:
                 sys.exit(f"preparation failed, see {log}")
-        with open(os.path.join(DATA, a.table + "_states.txt"), "w") as f:
-            for _, _, state in t["prepare"]:
-                line = state_summary(exe, work, state)
-                print(line, flush=True)
-                f.write(line + "\n")
         cache = {}
         todo = []
         for r in runs:
@@ -610,6 +665,13 @@ def main():
                 print(f"  {run_name(r)}: exit {rc}, {dt:.0f} s", flush=True)
 
     # Collect.
+    states = [st for _, _, st in t["prepare"] if os.path.exists(os.path.join(work, st))]
+    if states:
+        with open(os.path.join(DATA, a.table + "_states.txt"), "w") as f:
+            for state in states:
+                line = state_summary(exe, work, state)
+                print(line, flush=True)
+                f.write(line + "\n")
     rows = []
     for r in runs:
         log = os.path.join(work, "logs", run_name(r) + ".log")
@@ -646,6 +708,12 @@ def main():
     for row in rows:
         label = " ".join(f"{g}={row[g]}" for g in group)
         series.setdefault(label, []).append((float(row[t["x"]]), float(row[t["y"]])))
+    if t["x"] == "v" and t["y"] == "damage_ratio":
+        fits = fit_thresholds(series)
+        with open(os.path.join(DATA, a.table + "_fit.txt"), "w") as f:
+            for line in fits:
+                print(line)
+                f.write(line + "\n")
     png = os.path.join(DATA, a.table + ".png")
     chart(png, t["title"], sorted(series.items()), t["x"].upper(), t["y"].upper(), t.get("logx", False),
           REFERENCES.get(a.table, []))

@@ -248,13 +248,19 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
             .map(|(l, _)| *l);
         (0..p.len()).filter(|&k| Some(labels[k]) == best).collect()
     };
-    // Where the largest cluster's particles come from (agglomerate 0 = none, 1, 2): both
-    // agglomerates in it means they coalesced (Lian ch. 7).
+    // Where the largest cluster's particles come from (agglomerate 0 = none, 1, 2). The two
+    // agglomerates coalesced (Lian ch. 7) when it holds most of each (a few particles carried
+    // across by a grazing contact do not count).
     let mut largest_by_agglomerate = [0usize; 3];
+    let mut by_agglomerate = [0usize; 3];
     for &k in &largest_members {
         largest_by_agglomerate[(p.agg[k] as usize).min(2)] += 1;
     }
-    let coalesced = largest_by_agglomerate[1] > 0 && largest_by_agglomerate[2] > 0;
+    for &a in &p.agg {
+        by_agglomerate[(a as usize).min(2)] += 1;
+    }
+    let coalesced =
+        (1..3).all(|a| by_agglomerate[a] > 0 && 2 * largest_by_agglomerate[a] > by_agglomerate[a]);
     let df = fractal_dimension(
         &largest_members
             .iter()
