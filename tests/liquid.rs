@@ -189,6 +189,17 @@ fn conserving_mode_keeps_the_liquid() {
     assert!(sc.particles.liquid.iter().all(|&l| l >= 0.0));
     let res = energy::residual(&sc);
     assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+    // Re-issuing `LIQuid` with another viscosity (same content) adds no liquid.
+    if let Some(l) = sc.liquid.as_mut() {
+        l.eta *= 0.5;
+    }
+    liquid::reissue(&mut sc);
+    let (f2, b2) = liquid::total_liquid(&sc);
+    assert!(
+        ((f2 + b2) - total0).abs() < 1e-12 * total0,
+        "liquid after re-issue {} vs {total0}",
+        f2 + b2
+    );
 }
 
 #[test]

@@ -108,7 +108,8 @@ pub fn total_liquid(scene: &Scene) -> (f64, f64) {
 
 /// Applies new liquid parameters to the existing bridges (Lian's mode: new nominal volume;
 /// conserving mode: bridges keep their liquid) and, in the conserving mode, gives every
-/// particle its liquid content pvol % of its volume.
+/// particle its liquid content pvol % of its volume, less what its live bridges hold of it
+/// (so re-issuing `LIQuid` to change the viscosity or surface tension adds no liquid).
 pub fn reissue(scene: &mut Scene) {
     let Some(l) = scene.liquid else { return };
     let model = super::interact::bridge_model(scene.settings.bridge);
@@ -117,6 +118,20 @@ pub fn reissue(scene: &mut Scene) {
     if conserve {
         for i in 0..p.len() {
             p.liquid[i] = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+        }
+        for c in &scene.contacts.pairs {
+            if let Some(b) = &c.s.bridge {
+                p.liquid[c.i as usize] -= b.share[0];
+                p.liquid[c.j as usize] -= b.share[1];
+            }
+        }
+        for c in &scene.contacts.wall_pairs {
+            if let Some(b) = &c.s.bridge {
+                p.liquid[c.i as usize] -= b.share[0];
+            }
+        }
+        for x in p.liquid.iter_mut() {
+            *x = x.max(0.0);
         }
     }
     let update = |b: &mut BridgeState, r1: f64, r2: f64| {
