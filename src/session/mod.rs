@@ -327,7 +327,10 @@ fn scene_command(
                     .unwrap_or(f64::NAN)
             };
             let timing = std::env::var_os("TRUBAL_TIMING").is_some();
-            let (t0, c0) = (std::time::Instant::now(), if timing { cpu_ns() } else { 0.0 });
+            let (t0, c0) = (
+                std::time::Instant::now(),
+                if timing { cpu_ns() } else { 0.0 },
+            );
             cycle::run(scene, *n).map_err(|b| b.message)?;
             if timing {
                 eprintln!(
