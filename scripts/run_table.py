@@ -502,7 +502,7 @@ def fmt_tick(v):
     return f"{v:.3g}"
 
 
-def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
+def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
     """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])]."""
     W, H, L, R, T, B = 900, 600, 90, 230, 60, 70
     cv = Canvas(W, H)
@@ -549,7 +549,7 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
         cv.text(X(t) - 10, H - B + 10, fmt_tick(t))
     cv.text(L, 8, title)
     cv.text((W - R) // 2 - 30, H - 25, xlabel)
-    cv.text(5, T - 20, ylabel)
+    cv.text(5, 30, ylabel)
     ly = T
     for k, (label, s) in enumerate(refs):
         c = tuple(min(255, v + 110) for v in COLOURS[k % len(COLOURS)])
@@ -563,6 +563,8 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
         cv.line(W - R + 10, ly + 7, W - R + 30, ly + 7, c, 2)
         cv.text(W - R + 36, ly, label, c)
         ly += 22
+    cv.text(W - R + 10, ly + 4, legend)
+    ly += 22
     for k, (label, s) in enumerate(series):
         c = COLOURS[k % len(COLOURS)]
         s = sorted(s)
@@ -578,10 +580,10 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=()):
 
 # Thesis fits drawn as dashed references: Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
 REFERENCES = {
-    "lian6": [(f"LIAN ETA={eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)])
+    "lian6": [(f"LIAN {eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)])
               for eta, vo in (("0", 0.35), ("0.01", 0.44), ("0.1", 0.98))],
-    "lian7": [(f"LIAN ETA={eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.5, 0.7, 1, 1.5, 2, 3, 5)])
-              for eta, vo in (("0.001", 0.73), ("0.01", 0.91))],
+    "lian7": [(f"LIAN {lab}", [(v, max(0.0, math.log10(v / vo))) for v in (0.5, 0.7, 1, 1.2, 1.5, 2, 3, 4, 5)])
+              for lab, vo in (("0.001/0.025", 0.73), ("0.01/0.025", 0.91), ("0.01/0.05", 1.19))],
     "lian7_oblique": [("LIAN 0.342COS2", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
     "olsson": [
         ("OLSSON DRY", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
@@ -709,7 +711,7 @@ def main():
     group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
     series = {}
     for row in rows:
-        label = " ".join(f"{g}={row[g]}" for g in group)
+        label = "/".join(str(row[g]) for g in group)
         series.setdefault(label, []).append((float(row[t["x"]]), float(row[t["y"]])))
     if t["x"] == "v" and t["y"] == "damage_ratio":
         fits = fit_thresholds(series)
@@ -719,7 +721,7 @@ def main():
                 f.write(line + "\n")
     png = os.path.join(DATA, a.table + ".png")
     chart(png, t["title"], sorted(series.items()), t["x"].upper(), t["y"].upper(), t.get("logx", False),
-          REFERENCES.get(a.table, []))
+          REFERENCES.get(a.table, []), "OURS " + "/".join(group).upper())
     print("wrote", png)
 
 
