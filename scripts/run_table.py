@@ -89,7 +89,7 @@ def lian7_oblique_runs():
 def lian7_oblique_long_runs():
     return [
         {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025", "n": "30000"}
-        for t in ["45", "60"]
+        for t in ["15", "30", "45", "60"]
     ]
 
 
@@ -157,14 +157,15 @@ TABLES = {
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
-    # with it: 2 ns).
+    # with it).
     "lian7_smin": {
         "title": "LIAN CH7 2 M/S, S_MIN = 30 NM",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
         "work": "lian7",
-        "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8"}],
+        # The step is 3.43 ns instead of 9.2: 4 x 32,200 steps = 442 us as the other runs.
+        "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8", "n": "32200"}],
         "x": "v", "group": ("eta", "smin"), "y": "e_viscous", "logx": False,
     },
     "olsson": {
