@@ -103,6 +103,10 @@ def olsson_runs():
     return runs
 
 
+def olsson_long_runs():
+    return [{"liquid": "dry", "v": v, "n": "17200"} for v in ["1", "1.5", "2", "3"]]
+
+
 TABLES = {
     "lian6": {
         "title": "LIAN CH6 WALL IMPACT 4062 BCC: DAMAGE RATIO VS V",
@@ -179,6 +183,15 @@ TABLES = {
         ],
         "derive": "olsson",
         "runs": olsson_runs(),
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+    # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
+    "olsson_long": {
+        "title": "OLSSON DRY, 2.4 MS: FRAGMENTATION % VS V",
+        "script": "olsson_impact.tru",
+        "prepare": [("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav")],
+        "derive": "olsson",
+        "runs": olsson_long_runs(),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
 }
@@ -342,7 +355,7 @@ def derive(kind, exe, work, run, cache):
         if key not in cache:
             cache[key] = wall_height(exe, work, state)
         # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
-        n = "4300" if run["liquid"] == "dry" else "12500"
+        n = run.get("n", "4300" if run["liquid"] == "dry" else "12500")
         sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n}
     return sets
 
@@ -594,6 +607,7 @@ REFERENCES = {
     ],
 }
 REFERENCES["lian6_small"] = REFERENCES["lian6"]
+REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 
 
 def fit_thresholds(series, lo=0.02, hi=0.95):
