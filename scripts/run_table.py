@@ -89,7 +89,7 @@ def lian7_oblique_runs():
 def lian7_oblique_long_runs():
     return [
         {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025", "n": "30000"}
-        for t in ["45", "60"]
+        for t in ["15", "30", "45", "60"]
     ]
 
 
@@ -101,6 +101,10 @@ def olsson_runs():
         for v in ["1", "2", "3", "5.2"]:
             runs.append({"liquid": pvol, "v": v})
     return runs
+
+
+def olsson_long_runs():
+    return [{"liquid": "dry", "v": v, "n": "17200"} for v in ["1", "1.5", "2", "3"]]
 
 
 TABLES = {
@@ -157,14 +161,15 @@ TABLES = {
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
-    # with it: 2 ns).
+    # with it).
     "lian7_smin": {
         "title": "LIAN CH7 2 M/S, S_MIN = 30 NM",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
         "work": "lian7",
-        "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8"}],
+        # The step is 3.43 ns instead of 9.2: 4 x 32,200 steps = 442 us as the other runs.
+        "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8", "n": "32200"}],
         "x": "v", "group": ("eta", "smin"), "y": "e_viscous", "logx": False,
     },
     "olsson": {
@@ -178,6 +183,15 @@ TABLES = {
         ],
         "derive": "olsson",
         "runs": olsson_runs(),
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+    # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
+    "olsson_long": {
+        "title": "OLSSON DRY, 2.4 MS: FRAGMENTATION % VS V",
+        "script": "olsson_impact.tru",
+        "prepare": [("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav")],
+        "derive": "olsson",
+        "runs": olsson_long_runs(),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
 }
@@ -341,7 +355,7 @@ def derive(kind, exe, work, run, cache):
         if key not in cache:
             cache[key] = wall_height(exe, work, state)
         # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
-        n = "4300" if run["liquid"] == "dry" else "12500"
+        n = run.get("n", "4300" if run["liquid"] == "dry" else "12500")
         sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n}
     return sets
 
@@ -593,6 +607,7 @@ REFERENCES = {
     ],
 }
 REFERENCES["lian6_small"] = REFERENCES["lian6"]
+REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 
 
 def fit_thresholds(series, lo=0.02, hi=0.95):
