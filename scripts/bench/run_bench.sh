@@ -12,7 +12,8 @@
 #   S1_SIZES="10000 50000"  S1_STEPS=20000  S1_STEPS_<N>=... per-size override (e.g. S1_STEPS_50000=10000)
 #   S2_STEPS=20000       agglomerate scenes (s2 = JKR, moist = bridges + dry reference)
 #   PEERS="liggghts lammps"  peers to run when installed (missing ones are skipped)
-#   PEER_RANKS="1"       MPI ranks for the peers ("1 2" adds 2-rank runs; trubal is serial)
+#   PEER_RANKS="1"       MPI ranks for the peers ("1 2" adds 2-rank runs)
+#   TRUBAL_THREADS="1 2" trubal thread counts (--threads; par label t1, t2)
 #   MOIST_LIGGGHTS=1     also run the LIGGGHTS easo/capillary/viscous deck (if present)
 #   QUIET_CORES=         if set (e.g. 1), wait before each run (up to MAX_WAIT=600 s) until
 #                        that many cores are idle (measured over 5 s)
@@ -34,6 +35,7 @@ S1_STEPS=${S1_STEPS:-20000}
 S2_STEPS=${S2_STEPS:-20000}
 PEERS=${PEERS:-"liggghts lammps"}
 PEER_RANKS=${PEER_RANKS:-"1"}
+TRUBAL_THREADS=${TRUBAL_THREADS:-"1 2"}
 MOIST_LIGGGHTS=${MOIST_LIGGGHTS:-1}
 MAX_WAIT=${MAX_WAIT:-600}
 TRUBAL=${TRUBAL:-$root/target/release/trubal}
@@ -91,8 +93,10 @@ for rep in $(seq "$REP_START" "$REP_END"); do
       v="S1_STEPS_$n"; steps=${!v:-$S1_STEPS}
       d="$OUT/s1_N${n}_rep$rep"; mkdir -p "$d"
       printf "restart bed%s.sav\ncycle %s\nprint info\n" "$n" "$steps" > "$OUT/run_bed${n}_$steps.tru"
-      (cd "$OUT" && run_timed s1 trubal "$n" serial "$steps" "$rep" "$OUT/logs/s1_trubal_N${n}_r$rep" \
-        "$TRUBAL" "run_bed${n}_$steps.tru")
+      for t in $TRUBAL_THREADS; do
+        (cd "$OUT" && run_timed s1 trubal "$n" "t$t" "$steps" "$rep" "$OUT/logs/s1_trubal_N${n}_t${t}_r$rep" \
+          "$TRUBAL" --threads "$t" "run_bed${n}_$steps.tru")
+      done
       for np in $PEER_RANKS; do
         pre=$(peer_pre "$np")
         have liggghts && (cd "$d" && run_timed s1 liggghts "$n" "np$np" "$steps" "$rep" "$OUT/logs/s1_liggghts_N${n}_np${np}_r$rep" \
@@ -104,7 +108,9 @@ for rep in $(seq "$REP_START" "$REP_END"); do
   ;; esac
   case " $SCENES " in *" s2 "*)
     n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_jkr.info")
-    (cd "$OUT" && run_timed s2 trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/s2_trubal_r$rep" "$TRUBAL" agg_jkr.tru)
+    for t in $TRUBAL_THREADS; do
+      (cd "$OUT" && run_timed s2 trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/s2_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_jkr.tru)
+    done
     if have lammps; then
       n0=$(sed -n 's/.*N=\([0-9]*\).*/\1/p' <<< "$agg_info")
       for np in $PEER_RANKS; do
@@ -118,7 +124,9 @@ for rep in $(seq "$REP_START" "$REP_END"); do
   ;; esac
   case " $SCENES " in *" moist "*)
     n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_dry.info")
-    (cd "$OUT" && run_timed dry trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/dry_trubal_r$rep" "$TRUBAL" agg_dry.tru)
+    for t in $TRUBAL_THREADS; do
+      (cd "$OUT" && run_timed dry trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/dry_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_dry.tru)
+    done
     if [ "$MOIST_LIGGGHTS" = 1 ] && have liggghts && [ -f "$here/in.agglomerate_moist.liggghts" ]; then
       d="$OUT/moist_lig_rep$rep"; mkdir -p "$d"
       python3 "$here/agg2tru.py" data "$OUT/agg_lig.data" > "$OUT/agg_lig.info"
@@ -130,7 +138,9 @@ for rep in $(seq "$REP_START" "$REP_END"); do
           -var nsteps "$S2_STEPS" -var wet "$wet" -log none)
       done
     fi
-    (cd "$OUT" && run_timed moist trubal "$n" serial "$S2_STEPS" "$rep" "$OUT/logs/moist_trubal_r$rep" "$TRUBAL" agg_moist.tru)
+    for t in $TRUBAL_THREADS; do
+      (cd "$OUT" && run_timed moist trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/moist_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_moist.tru)
+    done
   ;; esac
 done
 

@@ -37,7 +37,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
     for n in $SCALE_SIZES; do
       deck="scale_${kind}_$n.tru"
       nn=$(python3 "$here/scale2tru.py" "$kind" "$n" "$SCALE_STEPS" "$OUT/$deck" | sed -n 's/^N=\([0-9]*\).*/\1/p')
-      (cd "$OUT" && run_timed "$kind" trubal "$nn" serial "$SCALE_STEPS" "$rep" "$OUT/logs/scale_${kind}_N${n}_r$rep" "$TRUBAL" "$deck")
+      (cd "$OUT" && run_timed "$kind" trubal "$nn" "t${SCALE_THREADS:-1}" "$SCALE_STEPS" "$rep" "$OUT/logs/scale_${kind}_N${n}_r$rep" "$TRUBAL" --threads "${SCALE_THREADS:-1}" "$deck")
     done
   done
 done

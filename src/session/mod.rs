@@ -319,12 +319,17 @@ fn scene_command(
             }
             warnings.extend(cycle::warnings(scene));
             // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle on stderr
-            // (CPU time of this thread from Linux's /proc/thread-self/schedstat, in ns).
+            // (CPU time of all the process's threads, the rayon workers included, from Linux's
+            // /proc/self/task/*/schedstat, in ns).
             let cpu_ns = || -> f64 {
-                std::fs::read_to_string("/proc/thread-self/schedstat")
-                    .ok()
-                    .and_then(|s| s.split_whitespace().next()?.parse().ok())
-                    .unwrap_or(f64::NAN)
+                let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+                    return f64::NAN;
+                };
+                tasks
+                    .flatten()
+                    .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+                    .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+                    .sum()
             };
             let timing = std::env::var_os("TRUBAL_TIMING").is_some();
             let (t0, c0) = (

@@ -149,6 +149,17 @@ pub struct PairForce {
     pub m: Vec3,
 }
 
+/// The part of a candidate pair the force loop reads for every pair, kept apart from the
+/// ~300-byte [`ContactState`] so that far-apart pairs without a bond cost one small read
+/// (derived from `pairs`; rebuilt with the adjacency).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HotPair {
+    pub i: u32,
+    pub j: u32,
+    /// The pair had a solid contact or a bridge after its last evaluation.
+    pub live: bool,
+}
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved).
@@ -160,6 +171,9 @@ pub struct ContactStore {
     pub adj_start: Vec<u32>,
     #[serde(skip)]
     pub adj: Vec<u32>,
+    /// Indices and liveness of `pairs`, in the same order. Derived; rebuilt with `adj`.
+    #[serde(skip)]
+    pub hot: Vec<HotPair>,
     pub pairs: Vec<Pair>,
     pub wall_pairs: Vec<WallPair>,
     /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
@@ -233,10 +247,18 @@ impl ContactStore {
         self.out.clear();
         self.adj_start.clear();
         self.adj.clear();
+        self.hot.clear();
     }
 
-    /// Builds the particle → pairs adjacency (counting sort: deterministic order).
+    /// Builds the particle → pairs adjacency (counting sort: deterministic order) and the
+    /// compact [`HotPair`] list.
     pub fn build_adjacency(&mut self, np: usize) {
+        self.hot.clear();
+        self.hot.extend(self.pairs.iter().map(|c| HotPair {
+            i: c.i,
+            j: c.j,
+            live: c.s.touching || c.s.bridge.is_some(),
+        }));
         let mut count = vec![0u32; np + 1];
         for c in &self.pairs {
             count[c.i as usize + 1] += 1;

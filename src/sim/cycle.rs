@@ -205,6 +205,8 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         return Ok(model);
     }
     let (tol, xres) = search_distances(scene, &model);
+    // Commands may have changed contact states between Cycles: derive the pair liveness anew.
+    scene.contacts.clear_derived();
     if scene.contacts.stale {
         prime(scene, &model, tol);
     } else if scene.contacts.tol != tol {
@@ -342,15 +344,19 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
         let periodic = scene.settings.periodic;
         let p = &scene.particles;
         let store = &mut scene.contacts;
+        if store.adj_start.len() != np + 1 || store.hot.len() != store.pairs.len() {
+            store.build_adjacency(np);
+        }
         store.out.resize(store.pairs.len(), PairForce::default());
         let chunk_acc: Vec<Acc> = store
-            .pairs
+            .hot
             .par_chunks_mut(CHUNK)
+            .zip(store.pairs.par_chunks_mut(CHUNK))
             .zip(store.out.par_chunks_mut(CHUNK))
-            .map(|(pairs, outs)| {
+            .map(|((hots, pairs), outs)| {
                 let mut acc = Acc::default();
-                for (c, o) in pairs.iter_mut().zip(outs.iter_mut()) {
-                    let (i, j) = (c.i as usize, c.j as usize);
+                for (e, (h, o)) in hots.iter_mut().zip(outs.iter_mut()).enumerate() {
+                    let (i, j) = (h.i as usize, h.j as usize);
                     let mut d = p.pos[j] - p.pos[i];
                     for k in 0..3 {
                         if periodic[k] {
@@ -363,10 +369,11 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                     // includes the round-off allowance of bridge formation (gap ≤ 1e-6 R,
                     // interact.rs), so pairs that touch exactly (lattices) are not skipped.
                     let reach = (ri + rj) * (1.0 + 1e-6);
-                    if dist2 > reach * reach && !c.s.touching && c.s.bridge.is_none() {
+                    if dist2 > reach * reach && !h.live {
                         *o = PairForce::default();
                         continue;
                     }
+                    let c = &mut pairs[e];
                     let dist = dist2.sqrt();
                     let n = d / dist;
                     let v_rel = p.vel[j] - p.vel[i] - (p.spin[i] * ri + p.spin[j] * rj).cross(&n);
@@ -382,6 +389,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                     };
                     let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
                     let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+                    h.live = c.s.touching || c.s.bridge.is_some();
                     o.f = out.f;
                     o.m = if model.rotation {
                         -n.cross(&out.ft)
@@ -394,9 +402,6 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
             .collect();
         for a in &chunk_acc {
             acc.add(a);
-        }
-        if store.adj_start.len() != np + 1 {
-            store.build_adjacency(np);
         }
         let (adj_start, adj, outs) = (&store.adj_start, &store.adj, &store.out);
         let rotation = model.rotation;
@@ -721,6 +726,6 @@ fn remove_lost(scene: &mut Scene) {
                 }
                 None => false,
             });
-        scene.contacts.adj_start.clear();
+        scene.contacts.clear_derived();
     }
 }
