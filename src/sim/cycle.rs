@@ -560,76 +560,103 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     let alpha = scene.damping_pp.alpha;
     let damp = (1.0 - 0.5 * alpha * dt) / (1.0 + 0.5 * alpha * dt);
     let inv = 1.0 / (1.0 + 0.5 * alpha * dt);
-    let mut w_grav = 0.0;
-    let mut d_mass = 0.0;
-    let mut bad: Option<usize> = None;
-    let mut max_disp = 0.0f64;
     let cg = scene.cgravity;
     let centres = scene.regions.map(|r| r.map(|r| Vec3::from(r.centre)));
     let fmm = scene.fmm;
+    let rotation = model.rotation;
     let p = &mut scene.particles;
-    for i in 0..np {
-        let m = p.mass[i];
-        let mut body = g;
-        let a = p.agg[i] as usize;
-        if a > 0 && cg[a - 1] > 0.0 {
-            if let Some(c) = centres[a - 1] {
-                let e = c - p.pos[i];
-                let l = e.norm();
-                if l > 0.0 {
-                    body += e * (cg[a - 1] / l);
-                }
-            }
-        }
-        let fb = body * (m * fmm);
-        let f = p.force[i] + fb;
-        let v_old = p.vel[i];
-        let mut v = v_old * damp + f * (dt / m * inv);
-        let fixed = p.fixed[i];
-        if fixed != 0 {
-            for k in 0..3 {
-                if fixed & (1 << k) != 0 {
-                    v[k] = v_old[k];
-                }
-            }
-        }
-        if two_d {
-            v.z = 0.0;
-        }
-        let vbar = (v + v_old) * 0.5;
-        w_grav += fb.dot(&vbar) * dt;
-        d_mass += alpha * m * vbar.norm_squared() * dt;
-        p.vel[i] = v;
-        let dx = v * dt;
-        p.pos[i] += dx;
-        p.disp[i] += dx;
-        let dmax = p.disp[i].amax();
-        max_disp = max_disp.max(dmax);
-        if model.rotation {
-            let inertia = 0.4 * m * p.radius[i] * p.radius[i];
-            let w_old = p.spin[i];
-            let mut w = w_old * damp + p.moment[i] * (dt / inertia * inv);
-            if fixed != 0 {
-                for k in 0..3 {
-                    if fixed & (8 << k) != 0 {
-                        w[k] = w_old[k];
+    let (mass, agg, force, fixed, radius, moment) =
+        (&p.mass, &p.agg, &p.force, &p.fixed, &p.radius, &p.moment);
+    // Parallel over fixed chunks of particles; the partial sums are added in chunk order,
+    // so the ledger does not depend on the number of threads.
+    let parts: Vec<(f64, f64, f64, Option<usize>)> = p
+        .vel
+        .par_chunks_mut(CHUNK)
+        .zip(p.pos.par_chunks_mut(CHUNK))
+        .zip(p.disp.par_chunks_mut(CHUNK))
+        .zip(p.spin.par_chunks_mut(CHUNK))
+        .zip(p.rot.par_chunks_mut(CHUNK))
+        .enumerate()
+        .map(|(chunk, ((((vel, pos), disp), spin), rot))| {
+            let mut w_grav = 0.0;
+            let mut d_mass = 0.0;
+            let mut max_disp = 0.0f64;
+            let mut bad: Option<usize> = None;
+            for l in 0..vel.len() {
+                let i = chunk * CHUNK + l;
+                let m = mass[i];
+                let mut body = g;
+                let a = agg[i] as usize;
+                if a > 0 && cg[a - 1] > 0.0 {
+                    if let Some(c) = centres[a - 1] {
+                        let e = c - pos[l];
+                        let len = e.norm();
+                        if len > 0.0 {
+                            body += e * (cg[a - 1] / len);
+                        }
                     }
                 }
+                let fb = body * (m * fmm);
+                let f = force[i] + fb;
+                let v_old = vel[l];
+                let mut v = v_old * damp + f * (dt / m * inv);
+                let fx = fixed[i];
+                if fx != 0 {
+                    for k in 0..3 {
+                        if fx & (1 << k) != 0 {
+                            v[k] = v_old[k];
+                        }
+                    }
+                }
+                if two_d {
+                    v.z = 0.0;
+                }
+                let vbar = (v + v_old) * 0.5;
+                w_grav += fb.dot(&vbar) * dt;
+                d_mass += alpha * m * vbar.norm_squared() * dt;
+                vel[l] = v;
+                let dx = v * dt;
+                pos[l] += dx;
+                disp[l] += dx;
+                max_disp = max_disp.max(disp[l].amax());
+                if rotation {
+                    let inertia = 0.4 * m * radius[i] * radius[i];
+                    let w_old = spin[l];
+                    let mut w = w_old * damp + moment[i] * (dt / inertia * inv);
+                    if fx != 0 {
+                        for k in 0..3 {
+                            if fx & (8 << k) != 0 {
+                                w[k] = w_old[k];
+                            }
+                        }
+                    }
+                    if two_d {
+                        w.x = 0.0;
+                        w.y = 0.0;
+                    }
+                    let wbar = (w + w_old) * 0.5;
+                    d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                    spin[l] = w;
+                    rot[l] += w * dt;
+                }
+                if !(pos[l].iter().all(|x| x.is_finite()) && v.iter().all(|x| x.is_finite()))
+                    && bad.is_none()
+                {
+                    bad = Some(i);
+                }
             }
-            if two_d {
-                w.x = 0.0;
-                w.y = 0.0;
-            }
-            let wbar = (w + w_old) * 0.5;
-            d_mass += alpha * inertia * wbar.norm_squared() * dt;
-            p.spin[i] = w;
-            p.rot[i] += w * dt;
-        }
-        if !(p.pos[i].iter().all(|x| x.is_finite()) && v.iter().all(|x| x.is_finite()))
-            && bad.is_none()
-        {
-            bad = Some(i);
-        }
+            (w_grav, d_mass, max_disp, bad)
+        })
+        .collect();
+    let mut w_grav = 0.0;
+    let mut d_mass = 0.0;
+    let mut max_disp = 0.0f64;
+    let mut bad: Option<usize> = None;
+    for (wg, dm, md, b) in parts {
+        w_grav += wg;
+        d_mass += dm;
+        max_disp = max_disp.max(md);
+        bad = bad.or(b);
     }
     if let Some(i) = bad {
         return Err(Blowup {
