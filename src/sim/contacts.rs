@@ -158,6 +158,9 @@ pub struct HotPair {
     pub j: u32,
     /// The pair had a solid contact or a bridge after its last evaluation.
     pub live: bool,
+    /// The pair was evaluated in this step (its `out` slot holds its force); pairs skipped as
+    /// far apart carry no force and their `out` slot is stale.
+    pub evaluated: bool,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -258,6 +261,7 @@ impl ContactStore {
             i: c.i,
             j: c.j,
             live: c.s.touching || c.s.bridge.is_some(),
+            evaluated: false,
         }));
         let mut count = vec![0u32; np + 1];
         for c in &self.pairs {

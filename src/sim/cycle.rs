@@ -370,9 +370,10 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                     // interact.rs), so pairs that touch exactly (lattices) are not skipped.
                     let reach = (ri + rj) * (1.0 + 1e-6);
                     if dist2 > reach * reach && !h.live {
-                        *o = PairForce::default();
+                        h.evaluated = false;
                         continue;
                     }
+                    h.evaluated = true;
                     let c = &mut pairs[e];
                     let dist = dist2.sqrt();
                     let n = d / dist;
@@ -403,7 +404,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
         for a in &chunk_acc {
             acc.add(a);
         }
-        let (adj_start, adj, outs) = (&store.adj_start, &store.adj, &store.out);
+        let (adj_start, adj, outs, hot) = (&store.adj_start, &store.adj, &store.out, &store.hot);
         let rotation = model.rotation;
         let radius = &scene.particles.radius;
         scene
@@ -417,6 +418,9 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                 let mut fs = Vec3::zeros();
                 let mut ms = Vec3::zeros();
                 for &e in &adj[adj_start[i] as usize..adj_start[i + 1] as usize] {
+                    if !hot[(e >> 1) as usize].evaluated {
+                        continue;
+                    }
                     let o = &outs[(e >> 1) as usize];
                     if e & 1 == 0 {
                         // i is the pair's first particle (A): force −f.
