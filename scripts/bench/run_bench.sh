@@ -14,6 +14,7 @@
 #   PEERS="liggghts lammps"  peers to run when installed (missing ones are skipped)
 #   PEER_RANKS="1"       MPI ranks for the peers ("1 2" adds 2-rank runs)
 #   TRUBAL_THREADS="1 2" trubal thread counts (--threads; par label t1, t2)
+#   TANG=noslip          trubal's tangential law (noslip = the peers' Mindlin no-slip + Coulomb; md)
 #   MOIST_LIGGGHTS=1     also run the LIGGGHTS easo/capillary/viscous deck (if present)
 #   QUIET_CORES=         if set (e.g. 1), wait before each run (up to MAX_WAIT=600 s) until
 #                        that many cores are idle (measured over 5 s)
@@ -36,6 +37,7 @@ S2_STEPS=${S2_STEPS:-20000}
 PEERS=${PEERS:-"liggghts lammps"}
 PEER_RANKS=${PEER_RANKS:-"1"}
 TRUBAL_THREADS=${TRUBAL_THREADS:-"1 2"}
+TANG=${TANG:-noslip}
 MOIST_LIGGGHTS=${MOIST_LIGGGHTS:-1}
 MAX_WAIT=${MAX_WAIT:-600}
 TRUBAL=${TRUBAL:-$root/target/release/trubal}
@@ -77,6 +79,9 @@ case " $SCENES " in *" s1 "*)
 case " $SCENES " in *" s2 "*|*" moist "*)
   for v in jkr dry moist; do
     python3 "$here/agg2tru.py" "$v" "$S2_STEPS" "$OUT/agg_$v.tru" > "$OUT/agg_$v.info"
+    # The peers' tangential law is Mindlin's no-slip spring with a Coulomb cap: ours is
+    # NOSLIP (TANG=md: our default, the full Mindlin-Deresiewicz law).
+    sed -i "s/^fraction 0.2$/fraction 0.2\nset tangential $TANG/" "$OUT/agg_$v.tru"
   done
   if have lammps; then
     agg_info=$(python3 "$PEERS_DIR/s2_agglomerate/gen_agglomerate.py" "$OUT/agg.data")
@@ -92,7 +97,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
     for n in $S1_SIZES; do
       v="S1_STEPS_$n"; steps=${!v:-$S1_STEPS}
       d="$OUT/s1_N${n}_rep$rep"; mkdir -p "$d"
-      printf "restart bed%s.sav\ncycle %s\nprint info\n" "$n" "$steps" > "$OUT/run_bed${n}_$steps.tru"
+      printf "restart bed%s.sav\nset tangential %s\ncycle %s\nprint info\n" "$n" "$TANG" "$steps" > "$OUT/run_bed${n}_$steps.tru"
       for t in $TRUBAL_THREADS; do
         (cd "$OUT" && run_timed s1 trubal "$n" "t$t" "$steps" "$rep" "$OUT/logs/s1_trubal_N${n}_t${t}_r$rep" \
           "$TRUBAL" --threads "$t" "run_bed${n}_$steps.tru")
