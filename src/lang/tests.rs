@@ -203,3 +203,14 @@ fn error_columns() {
     assert!(e.message.contains("Cycle needs"), "{}", e.message);
     assert_eq!(e.start, 5);
 }
+
+#[test]
+fn unquoted_paths_get_a_hint() {
+    let e = parse_line("save /tmp/x.sav").unwrap_err();
+    assert!(e.message.contains("must be quoted"), "{}", e.message);
+    // Quoted, the path is one word.
+    assert!(parse_line("save \"/tmp/x.sav\"").is_ok());
+    // No hint where no slash was involved.
+    let e = parse_line("cycle 10 20").unwrap_err();
+    assert!(!e.message.contains("quoted"), "{}", e.message);
+}
