@@ -151,7 +151,7 @@ pub struct PairForce {
 
 /// The part of a candidate pair the force loop reads for every pair, kept apart from the
 /// ~300-byte [`ContactState`] so that far-apart pairs without a bond cost one small read
-/// (derived from `pairs`; rebuilt with the adjacency).
+/// (derived from `pairs`; rebuilt after every merge).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HotPair {
     pub i: u32,
@@ -168,13 +168,7 @@ pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved).
     #[serde(skip)]
     pub out: Vec<PairForce>,
-    /// For each particle its pairs, as `pair index << 1 | (1 if the particle is B)`, in
-    /// pair order (CSR: `adj[adj_start[i]..adj_start[i+1]]`). Derived; rebuilt after a merge.
-    #[serde(skip)]
-    pub adj_start: Vec<u32>,
-    #[serde(skip)]
-    pub adj: Vec<u32>,
-    /// Indices and liveness of `pairs`, in the same order. Derived; rebuilt with `adj`.
+    /// Indices and liveness of `pairs`, in the same order. Derived: rebuilt after a merge.
     #[serde(skip)]
     pub hot: Vec<HotPair>,
     pub pairs: Vec<Pair>,
@@ -242,20 +236,17 @@ impl ContactStore {
         self.stale = false;
         self.remap = false;
         self.rebuilds += 1;
-        self.adj_start.clear();
+        self.hot.clear();
     }
 
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
         self.out.clear();
-        self.adj_start.clear();
-        self.adj.clear();
         self.hot.clear();
     }
 
-    /// Builds the particle → pairs adjacency (counting sort: deterministic order) and the
-    /// compact [`HotPair`] list.
-    pub fn build_adjacency(&mut self, np: usize) {
+    /// Builds the compact [`HotPair`] list from the pairs.
+    pub fn build_hot(&mut self) {
         self.hot.clear();
         self.hot.extend(self.pairs.iter().map(|c| HotPair {
             i: c.i,
@@ -263,26 +254,6 @@ impl ContactStore {
             live: c.s.touching || c.s.bridge.is_some(),
             evaluated: false,
         }));
-        let mut count = vec![0u32; np + 1];
-        for c in &self.pairs {
-            count[c.i as usize + 1] += 1;
-            count[c.j as usize + 1] += 1;
-        }
-        for k in 0..np {
-            count[k + 1] += count[k];
-        }
-        let mut fill = count.clone();
-        let mut adj = vec![0u32; 2 * self.pairs.len()];
-        for (e, c) in self.pairs.iter().enumerate() {
-            let e = e as u32;
-            let (i, j) = (c.i as usize, c.j as usize);
-            adj[fill[i] as usize] = e << 1;
-            fill[i] += 1;
-            adj[fill[j] as usize] = (e << 1) | 1;
-            fill[j] += 1;
-        }
-        self.adj_start = count;
-        self.adj = adj;
     }
 
     /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges

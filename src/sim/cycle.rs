@@ -317,7 +317,6 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
 fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
-    let np = scene.particles.len();
     let smin = scene.settings.smin;
     let mut acc = Acc::default();
 
@@ -344,8 +343,8 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
         let periodic = scene.settings.periodic;
         let p = &scene.particles;
         let store = &mut scene.contacts;
-        if store.adj_start.len() != np + 1 || store.hot.len() != store.pairs.len() {
-            store.build_adjacency(np);
+        if store.hot.len() != store.pairs.len() {
+            store.build_hot();
         }
         store.out.resize(store.pairs.len(), PairForce::default());
         let chunk_acc: Vec<Acc> = store
@@ -404,37 +403,31 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
         for a in &chunk_acc {
             acc.add(a);
         }
-        let (adj_start, adj, outs, hot) = (&store.adj_start, &store.adj, &store.out, &store.hot);
+        // Each particle's sum runs over its pairs in pair order: scattering the pairs in order
+        // gives the same sums, bit for bit, as gathering them per particle, and reads the
+        // pair forces sequentially (the particle arrays are small enough to stay in cache).
         let rotation = model.rotation;
-        let radius = &scene.particles.radius;
-        scene
-            .particles
-            .force
-            .par_iter_mut()
-            .zip(scene.particles.moment.par_iter_mut())
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, (f, m))| {
-                let mut fs = Vec3::zeros();
-                let mut ms = Vec3::zeros();
-                for &e in &adj[adj_start[i] as usize..adj_start[i + 1] as usize] {
-                    if !hot[(e >> 1) as usize].evaluated {
-                        continue;
-                    }
-                    let o = &outs[(e >> 1) as usize];
-                    if e & 1 == 0 {
-                        // i is the pair's first particle (A): force −f.
-                        fs -= o.f;
-                    } else {
-                        fs += o.f;
-                    }
-                    if rotation {
-                        ms += o.m;
-                    }
-                }
-                *f = fs;
-                *m = ms * radius[i];
-            });
+        let p = &mut scene.particles;
+        p.force.fill(Vec3::zeros());
+        p.moment.fill(Vec3::zeros());
+        for (h, o) in store.hot.iter().zip(store.out.iter()) {
+            if !h.evaluated {
+                continue;
+            }
+            let (i, j) = (h.i as usize, h.j as usize);
+            // Force −f on the pair's first particle (A), +f on B.
+            p.force[i] -= o.f;
+            p.force[j] += o.f;
+            if rotation {
+                p.moment[i] += o.m;
+                p.moment[j] += o.m;
+            }
+        }
+        if rotation {
+            for (m, r) in p.moment.iter_mut().zip(p.radius.iter()) {
+                *m *= *r;
+            }
+        }
     }
 
     // ---- particle–wall contacts -------------------------------------------------------

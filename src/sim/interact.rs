@@ -178,8 +178,8 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         }
         let a = (k.r_star * alpha).sqrt();
         s.a = a;
-        // Hertz (3.14)-(3.15): P = 4/3 E* a³/R*, k_n = 2 E* a.
-        s.normal_force = 4.0 / 3.0 * pc.e_star * a * a * a / k.r_star;
+        // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.
+        s.normal_force = 4.0 / 3.0 * pc.e_star * a * alpha;
         kn = 2.0 * pc.e_star * a;
     } else if s.touching {
         reset_solid(s, acc);
@@ -192,9 +192,14 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         // compressive for non-adhesive contacts), and Rayleigh β k_n.
         let mut fd = 0.0;
         if pc.zeta > 0.0 && alpha > 0.0 {
-            let kk = 4.0 / 3.0 * pc.e_star * k.r_star.sqrt();
-            let c = pc.zeta * (k.m_star * kk).sqrt();
-            fd -= c * alpha.sqrt().sqrt() * v_n;
+            // ζ sqrt(m* K) α^{1/4} with K = 4/3 E* sqrt(R*) is ζ sqrt(4/3 E* m* a_H), where
+            // a_H = sqrt(R* α) is the Hertz contact radius (one square root instead of three).
+            let a_h = if gamma == 0.0 {
+                s.a
+            } else {
+                (k.r_star * alpha).sqrt()
+            };
+            fd -= pc.zeta * (4.0 / 3.0 * pc.e_star * k.m_star * a_h).sqrt() * v_n;
         }
         if laws.beta > 0.0 {
             fd -= laws.beta * kn * v_n;
@@ -329,14 +334,14 @@ fn tangential_step(
     // Rotation of the contact plane (5.19)–(5.21): project the old vectors on the new plane
     // and keep their lengths.
     let rotate = |v: Vec3| {
-        let len = v.norm();
-        if len == 0.0 {
+        let len2 = v.norm_squared();
+        if len2 == 0.0 {
             return v;
         }
         let w = v - n * n.dot(&v);
-        let wl = w.norm();
-        if wl > 0.0 {
-            w * (len / wl)
+        let wl2 = w.norm_squared();
+        if wl2 > 0.0 {
+            w * (len2 / wl2).sqrt()
         } else {
             Vec3::zeros()
         }
@@ -352,14 +357,11 @@ fn tangential_step(
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
             let old = s.tforce;
             let mut f = old - dd * kt0;
-            if laws.beta > 0.0 {
-                // Rayleigh tangential dashpot is added separately below.
-            }
             let pe = p_new + 2.0 * pcrit;
             let cap = pc.mu * pe.max(0.0);
-            let fl = f.norm();
-            if fl > cap {
-                f *= if fl > 0.0 { cap / fl } else { 0.0 };
+            let fl2 = f.norm_squared();
+            if fl2 > cap * cap {
+                f *= cap / fl2.sqrt();
             }
             // Energy: work done on the spring minus the change of its stored energy.
             let work = -0.5 * (old + f).dot(&dd);
