@@ -555,7 +555,7 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
         cv.line(L - 4, Y(yv), W - R, Y(yv), grey if k else (0, 0, 0))
         cv.text(5, Y(yv) - 7, fmt_tick(yv))
     if logx:
-        ticks = [m * 10**e for e in range(-3, 4) for m in (1, 2, 5) if x0 <= math.log10(m * 10**e) <= x1]
+        ticks = [m * 10**e for e in range(-12, 13) for m in (1, 2, 5) if x0 <= math.log10(m * 10**e) <= x1]
     else:
         ticks = [x0 + (x1 - x0) * k / 5 for k in range(6)]
     for t in ticks:

@@ -340,7 +340,7 @@ fn numbers_round_trip_exactly() {
         .contacts
         .pairs
         .iter()
-        .map(|x| &x.s)
+        .map(|x| &*x.s)
         .chain(sc.contacts.wall_pairs.iter().map(|x| &x.s))
         .collect();
     assert_eq!(cs.len(), all.len());

@@ -98,7 +98,7 @@ fn pair(s: &Scene, ida: u32, idb: u32, st: ContactState) -> Pair {
         j: j as u32,
         ida,
         idb,
-        s: st,
+        s: crate::sim::contacts::StateBox::new(st),
     }
 }
 

@@ -472,7 +472,9 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             if *pvol == 0.0 {
                 scene.liquid = None;
                 for c in scene.contacts.pairs.iter_mut() {
-                    c.s.bridge = None;
+                    if let Some(s) = c.s.get_mut() {
+                        s.bridge = None;
+                    }
                 }
                 for c in scene.contacts.wall_pairs.iter_mut() {
                     c.s.bridge = None;

@@ -112,7 +112,80 @@ pub struct Pair {
     /// Stable ids, `ida < idb`.
     pub ida: u32,
     pub idb: u32,
-    pub s: ContactState,
+    pub s: StateBox,
+}
+
+/// The contact state of a candidate pair, allocated only once the pair comes within reach:
+/// most candidates never touch, and an inline ~300-byte state for each of them made the pair
+/// list, its merges and the blow-up snapshot several times larger than the contacts need.
+/// Reads of a pair without a state see the default state ([`std::ops::Deref`]); writes go
+/// through [`StateBox::make_mut`] (allocates) or [`StateBox::get_mut`] (does not). In a
+/// checkpoint it is written exactly as an inline [`ContactState`] (format version 1).
+#[derive(Clone, Debug, Default)]
+pub struct StateBox(Option<Box<ContactState>>);
+
+static DEFAULT_STATE: std::sync::LazyLock<ContactState> =
+    std::sync::LazyLock::new(ContactState::default);
+
+impl StateBox {
+    pub fn new(s: ContactState) -> Self {
+        StateBox(Some(Box::new(s)))
+    }
+    /// The state, allocated (as the default state) if the pair had none.
+    pub fn make_mut(&mut self) -> &mut ContactState {
+        self.0.get_or_insert_with(Box::default)
+    }
+    /// The state if the pair has one (no allocation).
+    pub fn get_mut(&mut self) -> Option<&mut ContactState> {
+        self.0.as_deref_mut()
+    }
+    /// The pair has an allocated state.
+    pub fn is_allocated(&self) -> bool {
+        self.0.is_some()
+    }
+}
+
+impl std::ops::Deref for StateBox {
+    type Target = ContactState;
+    fn deref(&self) -> &ContactState {
+        match &self.0 {
+            Some(b) => b,
+            None => &DEFAULT_STATE,
+        }
+    }
+}
+
+impl PartialEq for StateBox {
+    fn eq(&self, o: &Self) -> bool {
+        **self == **o
+    }
+}
+
+impl Serialize for StateBox {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        (**self).serialize(ser)
+    }
+}
+
+/// The default state's encoding: a loaded state that encodes the same (bit for bit, so
+/// signed zeros count) stays unallocated.
+static DEFAULT_BYTES: std::sync::LazyLock<Vec<u8>> = std::sync::LazyLock::new(|| {
+    bincode::serde::encode_to_vec(&*DEFAULT_STATE, bincode::config::standard()).unwrap_or_default()
+});
+
+impl<'de> Deserialize<'de> for StateBox {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        let s = ContactState::deserialize(de)?;
+        let pristine = !s.touching
+            && s.bridge.is_none()
+            && bincode::serde::encode_to_vec(&s, bincode::config::standard())
+                .is_ok_and(|b| b == *DEFAULT_BYTES);
+        Ok(if pristine {
+            StateBox::default()
+        } else {
+            StateBox::new(s)
+        })
+    }
 }
 
 /// A candidate pair found by the search (no state yet).
@@ -202,7 +275,7 @@ impl ContactStore {
             }
             let s = match old.peek() {
                 Some(o) if (o.ida, o.idb) == (k.ida, k.idb) => old.next().expect("peeked").s,
-                _ => ContactState::default(),
+                _ => StateBox::default(),
             };
             pairs.push(Pair {
                 i: k.i,

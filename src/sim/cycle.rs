@@ -388,7 +388,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                         r2: rj,
                     };
                     let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
-                    let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+                    let out = interact(&k, pc, &laws, c.s.make_mut(), &mut acc);
                     h.live = c.s.touching || c.s.bridge.is_some();
                     o.f = out.f;
                     o.m = if model.rotation {

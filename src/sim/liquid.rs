@@ -38,12 +38,15 @@ pub fn settle(scene: &mut Scene) {
     let p = &mut scene.particles;
     for c in scene.contacts.pairs.iter_mut() {
         let (i, j) = (c.i as usize, c.j as usize);
-        if c.s.released != [0.0; 2] {
-            p.liquid[i] += c.s.released[0];
-            p.liquid[j] += c.s.released[1];
-            c.s.released = [0.0; 2];
+        let Some(s) = c.s.get_mut() else {
+            continue;
+        };
+        if s.released != [0.0; 2] {
+            p.liquid[i] += s.released[0];
+            p.liquid[j] += s.released[1];
+            s.released = [0.0; 2];
         }
-        if let Some(b) = c.s.bridge.as_deref_mut() {
+        if let Some(b) = s.bridge.as_deref_mut() {
             if b.fresh {
                 let d = [b.share[0].min(p.liquid[i]), b.share[1].min(p.liquid[j])];
                 p.liquid[i] -= d[0];
@@ -156,8 +159,9 @@ pub fn reissue(scene: &mut Scene) {
         b.fresh = false;
     };
     for c in scene.contacts.pairs.iter_mut() {
-        if let Some(b) = c.s.bridge.as_deref_mut() {
-            update(b, p.radius[c.i as usize], p.radius[c.j as usize]);
+        let (ri, rj) = (p.radius[c.i as usize], p.radius[c.j as usize]);
+        if let Some(b) = c.s.get_mut().and_then(|s| s.bridge.as_deref_mut()) {
+            update(b, ri, rj);
         }
     }
     for c in scene.contacts.wall_pairs.iter_mut() {
