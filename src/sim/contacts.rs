@@ -285,6 +285,16 @@ impl ContactStore {
                 s,
             });
         }
+        // Re-allocate the states in pair order (all freed first), so that the force loop
+        // walks the heap forward instead of in the order the contacts were made.
+        let moved: Vec<(usize, ContactState)> = pairs
+            .iter_mut()
+            .enumerate()
+            .filter_map(|(k, p)| p.s.0.take().map(|b| (k, *b)))
+            .collect();
+        for (k, st) in moved {
+            pairs[k].s = StateBox::new(st);
+        }
         self.pairs = pairs;
 
         new_walls.sort_unstable();
