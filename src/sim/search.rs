@@ -9,6 +9,8 @@
 //! (< TOL/(2√3)) in any component since the last rebuild, so no pair can come into contact
 //! unseen between rebuilds.
 
+use rayon::prelude::*;
+
 use super::contacts::{PairKey, WallKey};
 use super::scene::{Scene, Vec3};
 use super::walls::wall_gap;
@@ -108,78 +110,98 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
         }
     }
 
+    // Pairs per block of boxes, in parallel; blocks are concatenated in box order (and the
+    // merge sorts the keys anyway), so the result does not depend on the number of threads.
+    const BLOCK: usize = 256;
+    let per_block: Vec<(Vec<PairKey>, usize, usize)> = head
+        .par_chunks(BLOCK)
+        .enumerate()
+        .map(|(blk, heads)| {
+            let mut pairs = Vec::new();
+            let mut members: Vec<u32> = Vec::new();
+            let (mut max_entries, mut empty) = (0usize, 0usize);
+            for (off, &h0) in heads.iter().enumerate() {
+                let b = blk * BLOCK + off;
+                members.clear();
+                let mut e = h0;
+                while e != u32::MAX {
+                    members.push(owner[e as usize]);
+                    e = next[e as usize];
+                }
+                max_entries = max_entries.max(members.len());
+                if members.is_empty() {
+                    empty += 1;
+                    continue;
+                }
+                let bz = b / (n[0] * n[1]);
+                let by = (b / n[0]) % n[1];
+                let bx = b % n[0];
+                for x in 0..members.len() {
+                    let i = members[x] as usize;
+                    for &jj in &members[x + 1..] {
+                        let j = jj as usize;
+                        let d = scene.branch(&p.pos[i], &p.pos[j]);
+                        let reach = p.radius[i] + p.radius[j] + tol;
+                        if d.norm_squared() >= reach * reach {
+                            continue;
+                        }
+                        // Report the pair only from the box of the lower corner of the
+                        // intersection of the two cubes (computed in i's frame, then wrapped).
+                        let mut owns = true;
+                        for (k, bk) in [bx, by, bz].into_iter().enumerate() {
+                            let lo_i = p.pos[i][k] - p.radius[i] - half;
+                            let lo_j = p.pos[i][k] + d[k] - p.radius[j] - half;
+                            let c = cell_index(lo_i.max(lo_j), k, &n, &cell, periodic[k]);
+                            let c = if periodic[k] {
+                                wrap(c, n[k])
+                            } else {
+                                c as usize
+                            };
+                            // A cube spanning the whole period was entered from box 0 upward.
+                            let spans_i = periodic[k]
+                                && lo_cell[i][k] == 0
+                                && hi_cell[i][k] == n[k] as i64 - 1;
+                            let spans_j = periodic[k]
+                                && lo_cell[j][k] == 0
+                                && hi_cell[j][k] == n[k] as i64 - 1;
+                            let c = if spans_i && spans_j { 0 } else { c };
+                            if c != bk {
+                                owns = false;
+                                break;
+                            }
+                        }
+                        if !owns {
+                            continue;
+                        }
+                        let (ida, idb) = (p.id[i], p.id[j]);
+                        let (i, j, ida, idb) = if ida < idb {
+                            (i, j, ida, idb)
+                        } else {
+                            (j, i, idb, ida)
+                        };
+                        pairs.push(PairKey {
+                            i: i as u32,
+                            j: j as u32,
+                            ida,
+                            idb,
+                        });
+                    }
+                }
+            }
+            (pairs, max_entries, empty)
+        })
+        .collect();
     let mut info = GridInfo {
         n,
         cell,
         entries: owner.len(),
         ..Default::default()
     };
-    let mut pairs = Vec::new();
-    let mut members: Vec<u32> = Vec::new();
-    for (b, &h0) in head.iter().enumerate() {
-        members.clear();
-        let mut e = h0;
-        while e != u32::MAX {
-            members.push(owner[e as usize]);
-            e = next[e as usize];
-        }
-        info.max_entries_per_box = info.max_entries_per_box.max(members.len());
-        if members.is_empty() {
-            info.empty_boxes += 1;
-            continue;
-        }
-        let bz = b / (n[0] * n[1]);
-        let by = (b / n[0]) % n[1];
-        let bx = b % n[0];
-        for x in 0..members.len() {
-            let i = members[x] as usize;
-            for &jj in &members[x + 1..] {
-                let j = jj as usize;
-                let d = scene.branch(&p.pos[i], &p.pos[j]);
-                let reach = p.radius[i] + p.radius[j] + tol;
-                if d.norm_squared() >= reach * reach {
-                    continue;
-                }
-                // Report the pair only from the box of the lower corner of the intersection
-                // of the two cubes (computed in i's frame, then wrapped).
-                let mut owns = true;
-                for (k, bk) in [bx, by, bz].into_iter().enumerate() {
-                    let lo_i = p.pos[i][k] - p.radius[i] - half;
-                    let lo_j = p.pos[i][k] + d[k] - p.radius[j] - half;
-                    let c = cell_index(lo_i.max(lo_j), k, &n, &cell, periodic[k]);
-                    let c = if periodic[k] {
-                        wrap(c, n[k])
-                    } else {
-                        c as usize
-                    };
-                    // A cube spanning the whole period was entered from box 0 upward.
-                    let spans_i =
-                        periodic[k] && lo_cell[i][k] == 0 && hi_cell[i][k] == n[k] as i64 - 1;
-                    let spans_j =
-                        periodic[k] && lo_cell[j][k] == 0 && hi_cell[j][k] == n[k] as i64 - 1;
-                    let c = if spans_i && spans_j { 0 } else { c };
-                    if c != bk {
-                        owns = false;
-                        break;
-                    }
-                }
-                if !owns {
-                    continue;
-                }
-                let (ida, idb) = (p.id[i], p.id[j]);
-                let (i, j, ida, idb) = if ida < idb {
-                    (i, j, ida, idb)
-                } else {
-                    (j, i, idb, ida)
-                };
-                pairs.push(PairKey {
-                    i: i as u32,
-                    j: j as u32,
-                    ida,
-                    idb,
-                });
-            }
-        }
+    let mut pairs = Vec::with_capacity(per_block.iter().map(|b| b.0.len()).sum());
+    for (v, max_entries, empty) in per_block {
+        pairs.extend(v);
+        info.max_entries_per_box = info.max_entries_per_box.max(max_entries);
+        info.empty_boxes += empty;
     }
 
     let mut walls = Vec::new();
