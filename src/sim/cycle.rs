@@ -207,6 +207,7 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     let (tol, xres) = search_distances(scene, &model);
     // Commands may have changed contact states between Cycles: derive the pair liveness anew.
     scene.contacts.clear_derived();
+    scene.maybe_outside = true;
     if scene.contacts.stale {
         prime(scene, &model, tol);
     } else if scene.contacts.tol != tol {
@@ -561,12 +562,13 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     let centres = scene.regions.map(|r| r.map(|r| Vec3::from(r.centre)));
     let fmm = scene.fmm;
     let rotation = model.rotation;
+    let (size, periodic) = (scene.size, scene.settings.periodic);
     let p = &mut scene.particles;
     let (mass, agg, force, fixed, radius, moment) =
         (&p.mass, &p.agg, &p.force, &p.fixed, &p.radius, &p.moment);
     // Parallel over fixed chunks of particles; the partial sums are added in chunk order,
     // so the ledger does not depend on the number of threads.
-    let parts: Vec<(f64, f64, f64, Option<usize>)> = p
+    let parts: Vec<(f64, f64, f64, Option<usize>, bool)> = p
         .vel
         .par_chunks_mut(CHUNK)
         .zip(p.pos.par_chunks_mut(CHUNK))
@@ -579,6 +581,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
             let mut d_mass = 0.0;
             let mut max_disp = 0.0f64;
             let mut bad: Option<usize> = None;
+            let mut outside = false;
             for l in 0..vel.len() {
                 let i = chunk * CHUNK + l;
                 let m = mass[i];
@@ -615,6 +618,8 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                 let dx = v * dt;
                 pos[l] += dx;
                 disp[l] += dx;
+                let x = pos[l];
+                outside |= (0..3).any(|k| !periodic[k] && (x[k] < 0.0 || x[k] > size[k]));
                 max_disp = max_disp.max(disp[l].amax());
                 if rotation {
                     let inertia = 0.4 * m * radius[i] * radius[i];
@@ -642,19 +647,22 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                     bad = Some(i);
                 }
             }
-            (w_grav, d_mass, max_disp, bad)
+            (w_grav, d_mass, max_disp, bad, outside)
         })
         .collect();
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;
     let mut bad: Option<usize> = None;
-    for (wg, dm, md, b) in parts {
+    let mut outside = false;
+    for (wg, dm, md, b, o) in parts {
+        outside |= o;
         w_grav += wg;
         d_mass += dm;
         max_disp = max_disp.max(md);
         bad = bad.or(b);
     }
+    scene.maybe_outside = outside;
     if let Some(i) = bad {
         return Err(Blowup {
             cycle: scene.cycle + 1,
@@ -704,6 +712,9 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
 
 /// Removes particles that left through an open side (counted in `lost`).
 fn remove_lost(scene: &mut Scene) {
+    if !scene.maybe_outside {
+        return;
+    }
     let mut i = 0;
     let mut removed = false;
     while i < scene.particles.len() {

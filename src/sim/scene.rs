@@ -270,6 +270,14 @@ pub struct Scene {
     /// Reference state (`PLot SAve`).
     pub reference: Option<super::reference::Reference>,
     pub history: super::history::History,
+    /// Some particle may be outside the work-space (derived, not saved: set at the start of
+    /// every `Cycle` and by the integration step; saves a scan per step when false).
+    #[serde(skip, default = "always")]
+    pub maybe_outside: bool,
+}
+
+fn always() -> bool {
+    true
 }
 
 impl Scene {
@@ -303,6 +311,7 @@ impl Scene {
             lost: 0,
             reference: None,
             history: Default::default(),
+            maybe_outside: true,
         }
     }
 
