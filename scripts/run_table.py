@@ -511,7 +511,9 @@ class Canvas:
 def fmt_tick(v):
     if v == 0:
         return "0"
-    if abs(v) >= 100 or abs(v) < 0.01:
+    if 100 <= abs(v) < 1e5:
+        return f"{v:.0f}"
+    if abs(v) >= 1e5 or abs(v) < 0.01:
         return f"{v:.0e}".replace("E+0", "E").replace("E-0", "E-")
     return f"{v:.3g}"
 
@@ -555,7 +557,8 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
         cv.line(L - 4, Y(yv), W - R, Y(yv), grey if k else (0, 0, 0))
         cv.text(5, Y(yv) - 7, fmt_tick(yv))
     if logx:
-        ticks = [m * 10**e for e in range(-12, 13) for m in (1, 2, 5) if x0 <= math.log10(m * 10**e) <= x1]
+        ms = (1, 2, 5) if x1 - x0 <= 2.5 else (1,)
+        ticks = [m * 10**e for e in range(-12, 13) for m in ms if x0 <= math.log10(m * 10**e) <= x1]
     else:
         ticks = [x0 + (x1 - x0) * k / 5 for k in range(6)]
     for t in ticks:
