@@ -4,6 +4,8 @@
     python3 scripts/run_table.py TABLE [--jobs 2] [--work DIR] [--only key=value ...]
                                       [--force] [--list] [--plot-only]
 
+TRUBAL_BIN=/path/to/trubal selects another binary than target/release/trubal.
+
 TABLE is one of the names in TABLES below (`--list` shows them with their runs). Every run is
 `trubal SCRIPT --json --threads 1 --set k=v ...` in the work directory (default
 target/experiments/TABLE), where the prepared states (*.sav) also live; up to --jobs runs go at
@@ -34,6 +36,10 @@ DATA = os.path.join(ROOT, "doc", "data")
 
 
 def trubal_binary():
+    # TRUBAL_BIN: run another build (e.g. the one whose checkpoint layout wrote the prepared
+    # states); the command line at the top of every log names the binary used.
+    if os.environ.get("TRUBAL_BIN"):
+        return os.environ["TRUBAL_BIN"]
     exe = os.path.join(ROOT, "target", "release", "trubal")
     if not os.path.exists(exe):
         subprocess.run(["cargo", "build", "--release"], cwd=ROOT, check=True)
