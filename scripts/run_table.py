@@ -88,7 +88,7 @@ def lian7_runs():
 def lian7_oblique_runs():
     return [
         {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025"}
-        for t in ["15", "30", "45", "60", "75"]
+        for t in ["15", "30", "45", "60", "75", "85"]
     ]
 
 
