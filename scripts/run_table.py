@@ -157,6 +157,16 @@ TABLES = {
         "runs": lian7_oblique_runs(),
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
+    # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
+    "lian7_oblique5": {
+        "title": "LIAN CH7 OBLIQUE 5 M/S: DAMAGE RATIO VS ANGLE",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "work": "lian7",
+        "runs": [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75"]],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
     # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
     "lian7_oblique_long": {
         "title": "LIAN CH7 OBLIQUE 2 M/S, 1.1 MS",
