@@ -4,6 +4,8 @@
     python3 scripts/run_table.py TABLE [--jobs 2] [--work DIR] [--only key=value ...]
                                       [--force] [--list] [--plot-only]
 
+TRUBAL_BIN=/path/to/trubal selects another binary than target/release/trubal.
+
 TABLE is one of the names in TABLES below (`--list` shows them with their runs). Every run is
 `trubal SCRIPT --json --threads 1 --set k=v ...` in the work directory (default
 target/experiments/TABLE), where the prepared states (*.sav) also live; up to --jobs runs go at
@@ -34,6 +36,10 @@ DATA = os.path.join(ROOT, "doc", "data")
 
 
 def trubal_binary():
+    # TRUBAL_BIN: run another build (e.g. the one whose checkpoint layout wrote the prepared
+    # states); the command line at the top of every log names the binary used.
+    if os.environ.get("TRUBAL_BIN"):
+        return os.environ["TRUBAL_BIN"]
     exe = os.path.join(ROOT, "target", "release", "trubal")
     if not os.path.exists(exe):
         subprocess.run(["cargo", "build", "--release"], cwd=ROOT, check=True)
@@ -82,7 +88,7 @@ def lian7_runs():
 def lian7_oblique_runs():
     return [
         {"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025"}
-        for t in ["15", "30", "45", "60", "75"]
+        for t in ["15", "30", "45", "60", "75", "85"]
     ]
 
 
@@ -151,6 +157,16 @@ TABLES = {
         "runs": lian7_oblique_runs(),
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
+    # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
+    "lian7_oblique5": {
+        "title": "LIAN CH7 OBLIQUE 5 M/S: DAMAGE RATIO VS ANGLE",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "work": "lian7",
+        "runs": [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75"]],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
     # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
     "lian7_oblique_long": {
         "title": "LIAN CH7 OBLIQUE 2 M/S, 1.1 MS",
@@ -183,6 +199,7 @@ TABLES = {
         ],
         "derive": "olsson",
         "runs": olsson_runs(),
+        "cap_refs": False,  # Olsson's dry fragmentation (to 69.5 %) is far above ours
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
     # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
@@ -192,6 +209,7 @@ TABLES = {
         "prepare": [("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav")],
         "derive": "olsson",
         "runs": olsson_long_runs(),
+        "cap_refs": False,
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
 }
@@ -518,8 +536,10 @@ def fmt_tick(v):
     return f"{v:.3g}"
 
 
-def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
-    """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])]."""
+def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend="", cap=True):
+    """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])],
+    capped at the data's largest y (or 1) unless cap is False; a reference whose label ends in
+    a series' label ("OLSSON 0.1" and "0.1") is drawn in that series' colour."""
     W, H, L, R, T, B = 900, 600, 90, 230, 60, 70
     cv = Canvas(W, H)
     data = [p for _, s in series for p in s]
@@ -527,7 +547,7 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
         return
     # Reference curves only over the data's x range, capped at the data's largest y or 1.
     xa, xb = min(p[0] for p in data), max(p[0] for p in data)
-    ycap = max(1.0, max(p[1] for p in data))
+    ycap = max(1.0, max(p[1] for p in data)) if cap else math.inf
     refs = [(lab, [(x, min(y, ycap)) for x, y in s if xa <= x <= xb]) for lab, s in refs]
     pts = data + [p for _, s in refs for p in s]
     fx = (lambda v: math.log10(v)) if logx else (lambda v: v)
@@ -568,8 +588,11 @@ def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend=""):
     cv.text((W - R) // 2 - 30, H - 25, xlabel)
     cv.text(5, 30, ylabel)
     ly = T
+    slabels = [lab.upper() for lab, _ in series]
     for k, (label, s) in enumerate(refs):
-        c = tuple(min(255, v + 110) for v in COLOURS[k % len(COLOURS)])
+        tail = label.upper().split(" ", 1)[-1]
+        kc = slabels.index(tail) if tail in slabels else k
+        c = tuple(min(255, v + 110) for v in COLOURS[kc % len(COLOURS)])
         s = sorted(s)
         for a, b in zip(s, s[1:]):
             n = 12
@@ -739,7 +762,7 @@ def main():
                 f.write(line + "\n")
     png = os.path.join(DATA, a.table + ".png")
     chart(png, t["title"], sorted(series.items()), t["x"].upper(), t["y"].upper(), t.get("logx", False),
-          REFERENCES.get(a.table, []), "OURS " + "/".join(group).upper())
+          REFERENCES.get(a.table, []), "OURS " + "/".join(group).upper(), t.get("cap_refs", True))
     print("wrote", png)
 
 
