@@ -115,13 +115,12 @@ fn decode_payload(version: u32, payload: &[u8]) -> Result<Scene, String> {
 
 fn decode_all<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
     let (value, used): (T, usize) =
-        bincode::serde::decode_from_slice(payload, bincode::config::standard())
-            .map_err(|e| {
-                format!(
-                    "the checkpoint is corrupt, or was written by an incompatible build (its checksum \
+        bincode::serde::decode_from_slice(payload, bincode::config::standard()).map_err(|e| {
+            format!(
+                "the checkpoint is corrupt, or was written by an incompatible build (its checksum \
                      is intact but the state does not decode as format version {VERSION}): {e}"
-                )
-            })?;
+            )
+        })?;
     if used != payload.len() {
         return Err("the checkpoint is corrupt: trailing bytes after the state".into());
     }

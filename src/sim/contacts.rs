@@ -2,6 +2,7 @@
 //! each with the state of its solid contact and, in wet scenes, its liquid bridge. Pairs are
 //! keyed by stable particle ids, so that history survives re-mapping and re-ordering.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::scene::{Particles, Vec3};
@@ -266,7 +267,8 @@ impl ContactStore {
     /// than TOL and carried no bond).
     pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
-        new_pairs.sort_unstable();
+        // The keys are unique, so the parallel sort gives the one sorted order.
+        new_pairs.par_sort_unstable();
         let mut old = std::mem::take(&mut self.pairs).into_iter().peekable();
         let mut pairs = Vec::with_capacity(new_pairs.len());
         for k in new_pairs {

@@ -204,19 +204,27 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
         info.empty_boxes += empty;
     }
 
-    let mut walls = Vec::new();
-    for i in 0..np {
-        for (w, wall) in scene.walls.iter().enumerate() {
-            let (gap, _) = wall_gap(&wall.geom, &p.pos[i], p.radius[i]);
-            if gap < tol {
-                walls.push(WallKey {
-                    i: i as u32,
-                    id: p.id[i],
-                    wall: w as u32,
-                });
-            }
-        }
-    }
+    // Particle–wall candidates in parallel over fixed blocks of particles, in particle order.
+    let walls: Vec<WallKey> = if scene.walls.is_empty() {
+        Vec::new()
+    } else {
+        (0..np)
+            .into_par_iter()
+            .with_min_len(1024)
+            .flat_map_iter(|i| {
+                scene
+                    .walls
+                    .iter()
+                    .enumerate()
+                    .filter(move |(_, wall)| wall_gap(&wall.geom, &p.pos[i], p.radius[i]).0 < tol)
+                    .map(move |(w, _)| WallKey {
+                        i: i as u32,
+                        id: p.id[i],
+                        wall: w as u32,
+                    })
+            })
+            .collect()
+    };
     (pairs, walls, info)
 }
 
