@@ -601,13 +601,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                 let v_old = vel[l];
                 let mut v = v_old * damp + f * (dt / m * inv);
                 let fx = fixed[i];
-                if fx != 0 {
-                    for k in 0..3 {
-                        if fx & (1 << k) != 0 {
-                            v[k] = v_old[k];
-                        }
-                    }
-                }
+                keep_fixed(&mut v, &v_old, fx);
                 if two_d {
                     v.z = 0.0;
                 }
@@ -625,13 +619,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                     let inertia = 0.4 * m * radius[i] * radius[i];
                     let w_old = spin[l];
                     let mut w = w_old * damp + moment[i] * (dt / inertia * inv);
-                    if fx != 0 {
-                        for k in 0..3 {
-                            if fx & (8 << k) != 0 {
-                                w[k] = w_old[k];
-                            }
-                        }
-                    }
+                    keep_fixed(&mut w, &w_old, fx >> 3);
                     if two_d {
                         w.x = 0.0;
                         w.y = 0.0;
@@ -708,6 +696,19 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     scene.cycle += 1;
     scene.time += dt;
     Ok(())
+}
+
+/// Fixed degrees of freedom (`Fix`): components whose bit is set in `mask` (bit k for
+/// component k) keep their old velocity.
+#[inline]
+fn keep_fixed(v: &mut Vec3, old: &Vec3, mask: u8) {
+    if mask & 7 != 0 {
+        for k in 0..3 {
+            if mask & (1 << k) != 0 {
+                v[k] = old[k];
+            }
+        }
+    }
 }
 
 /// Removes particles that left through an open side (counted in `lost`).
