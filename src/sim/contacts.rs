@@ -140,10 +140,6 @@ impl StateBox {
     pub fn get_mut(&mut self) -> Option<&mut ContactState> {
         self.0.as_deref_mut()
     }
-    /// The pair has an allocated state.
-    pub fn is_allocated(&self) -> bool {
-        self.0.is_some()
-    }
 }
 
 impl std::ops::Deref for StateBox {

@@ -318,28 +318,26 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
 fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
-    let smin = scene.settings.smin;
     let mut acc = Acc::default();
+    let laws_pp = Laws {
+        dt,
+        tangential: scene.settings.tangential,
+        rotation: model.rotation,
+        beta: scene.damping_pp.beta,
+        liquid: scene.liquid.as_ref(),
+        bridge: scene.settings.bridge,
+        smin: scene.settings.smin,
+        impact: scene.impact,
+        liquid_share: (scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve)
+            .then_some(super::liquid::OLSSON_SHARE),
+        goldman: scene.settings.goldman,
+    };
 
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair writes its force into its own slot (parallel over fixed chunks of pairs);
     // each particle then sums its pairs in a fixed order (parallel over particles). The
     // result does not depend on the number of threads.
     {
-        let laws = Laws {
-            dt,
-            tangential: scene.settings.tangential,
-            rotation: model.rotation,
-            beta: scene.damping_pp.beta,
-            liquid: scene.liquid.as_ref(),
-            bridge: scene.settings.bridge,
-            smin,
-            impact: scene.impact,
-            liquid_share: (scene.settings.liquid_mode
-                == crate::lang::command::LiquidMode::Conserve)
-                .then_some(super::liquid::OLSSON_SHARE),
-            goldman: scene.settings.goldman,
-        };
         let size = scene.size;
         let periodic = scene.settings.periodic;
         let p = &scene.particles;
@@ -389,7 +387,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                         r2: rj,
                     };
                     let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
-                    let out = interact(&k, pc, &laws, c.s.make_mut(), &mut acc);
+                    let out = interact(&k, pc, &laws_pp, c.s.make_mut(), &mut acc);
                     h.live = c.s.touching || c.s.bridge.is_some();
                     o.f = out.f;
                     o.m = if model.rotation {
@@ -433,19 +431,10 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
 
     // ---- particle–wall contacts -------------------------------------------------------
     if !scene.walls.is_empty() {
+        // The same laws; Rayleigh contact damping has its own particle–wall set.
         let laws = Laws {
-            dt,
-            tangential: scene.settings.tangential,
-            rotation: model.rotation,
             beta: scene.damping_pw.beta,
-            liquid: scene.liquid.as_ref(),
-            bridge: scene.settings.bridge,
-            smin,
-            impact: scene.impact,
-            liquid_share: (scene.settings.liquid_mode
-                == crate::lang::command::LiquidMode::Conserve)
-                .then_some(super::liquid::OLSSON_SHARE),
-            goldman: scene.settings.goldman,
+            ..laws_pp
         };
         for w in scene.walls.iter_mut() {
             w.force = [0.0; 3];
@@ -613,7 +602,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                 pos[l] += dx;
                 disp[l] += dx;
                 let x = pos[l];
-                outside |= (0..3).any(|k| !periodic[k] && (x[k] < 0.0 || x[k] > size[k]));
+                outside |= outside_open_side(&x, &size, &periodic);
                 max_disp = max_disp.max(disp[l].amax());
                 if rotation {
                     let inertia = 0.4 * m * radius[i] * radius[i];
@@ -711,6 +700,12 @@ fn keep_fixed(v: &mut Vec3, old: &Vec3, mask: u8) {
     }
 }
 
+/// The position is beyond a non-periodic side of the work-space.
+#[inline]
+fn outside_open_side(x: &Vec3, size: &[f64; 3], periodic: &[bool; 3]) -> bool {
+    (0..3).any(|k| !periodic[k] && (x[k] < 0.0 || x[k] > size[k]))
+}
+
 /// Removes particles that left through an open side (counted in `lost`).
 fn remove_lost(scene: &mut Scene) {
     if !scene.maybe_outside {
@@ -720,8 +715,7 @@ fn remove_lost(scene: &mut Scene) {
     let mut removed = false;
     while i < scene.particles.len() {
         let x = scene.particles.pos[i];
-        let out =
-            (0..3).any(|k| !scene.settings.periodic[k] && (x[k] < 0.0 || x[k] > scene.size[k]));
+        let out = outside_open_side(&x, &scene.size, &scene.settings.periodic);
         if out {
             // Its kinetic energy leaves the books with it.
             let e = 0.5 * scene.particles.mass[i] * scene.particles.vel[i].norm_squared()

@@ -290,8 +290,12 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                 // Goldman's tangential viscous force (4.76), opposing the relative
                 // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
                 let v_t = k.v_rel - k.n * v_n;
-                let ft = if laws.goldman && liq.eta > 0.0 && v_t.norm() > 0.0 {
-                    let vt = v_t.norm();
+                let vt = if laws.goldman && liq.eta > 0.0 {
+                    v_t.norm()
+                } else {
+                    0.0
+                };
+                let ft = if vt > 0.0 {
                     let smin = laws.smin.unwrap_or(0.01 * k.r_star);
                     let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
                     v_t * (t / vt)
