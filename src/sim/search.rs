@@ -110,6 +110,25 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
         }
     }
 
+    // A pair found in several boxes is reported only by the box of the lower corner of the
+    // intersection of the two cubes (computed in i's frame, then wrapped).
+    let reports = |i: usize, j: usize, d: &Vec3, bxyz: [usize; 3]| -> bool {
+        (0..3).all(|k| {
+            let lo_i = p.pos[i][k] - p.radius[i] - half;
+            let lo_j = p.pos[i][k] + d[k] - p.radius[j] - half;
+            let c = cell_index(lo_i.max(lo_j), k, &n, &cell, periodic[k]);
+            let c = if periodic[k] {
+                wrap(c, n[k])
+            } else {
+                c as usize
+            };
+            // A cube spanning the whole period was entered from box 0 upward.
+            let spans =
+                |q: usize| periodic[k] && lo_cell[q][k] == 0 && hi_cell[q][k] == n[k] as i64 - 1;
+            let c = if spans(i) && spans(j) { 0 } else { c };
+            c == bxyz[k]
+        })
+    };
     // Pairs per block of boxes, in parallel; blocks are concatenated in box order (and the
     // merge sorts the keys anyway), so the result does not depend on the number of threads.
     const BLOCK: usize = 256;
@@ -145,32 +164,7 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
                         if d.norm_squared() >= reach * reach {
                             continue;
                         }
-                        // Report the pair only from the box of the lower corner of the
-                        // intersection of the two cubes (computed in i's frame, then wrapped).
-                        let mut owns = true;
-                        for (k, bk) in [bx, by, bz].into_iter().enumerate() {
-                            let lo_i = p.pos[i][k] - p.radius[i] - half;
-                            let lo_j = p.pos[i][k] + d[k] - p.radius[j] - half;
-                            let c = cell_index(lo_i.max(lo_j), k, &n, &cell, periodic[k]);
-                            let c = if periodic[k] {
-                                wrap(c, n[k])
-                            } else {
-                                c as usize
-                            };
-                            // A cube spanning the whole period was entered from box 0 upward.
-                            let spans_i = periodic[k]
-                                && lo_cell[i][k] == 0
-                                && hi_cell[i][k] == n[k] as i64 - 1;
-                            let spans_j = periodic[k]
-                                && lo_cell[j][k] == 0
-                                && hi_cell[j][k] == n[k] as i64 - 1;
-                            let c = if spans_i && spans_j { 0 } else { c };
-                            if c != bk {
-                                owns = false;
-                                break;
-                            }
-                        }
-                        if !owns {
+                        if !reports(i, j, &d, [bx, by, bz]) {
                             continue;
                         }
                         let (ida, idb) = (p.id[i], p.id[j]);
