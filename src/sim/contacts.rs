@@ -257,6 +257,25 @@ pub struct ContactStore {
     pub rebuilds: u64,
 }
 
+/// Walks the sorted new keys against the sorted old entries: each key comes with the old
+/// entry of the same id (whose history it carries on), or `None` for a new candidate.
+fn carry<K, T, I: Ord>(
+    new: Vec<K>,
+    old: Vec<T>,
+    id_new: impl Fn(&K) -> I,
+    id_old: impl Fn(&T) -> I,
+) -> impl Iterator<Item = (K, Option<T>)> {
+    let mut old = old.into_iter().peekable();
+    new.into_iter().map(move |k| {
+        let id = id_new(&k);
+        while old.peek().is_some_and(|o| id_old(o) < id) {
+            old.next();
+        }
+        let same = old.next_if(|o| id_old(o) == id);
+        (k, same)
+    })
+}
+
 impl ContactStore {
     /// Replaces the pair lists by new candidates (sorted by ids), carrying over the state of
     /// pairs present in both. Pairs that disappear lose their history (they were farther apart
@@ -265,24 +284,20 @@ impl ContactStore {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
         // The keys are unique, so the parallel sort gives the one sorted order.
         new_pairs.par_sort_unstable();
-        let mut old = std::mem::take(&mut self.pairs).into_iter().peekable();
-        let mut pairs = Vec::with_capacity(new_pairs.len());
-        for k in new_pairs {
-            while old.peek().is_some_and(|o| (o.ida, o.idb) < (k.ida, k.idb)) {
-                old.next();
-            }
-            let s = match old.peek() {
-                Some(o) if (o.ida, o.idb) == (k.ida, k.idb) => old.next().expect("peeked").s,
-                _ => StateBox::default(),
-            };
-            pairs.push(Pair {
-                i: k.i,
-                j: k.j,
-                ida: k.ida,
-                idb: k.idb,
-                s,
-            });
-        }
+        let mut pairs: Vec<Pair> = carry(
+            new_pairs,
+            std::mem::take(&mut self.pairs),
+            |k| (k.ida, k.idb),
+            |o| (o.ida, o.idb),
+        )
+        .map(|(k, old)| Pair {
+            i: k.i,
+            j: k.j,
+            ida: k.ida,
+            idb: k.idb,
+            s: old.map(|o| o.s).unwrap_or_default(),
+        })
+        .collect();
         // Re-allocate the states in pair order (all freed first), so that the force loop
         // walks the heap forward instead of in the order the contacts were made.
         let moved: Vec<(usize, ContactState)> = pairs
@@ -296,24 +311,19 @@ impl ContactStore {
         self.pairs = pairs;
 
         new_walls.sort_unstable();
-        let mut old = std::mem::take(&mut self.wall_pairs).into_iter().peekable();
-        let mut walls = Vec::with_capacity(new_walls.len());
-        for k in new_walls {
-            while old.peek().is_some_and(|o| (o.id, o.wall) < (k.id, k.wall)) {
-                old.next();
-            }
-            let s = match old.peek() {
-                Some(o) if (o.id, o.wall) == (k.id, k.wall) => old.next().expect("peeked").s,
-                _ => ContactState::default(),
-            };
-            walls.push(WallPair {
-                i: k.i,
-                id: k.id,
-                wall: k.wall,
-                s,
-            });
-        }
-        self.wall_pairs = walls;
+        self.wall_pairs = carry(
+            new_walls,
+            std::mem::take(&mut self.wall_pairs),
+            |k| (k.id, k.wall),
+            |o| (o.id, o.wall),
+        )
+        .map(|(k, old)| WallPair {
+            i: k.i,
+            id: k.id,
+            wall: k.wall,
+            s: old.map(|o| o.s).unwrap_or_default(),
+        })
+        .collect();
         self.stale = false;
         self.remap = false;
         self.rebuilds += 1;
