@@ -278,7 +278,6 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 }
                 let id = scene.next_id;
                 scene.next_id += 1;
-                let i = scene.particles.len();
                 scene.particles.push(
                     id,
                     x,
@@ -291,7 +290,6 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     *nagg,
                 );
                 idx.insert(&x, r);
-                let _ = i;
                 made += 1;
                 need_radius = true;
             }

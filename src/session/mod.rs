@@ -338,7 +338,9 @@ fn scene_command(
             );
             cycle::run(scene, *n).map_err(|b| b.message)?;
             if timing {
-                eprintln!(
+                // Written like every diagnostic: a closed stderr must not panic.
+                let _ = writeln!(
+                    std::io::stderr(),
                     "TRUBAL_TIMING cycles={} balls={} cycle_wall_s={:.6} cycle_cpu_s={:.6}",
                     n,
                     scene.particles.len(),
