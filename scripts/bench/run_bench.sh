@@ -90,6 +90,15 @@ case " $SCENES " in *" s2 "*|*" moist "*)
   fi
 ;; esac
 
+# trubal_runs SCENE N STEPS REP LOGNAME DECK: the deck at every thread count of TRUBAL_THREADS.
+trubal_runs() {
+  local scene=$1 n=$2 steps=$3 rep=$4 name=$5 deck=$6 t
+  for t in $TRUBAL_THREADS; do
+    (cd "$OUT" && run_timed "$scene" trubal "$n" "t$t" "$steps" "$rep" "$OUT/logs/${name}_t${t}_r$rep" \
+      "$TRUBAL" --threads "$t" "$deck")
+  done
+}
+
 REP_END=$((REP_START + REPS - 1))
 for rep in $(seq "$REP_START" "$REP_END"); do
   echo "=== repetition $rep ($REP_START..$REP_END)  $(date -u +%H:%M:%S)"
@@ -98,10 +107,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
       v="S1_STEPS_$n"; steps=${!v:-$S1_STEPS}
       d="$OUT/s1_N${n}_rep$rep"; mkdir -p "$d"
       printf "restart bed%s.sav\nset tangential %s\ncycle %s\nprint info\n" "$n" "$TANG" "$steps" > "$OUT/run_bed${n}_$steps.tru"
-      for t in $TRUBAL_THREADS; do
-        (cd "$OUT" && run_timed s1 trubal "$n" "t$t" "$steps" "$rep" "$OUT/logs/s1_trubal_N${n}_t${t}_r$rep" \
-          "$TRUBAL" --threads "$t" "run_bed${n}_$steps.tru")
-      done
+      trubal_runs s1 "$n" "$steps" "$rep" "s1_trubal_N${n}" "run_bed${n}_$steps.tru"
       for np in $PEER_RANKS; do
         pre=$(peer_pre "$np")
         have liggghts && (cd "$d" && run_timed s1 liggghts "$n" "np$np" "$steps" "$rep" "$OUT/logs/s1_liggghts_N${n}_np${np}_r$rep" \
@@ -113,9 +119,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
   ;; esac
   case " $SCENES " in *" s2 "*)
     n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_jkr.info")
-    for t in $TRUBAL_THREADS; do
-      (cd "$OUT" && run_timed s2 trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/s2_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_jkr.tru)
-    done
+    trubal_runs s2 "$n" "$S2_STEPS" "$rep" s2_trubal agg_jkr.tru
     if have lammps; then
       n0=$(sed -n 's/.*N=\([0-9]*\).*/\1/p' <<< "$agg_info")
       for np in $PEER_RANKS; do
@@ -129,9 +133,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
   ;; esac
   case " $SCENES " in *" moist "*)
     n=$(sed -n 's/^N=\([0-9]*\).*/\1/p' "$OUT/agg_dry.info")
-    for t in $TRUBAL_THREADS; do
-      (cd "$OUT" && run_timed dry trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/dry_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_dry.tru)
-    done
+    trubal_runs dry "$n" "$S2_STEPS" "$rep" dry_trubal agg_dry.tru
     if [ "$MOIST_LIGGGHTS" = 1 ] && have liggghts && [ -f "$here/in.agglomerate_moist.liggghts" ]; then
       d="$OUT/moist_lig_rep$rep"; mkdir -p "$d"
       python3 "$here/agg2tru.py" data "$OUT/agg_lig.data" > "$OUT/agg_lig.info"
@@ -143,9 +145,7 @@ for rep in $(seq "$REP_START" "$REP_END"); do
           -var nsteps "$S2_STEPS" -var wet "$wet" -log none)
       done
     fi
-    for t in $TRUBAL_THREADS; do
-      (cd "$OUT" && run_timed moist trubal "$n" "t$t" "$S2_STEPS" "$rep" "$OUT/logs/moist_trubal_t${t}_r$rep" "$TRUBAL" --threads "$t" agg_moist.tru)
-    done
+    trubal_runs moist "$n" "$S2_STEPS" "$rep" moist_trubal agg_moist.tru
   ;; esac
 done
 
