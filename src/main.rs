@@ -77,11 +77,30 @@ fn main() -> ExitCode {
             }
         }
     }
+    // The session itself runs on a worker of the pool: with one thread every parallel loop
+    // then runs inline, and with more the calling thread takes part instead of sleeping
+    // while the others work (each parallel loop from a thread outside the pool is a
+    // hand-off and a wake-up, several per step).
+    let mut builder = rayon::ThreadPoolBuilder::new().stack_size(16 << 20);
     if let Some(n) = threads {
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global();
+        builder = builder.num_threads(n);
     }
+    match builder.build() {
+        Ok(pool) => pool.install(|| session_main(file, json, keep_going, vars)),
+        Err(e) => {
+            complain!("cannot start the worker threads: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs the session the arguments ask for (on a worker thread of the pool).
+fn session_main(
+    file: Option<String>,
+    json: bool,
+    keep_going: bool,
+    vars: Vec<(String, String)>,
+) -> ExitCode {
     let batch = file.is_none() && input::batch_requested();
     let out: Box<dyn std::io::Write> = if batch {
         match std::fs::File::create("TRUBAL.OUT") {
