@@ -22,6 +22,11 @@
 //!
 //! `tests/checkpoint.rs` fails when the fixture of the current version no longer decodes to
 //! the same bytes, i.e. when the layout changed without a version bump.
+//!
+//! History: version 1 held every contact state in one flat layout; version 2 (slim contact
+//! state: the JKR, Mindlin–Deresiewicz and liquid-return fields behind one optional pointer,
+//! the never-read contact normal dropped) reads it through `sim::contacts::v1`, which is
+//! only a contact-state type because nothing else changed.
 
 use std::io::Write;
 use std::path::Path;
@@ -30,7 +35,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -105,7 +110,9 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
 /// Decodes the payload of a given (readable) format version into the current [`Scene`].
 fn decode_payload(version: u32, payload: &[u8]) -> Result<Scene, String> {
     match version {
-        VERSION => decode_all::<Scene>(payload),
+        VERSION => decode_all::<Scene>(payload, version),
+        // Version 1 differs only in the layout of the contact state (sim::contacts::v1).
+        1 => crate::sim::contacts::v1::reading(|| decode_all::<Scene>(payload, version)),
         // Older versions: decode with their frozen types and convert (see "Format evolution").
         v => Err(format!(
             "the checkpoint has format version {v}, for which this program (format version {VERSION}) has no reader"
@@ -113,12 +120,12 @@ fn decode_payload(version: u32, payload: &[u8]) -> Result<Scene, String> {
     }
 }
 
-fn decode_all<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
+fn decode_all<T: serde::de::DeserializeOwned>(payload: &[u8], version: u32) -> Result<T, String> {
     let (value, used): (T, usize) =
         bincode::serde::decode_from_slice(payload, bincode::config::standard()).map_err(|e| {
             format!(
                 "the checkpoint is corrupt, or was written by an incompatible build (its checksum \
-                     is intact but the state does not decode as format version {VERSION}): {e}"
+                     is intact but the state does not decode as format version {version}): {e}"
             )
         })?;
     if used != payload.len() {

@@ -200,7 +200,7 @@ fn oblique_peeling_then_sliding() {
     for _ in 0..40_000 {
         step(&mut sc);
         let c = &sc.contacts.pairs[0].s;
-        trace.push((c.delta.norm(), c.tforce.norm(), c.normal_force));
+        trace.push((c.ext().delta.norm(), c.tforce.norm(), c.normal_force));
     }
     // Initial slope 8 G* a.
     let (d1, t1, _) = trace[5];
@@ -270,9 +270,9 @@ fn impact_flag_uses_base_surface_energy() {
             .find(|c| c.s.touching)
             .expect("contact");
         assert!(
-            (c.s.gamma - want).abs() < 1e-12,
+            (c.s.gamma() - want).abs() < 1e-12,
             "flag {flag}: γ {}",
-            c.s.gamma
+            c.s.gamma()
         );
     }
 }

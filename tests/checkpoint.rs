@@ -85,22 +85,22 @@ fn v3s(v: &[Vec3]) -> Value {
 }
 
 fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
+    let e = s.ext();
     json!({
         "touching": s.touching, "overlap": f(s.overlap), "normal_force": f(s.normal_force),
-        "damp_force": f(s.damp_force), "a_s": f(s.a_s), "tang_energy": f(s.tang_energy),
-        "a": f(s.a), "gamma": f(s.gamma), "delta": v3(&s.delta), "tforce": v3(&s.tforce),
-        "tdamp": v3(&s.tdamp), "tdelta": f(s.tdelta),
+        "damp_force": f(s.damp_force), "a_s": f(e.a_s), "tang_energy": f(s.tang_energy),
+        "a": f(s.a), "gamma": f(e.gamma), "delta": v3(&e.delta), "tforce": v3(&s.tforce),
+        "tdamp": v3(&s.tdamp), "tdelta": f(e.tdelta),
         "tang": {
-            "t": f(s.tang.t), "tp": fs(&s.tang.tp), "n_tp": s.tang.n_tp, "sense": s.tang.sense,
-            "peeled": s.tang.peeled, "stored": f(s.tang.stored),
+            "t": f(e.tang.t), "tp": fs(&e.tang.tp), "n_tp": e.tang.n_tp, "sense": e.tang.sense,
+            "peeled": e.tang.peeled, "stored": f(e.tang.stored),
         },
-        "normal": v3(&s.normal),
         "bridge": s.bridge.as_ref().map(|b| json!({
             "volume": f(b.volume), "s_c": f(b.s_c), "f_static": f(b.f_static),
             "f_visc": f(b.f_visc), "phi": f(b.phi()), "gap": f(b.gap), "work": f(b.work),
             "share": fs(&b.share), "fresh": b.fresh,
         })),
-        "released": fs(&s.released),
+        "released": fs(&e.released),
     })
 }
 
@@ -240,6 +240,33 @@ fn write_fixture() {
     .unwrap();
 }
 
+/// Facts a later format dropped deliberately, with the version that dropped them: the
+/// contact normal of version 1 was written at every step and never read.
+const DROPPED_CONTACT_FACTS: &[(&str, u32)] = &[("normal", 2)];
+
+/// The recorded facts of a fixture of version `v` without those a later version dropped
+/// (contact states are the objects with a `touching` fact).
+fn without_dropped(mut facts: Value, v: u32) -> Value {
+    fn strip(x: &mut Value, v: u32) {
+        match x {
+            Value::Object(m) => {
+                if m.contains_key("touching") {
+                    for (k, since) in DROPPED_CONTACT_FACTS {
+                        if v < *since {
+                            m.remove(*k);
+                        }
+                    }
+                }
+                m.values_mut().for_each(|y| strip(y, v));
+            }
+            Value::Array(a) => a.iter_mut().for_each(|y| strip(y, v)),
+            _ => {}
+        }
+    }
+    strip(&mut facts, v);
+    facts
+}
+
 fn read_version(data: &[u8]) -> u32 {
     u32::from_le_bytes(data[8..12].try_into().unwrap())
 }
@@ -272,6 +299,7 @@ fn fixtures_of_every_version_still_load() {
                 // Values that did not exist in that version may be added to `facts` later:
                 // compare the facts the fixture recorded.
                 let got = facts(&sc);
+                let want = without_dropped(want, v);
                 if let Some(d) = diff_in(&want, &got, "", false) {
                     panic!("{name}: the loaded state differs from the recorded facts at {d}");
                 }
@@ -317,7 +345,7 @@ fn the_whole_state_round_trips() {
     assert!(sc.walls[0].servo.is_some());
     let pair = &sc.contacts.pairs[0].s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
-    assert!(pair.tang.t != 0.0 && pair.tang.stored > 0.0);
+    assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
     let wall = &sc.contacts.wall_pairs[0].s;
     assert!(wall.touching && wall.bridge.is_some());
     assert!(sc.reference.as_ref().is_some_and(|r| r.ids.len() == 4));

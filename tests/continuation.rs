@@ -218,7 +218,7 @@ fn adhesive_scene_continues_bitwise() {
         sc.contacts
             .pairs
             .iter()
-            .any(|p| p.s.touching && p.s.gamma > 0.0),
+            .any(|p| p.s.touching && p.s.gamma() > 0.0),
         "the adhesive scene must have JKR contacts"
     );
     let _ = std::fs::remove_dir_all(&dir);

@@ -67,7 +67,10 @@ impl BridgeState {
     }
 }
 
-/// State of one contact (solid part).
+/// State of one contact: the part every contact law reads and writes at every step, kept
+/// small (the force loop streams it), with the state of the laws only some scenes use (JKR,
+/// Mindlin–Deresiewicz, liquid bridges) behind pointers that stay empty otherwise ("model
+/// only what a scene needs": a Hertz contact with the no-slip law is 104 bytes).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactState {
     /// A solid contact is active (Hertz: overlap > 0; JKR: made and not yet detached).
@@ -78,30 +81,55 @@ pub struct ContactState {
     pub normal_force: f64,
     /// Dashpot normal force of the last step.
     pub damp_force: f64,
-    /// JKR separation radius a_s (3.117), computed at snap-in.
-    pub a_s: f64,
     /// Stored tangential elastic energy.
     pub tang_energy: f64,
     /// Contact radius a.
     pub a: f64,
-    /// Surface energy of this contact (J/m²).
-    pub gamma: f64,
-    /// Accumulated tangential displacement vector δ (of B relative to A).
-    pub delta: Vec3,
     /// Tangential force on B.
     pub tforce: Vec3,
     /// Tangential dashpot force on B (Rayleigh contact damping).
     pub tdamp: Vec3,
+    /// JKR and Mindlin–Deresiewicz state, and liquid to return; `None` while all of it is
+    /// at its default (Hertz contacts with the no-slip law never allocate it).
+    pub ext: Option<Box<ContactExt>>,
+    /// Liquid bridge, if any.
+    pub bridge: Option<Box<BridgeState>>,
+}
+
+/// The part of a contact's state that only some laws use.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ContactExt {
+    /// JKR separation radius a_s (3.117), computed at snap-in.
+    pub a_s: f64,
+    /// Surface energy of this contact (J/m²); 0 for a Hertz contact.
+    pub gamma: f64,
+    /// Accumulated tangential displacement vector δ (of B relative to A); kept by the
+    /// Mindlin–Deresiewicz law (the no-slip law, like LIGGGHTS' and LAMMPS' shear history,
+    /// keeps only the force).
+    pub delta: Vec3,
     /// Signed resultant tangential displacement (Lian (5.23)).
     pub tdelta: f64,
     /// Signed resultant tangential law state.
     pub tang: TangentialState,
-    /// Unit normal of the last step (A → B).
-    pub normal: Vec3,
-    /// Liquid bridge, if any.
-    pub bridge: Option<Box<BridgeState>>,
     /// Liquid returned to A and B by a bridge that ruptured in this step (conserving mode).
     pub released: [f64; 2],
+}
+
+static DEFAULT_EXT: std::sync::LazyLock<ContactExt> = std::sync::LazyLock::new(ContactExt::default);
+
+impl ContactState {
+    /// The law-specific state (the default values if the contact has none).
+    pub fn ext(&self) -> &ContactExt {
+        self.ext.as_deref().unwrap_or(&DEFAULT_EXT)
+    }
+    /// The law-specific state, allocated (at its defaults) if the contact had none.
+    pub fn ext_mut(&mut self) -> &mut ContactExt {
+        self.ext.get_or_insert_with(Box::default)
+    }
+    /// Surface energy of the contact (0: Hertz).
+    pub fn gamma(&self) -> f64 {
+        self.ext.as_ref().map_or(0.0, |e| e.gamma)
+    }
 }
 
 /// A candidate particle–particle pair: gap < TOL at the last rebuild, or a live bond.
@@ -117,7 +145,7 @@ pub struct Pair {
 }
 
 /// The contact state of a candidate pair, allocated only once the pair comes within reach:
-/// most candidates never touch, and an inline ~300-byte state for each of them made the pair
+/// most candidates never touch, and an inline state for each of them made the pair
 /// list, its merges and the blow-up snapshot several times larger than the contacts need.
 /// Reads of a pair without a state see the default state ([`std::ops::Deref`]); writes go
 /// through [`StateBox::make_mut`] (allocates) or [`StateBox::get_mut`] (does not). In a
@@ -172,7 +200,7 @@ static DEFAULT_BYTES: std::sync::LazyLock<Vec<u8>> = std::sync::LazyLock::new(||
 
 impl<'de> Deserialize<'de> for StateBox {
     fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
-        let s = ContactState::deserialize(de)?;
+        let s = v1::deserialize_state(de)?;
         let pristine = !s.touching
             && s.bridge.is_none()
             && bincode::serde::encode_to_vec(&s, bincode::config::standard())
@@ -208,6 +236,7 @@ pub struct WallPair {
     pub i: u32,
     pub id: u32,
     pub wall: u32,
+    #[serde(deserialize_with = "v1::deserialize_state")]
     pub s: ContactState,
 }
 
@@ -220,7 +249,7 @@ pub struct PairForce {
 }
 
 /// The part of a candidate pair the force loop reads for every pair, kept apart from the
-/// ~300-byte [`ContactState`] so that far-apart pairs without a bond cost one small read
+/// [`ContactState`] so that far-apart pairs without a bond cost one small read
 /// (derived from `pairs`; rebuilt after every merge).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HotPair {
@@ -233,7 +262,9 @@ pub struct HotPair {
     pub evaluated: bool,
 }
 
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+/// Cloning (the blow-up snapshot, command undo) copies the state, not the derived per-step
+/// buffers `out` and `hot` (rebuilt when needed).
+#[derive(Debug, Default, Serialize, Deserialize)]
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved).
     #[serde(skip)]
@@ -255,6 +286,24 @@ pub struct ContactStore {
     pub tol: f64,
     /// Number of rebuilds so far (for PRint Entries).
     pub rebuilds: u64,
+}
+
+impl Clone for ContactStore {
+    fn clone(&self) -> Self {
+        let mut c = ContactStore::default();
+        c.clone_from(self);
+        c
+    }
+    fn clone_from(&mut self, o: &Self) {
+        self.out.clear();
+        self.hot.clear();
+        self.pairs.clone_from(&o.pairs);
+        self.wall_pairs.clone_from(&o.wall_pairs);
+        self.stale = o.stale;
+        self.remap = o.remap;
+        self.tol = o.tol;
+        self.rebuilds = o.rebuilds;
+    }
 }
 
 /// Walks the sorted new keys against the sorted old entries: each key comes with the old
@@ -383,5 +432,86 @@ impl ContactStore {
                 .filter(|p| p.s.bridge.is_some())
                 .count(),
         )
+    }
+}
+
+/// Checkpoint format version 1 stored every contact state in one flat layout (with a contact
+/// normal that was written and never read); this reads it into the current state.
+pub mod v1 {
+    use std::cell::Cell;
+
+    use serde::{Deserialize, Deserializer};
+
+    use super::{BridgeState, ContactExt, TangentialState, Vec3};
+
+    thread_local! {
+        static READING_V1: Cell<bool> = const { Cell::new(false) };
+    }
+
+    /// Runs `f` (a decoding of a whole checkpoint payload) with contact states read in the
+    /// version-1 layout.
+    pub fn reading<R>(f: impl FnOnce() -> R) -> R {
+        READING_V1.with(|r| r.set(true));
+        let out = f();
+        READING_V1.with(|r| r.set(false));
+        out
+    }
+
+    /// The contact state as format version 1 wrote it (frozen: never change).
+    #[derive(Deserialize)]
+    struct ContactState {
+        touching: bool,
+        overlap: f64,
+        normal_force: f64,
+        damp_force: f64,
+        a_s: f64,
+        tang_energy: f64,
+        a: f64,
+        gamma: f64,
+        delta: Vec3,
+        tforce: Vec3,
+        tdamp: Vec3,
+        tdelta: f64,
+        tang: TangentialState,
+        #[allow(dead_code)]
+        normal: Vec3,
+        bridge: Option<Box<BridgeState>>,
+        released: [f64; 2],
+    }
+
+    impl From<ContactState> for super::ContactState {
+        fn from(o: ContactState) -> Self {
+            let ext = ContactExt {
+                a_s: o.a_s,
+                gamma: o.gamma,
+                delta: o.delta,
+                tdelta: o.tdelta,
+                tang: o.tang,
+                released: o.released,
+            };
+            super::ContactState {
+                touching: o.touching,
+                overlap: o.overlap,
+                normal_force: o.normal_force,
+                damp_force: o.damp_force,
+                tang_energy: o.tang_energy,
+                a: o.a,
+                tforce: o.tforce,
+                tdamp: o.tdamp,
+                ext: (ext != ContactExt::default()).then(|| Box::new(ext)),
+                bridge: o.bridge,
+            }
+        }
+    }
+
+    /// Reads a contact state in the layout of the checkpoint being decoded.
+    pub fn deserialize_state<'de, D: Deserializer<'de>>(
+        de: D,
+    ) -> Result<super::ContactState, D::Error> {
+        if READING_V1.with(|r| r.get()) {
+            ContactState::deserialize(de).map(Into::into)
+        } else {
+            super::ContactState::deserialize(de)
+        }
     }
 }

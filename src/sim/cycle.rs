@@ -234,7 +234,10 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
                 return Err(e);
             }
             e_ref = e_ref.max(scale(scene));
-            snapshot.clone_from(scene);
+            // The old snapshot goes before the new one is made (never three copies at once).
+            snapshot.particles = Default::default();
+            snapshot.contacts = Default::default();
+            snapshot = scene.clone();
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
         let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);

@@ -85,11 +85,12 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     if !s.touching {
         return 0.0;
     }
-    if s.gamma > 0.0 {
+    let gamma = s.gamma();
+    if gamma > 0.0 {
         let j = Jkr {
             e_star,
             r_star,
-            gamma: s.gamma,
+            gamma,
         };
         j.energy_of_a(s.a) + j.peel_work()
     } else {
@@ -105,10 +106,12 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     s.damp_force = 0.0;
     s.a = 0.0;
     s.tang_energy = 0.0;
-    s.delta = Vec3::zeros();
     s.tforce = Vec3::zeros();
-    s.tang = Default::default();
-    s.tdelta = 0.0;
+    if let Some(e) = s.ext.as_deref_mut() {
+        e.delta = Vec3::zeros();
+        e.tang = Default::default();
+        e.tdelta = 0.0;
+    }
     s.overlap = 0.0;
 }
 
@@ -132,7 +135,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     // A touching contact keeps its own γ; a new one takes the material value, or the base
     // value after an impact (`VELocity ... 1`, Lian App. B).
     let gamma = if s.touching {
-        s.gamma
+        s.gamma()
     } else if laws.impact {
         pc.gamma_base
     } else {
@@ -150,18 +153,19 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
             // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md). The separation
             // radius a_s (3.117) is computed once here.
             s.touching = true;
-            s.gamma = gamma;
             s.a = j.a0();
-            s.a_s = j.a_s();
-            s.normal = k.n;
+            let e = s.ext_mut();
+            e.gamma = gamma;
+            e.a_s = j.a_s();
         }
         if s.touching {
-            if alpha < -3.0 * s.a_s * s.a_s / k.r_star {
+            let a_s = s.ext().a_s;
+            if alpha < -3.0 * a_s * a_s / k.r_star {
                 // Detachment at α_s (3.38): the energy stored since snap-in is lost (3.114).
                 acc.adhesion += normal_strain(s, pc.e_star, k.r_star);
                 reset_solid(s, acc);
             } else {
-                let a = j.solve_a_with(s.a_s, alpha, s.a);
+                let a = j.solve_a_with(a_s, alpha, s.a);
                 s.a = a;
                 s.normal_force = j.force_of_a(a);
                 if laws.beta > 0.0 {
@@ -173,8 +177,9 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     } else if alpha > 0.0 {
         if !s.touching {
             s.touching = true;
-            s.normal = k.n;
-            s.gamma = 0.0;
+            if let Some(e) = s.ext.as_deref_mut() {
+                e.gamma = 0.0;
+            }
         }
         let a = (k.r_star * alpha).sqrt();
         s.a = a;
@@ -219,7 +224,6 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
         if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
             ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
         }
-        s.normal = k.n;
     } else if dt > 0.0 && (fd_prev != 0.0 || td_prev != Vec3::zeros()) {
         // The contact ended: book the second half of the last dashpot forces.
         let v_t = k.v_rel - k.n * v_n;
@@ -266,7 +270,9 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
                 acc.viscous += -0.5 * bs.f_visc * v_n * dt;
                 acc.viscous += -0.5 * bs.f_tang.dot(&(k.v_rel - k.n * v_n)) * dt;
                 acc.rupture += bs.work;
-                s.released = bs.share;
+                if bs.share != [0.0; 2] {
+                    s.ext_mut().released = bs.share;
+                }
                 s.bridge = None;
             } else {
                 let sgap = k.gap.max(0.0);
@@ -350,7 +356,6 @@ fn tangential_step(
             Vec3::zeros()
         }
     };
-    s.delta = rotate(s.delta);
     s.tforce = rotate(s.tforce);
     let v_t = k.v_rel - n * k.v_rel.dot(&n);
     let dd = v_t * dt;
@@ -377,12 +382,14 @@ fn tangential_step(
             acc.friction += work - (e_new - s.tang_energy);
             s.tang_energy = e_new;
             s.tforce = f;
-            s.delta += dd;
         }
         TangentialChoice::Md => {
-            let old_vec = s.delta;
+            let t_old = s.tforce;
+            let (a, tang_energy) = (s.a, s.tang_energy);
+            let e = s.ext_mut();
+            let old_vec = rotate(e.delta);
             let new_vec = old_vec + dd;
-            let old_len = s.tdelta;
+            let old_len = e.tdelta;
             let sign_old = if old_len < 0.0 { -1.0 } else { 1.0 };
             let dir = if old_vec.dot(&new_vec) < 0.0 {
                 -1.0
@@ -393,16 +400,15 @@ fn tangential_step(
             let inp = TangentialInput {
                 g_star: pc.g_star,
                 mu: pc.mu,
-                a: s.a,
+                a,
                 p_old,
                 p_new,
                 pc: pcrit,
                 e_star: pc.e_star,
                 d_delta: new_len - old_len,
             };
-            let t_old = s.tforce;
-            let out = tangential::mindlin_deresiewicz(&mut s.tang, &inp);
-            s.tdelta = new_len;
+            let out = tangential::mindlin_deresiewicz(&mut e.tang, &inp);
+            e.tdelta = new_len;
             // Direction of the positive resultant: δ/δ_signed.
             let unit = if new_len != 0.0 {
                 new_vec / new_len
@@ -412,14 +418,14 @@ fn tangential_step(
                 Vec3::zeros()
             };
             // The elastic force acts along δ on the contact; on B it opposes B's slip.
-            let f = -unit * s.tang.t;
+            let f = -unit * e.tang.t;
             let work = -0.5 * (t_old + f).dot(&dd);
-            let e_new = tangential::stored_energy(&s.tang);
+            let e_new = tangential::stored_energy(&e.tang);
             let _ = out;
-            acc.friction += work - (e_new - s.tang_energy);
+            e.delta = new_vec;
+            acc.friction += work - (e_new - tang_energy);
             s.tang_energy = e_new;
             s.tforce = f;
-            s.delta = new_vec;
         }
     }
     let mut ft = s.tforce;

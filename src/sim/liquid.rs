@@ -41,10 +41,12 @@ pub fn settle(scene: &mut Scene) {
         let Some(s) = c.s.get_mut() else {
             continue;
         };
-        if s.released != [0.0; 2] {
-            p.liquid[i] += s.released[0];
-            p.liquid[j] += s.released[1];
-            s.released = [0.0; 2];
+        if let Some(e) = s.ext.as_deref_mut() {
+            if e.released != [0.0; 2] {
+                p.liquid[i] += e.released[0];
+                p.liquid[j] += e.released[1];
+                e.released = [0.0; 2];
+            }
         }
         if let Some(b) = s.bridge.as_deref_mut() {
             if b.fresh {
@@ -67,9 +69,11 @@ pub fn settle(scene: &mut Scene) {
     }
     for c in scene.contacts.wall_pairs.iter_mut() {
         let i = c.i as usize;
-        if c.s.released != [0.0; 2] {
-            p.liquid[i] += c.s.released[0];
-            c.s.released = [0.0; 2];
+        if let Some(e) = c.s.ext.as_deref_mut() {
+            if e.released != [0.0; 2] {
+                p.liquid[i] += e.released[0];
+                e.released = [0.0; 2];
+            }
         }
         if let Some(b) = c.s.bridge.as_deref_mut() {
             if b.fresh {

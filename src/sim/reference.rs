@@ -32,7 +32,7 @@ impl Reference {
             let (i, j) = (c.i as usize, c.j as usize);
             if let Some(b) = &c.s.bridge {
                 bond_energy += b.coeffs.bond_energy(b.gap.max(0.0));
-            } else if c.s.touching && c.s.gamma > 0.0 {
+            } else if c.s.touching && c.s.gamma() > 0.0 {
                 let (ma, mb) = (
                     &scene.materials[p.material[i] as usize - 1],
                     &scene.materials[p.material[j] as usize - 1],
@@ -42,7 +42,7 @@ impl Reference {
                         ma.young, ma.poisson, mb.young, mb.poisson,
                     ),
                     r_star: p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]),
-                    gamma: c.s.gamma,
+                    gamma: c.s.gamma(),
                 };
                 bond_energy += jk.peel_work();
             }
