@@ -70,7 +70,7 @@ impl BridgeState {
 /// State of one contact: the part every contact law reads and writes at every step, kept
 /// small (the force loop streams it), with the state of the laws only some scenes use (JKR,
 /// Mindlin–Deresiewicz, liquid bridges) behind pointers that stay empty otherwise ("model
-/// only what a scene needs": a Hertz contact with the no-slip law is 104 bytes).
+/// only what a scene needs": a Hertz contact with the no-slip law is 112 bytes).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactState {
     /// A solid contact is active (Hertz: overlap > 0; JKR: made and not yet detached).
@@ -513,5 +513,19 @@ pub mod v1 {
         } else {
             super::ContactState::deserialize(de)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The state every contact reads and writes at every step stays small (the force loop
+    /// streams it): law-specific state belongs in `ContactExt` or `BridgeState`.
+    #[test]
+    fn the_per_step_contact_state_stays_small() {
+        assert!(std::mem::size_of::<ContactState>() <= 112);
+        assert!(std::mem::size_of::<Pair>() <= 24);
+        assert!(std::mem::size_of::<HotPair>() <= 12);
     }
 }
