@@ -407,29 +407,48 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
         }
         // Each particle's sum runs over its pairs in pair order: scattering the pairs in order
         // gives the same sums, bit for bit, as gathering them per particle, and reads the
-        // pair forces sequentially (the particle arrays are small enough to stay in cache).
+        // pair forces sequentially. With several threads each takes a range of particles and
+        // scans all pairs for those it owns: every particle still sums in pair order, so the
+        // result does not depend on the number of threads.
         let rotation = model.rotation;
         let p = &mut scene.particles;
-        p.force.fill(Vec3::zeros());
-        p.moment.fill(Vec3::zeros());
-        for (h, o) in store.hot.iter().zip(store.out.iter()) {
-            if !h.evaluated {
-                continue;
-            }
-            let (i, j) = (h.i as usize, h.j as usize);
-            // Force −f on the pair's first particle (A), +f on B.
-            p.force[i] -= o.f;
-            p.force[j] += o.f;
-            if rotation {
-                p.moment[i] += o.m;
-                p.moment[j] += o.m;
-            }
-        }
-        if rotation {
-            for (m, r) in p.moment.iter_mut().zip(p.radius.iter()) {
-                *m *= *r;
-            }
-        }
+        let per = p.len().div_ceil(rayon::current_num_threads().max(1)).max(1);
+        let (hot, out, radius) = (&store.hot, &store.out, &p.radius);
+        p.force
+            .par_chunks_mut(per)
+            .zip(p.moment.par_chunks_mut(per))
+            .enumerate()
+            .for_each(|(c, (force, moment))| {
+                let lo = c * per;
+                let n = force.len();
+                force.fill(Vec3::zeros());
+                moment.fill(Vec3::zeros());
+                for (h, o) in hot.iter().zip(out.iter()) {
+                    if !h.evaluated {
+                        continue;
+                    }
+                    // Force −f on the pair's first particle (A), +f on B.
+                    let i = (h.i as usize).wrapping_sub(lo);
+                    if i < n {
+                        force[i] -= o.f;
+                        if rotation {
+                            moment[i] += o.m;
+                        }
+                    }
+                    let j = (h.j as usize).wrapping_sub(lo);
+                    if j < n {
+                        force[j] += o.f;
+                        if rotation {
+                            moment[j] += o.m;
+                        }
+                    }
+                }
+                if rotation {
+                    for (m, r) in moment.iter_mut().zip(&radius[lo..lo + n]) {
+                        *m *= *r;
+                    }
+                }
+            });
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
