@@ -197,7 +197,7 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
         }
     }
     let c = &scene.contacts;
-    for (k, pair) in c.pairs.iter().enumerate() {
+    for (k, pair) in c.pairs().iter().enumerate() {
         let (i, j) = (pair.i as usize, pair.j as usize);
         if i >= n || j >= n || pair.ida >= pair.idb {
             return Err("a contact refers to a particle that does not exist".into());
@@ -205,7 +205,7 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
         if !c.stale && (p.id[i] != pair.ida || p.id[j] != pair.idb) {
             return Err("a contact's particle indices do not match its ids".into());
         }
-        if k > 0 && (c.pairs[k - 1].ida, c.pairs[k - 1].idb) >= (pair.ida, pair.idb) {
+        if k > 0 && (c.pairs()[k - 1].ida, c.pairs()[k - 1].idb) >= (pair.ida, pair.idb) {
             return Err("the contacts are not sorted by ids".into());
         }
     }

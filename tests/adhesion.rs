@@ -79,9 +79,9 @@ fn quasi_static_pull_off() {
     let mut detach = None;
     let mut reversed = false;
     for _ in 0..400_000 {
-        let was = sc.contacts.pairs.first().map(|c| c.s.clone());
+        let was = sc.contacts.iter().next().map(|c| c.s.clone());
         step(&mut sc);
-        let c = &sc.contacts.pairs[0].s;
+        let c = &sc.contacts.pair(0).s;
         if snap.is_none() && c.touching {
             snap = Some(c.normal_force);
         }
@@ -144,7 +144,7 @@ fn head_on_sticking_threshold() {
         set_velocity(&mut sc, 0, Vec3::new(v_rel / 2.0, 0.0, 0.0));
         trubal::sim::cycle::run(&mut sc, 20_000).unwrap();
         let rebound = sc.particles.vel[1].x - sc.particles.vel[0].x;
-        let apart = !sc.contacts.pairs.iter().any(|c| c.s.touching);
+        let apart = !sc.contacts.iter().any(|c| c.s.touching);
         (
             apart,
             rebound / v_rel,
@@ -178,14 +178,14 @@ fn oblique_peeling_then_sliding() {
     sc.particles.fixed = vec![0b111111, 0b111111];
     while !(sc
         .contacts
-        .pairs
-        .first()
+        .iter()
+        .next()
         .is_some_and(|c| c.s.overlap > 2e-8))
     {
         step(&mut sc);
     }
     sc.particles.vel[1] = Vec3::new(0.0, 1e-4, 0.0);
-    let c0 = sc.contacts.pairs[0].s.clone();
+    let c0 = sc.contacts.pair(0).s.clone();
     let (a, p) = (c0.a, c0.normal_force);
     let g = E / (2.0 * (1.0 + NU));
     let g_star = 1.0 / (2.0 * (2.0 - NU) / g);
@@ -199,7 +199,7 @@ fn oblique_peeling_then_sliding() {
     let mut trace = Vec::new();
     for _ in 0..40_000 {
         step(&mut sc);
-        let c = &sc.contacts.pairs[0].s;
+        let c = &sc.contacts.pair(0).s;
         trace.push((c.ext().delta.norm(), c.tforce.norm(), c.normal_force));
     }
     // Initial slope 8 G* a.
@@ -244,7 +244,7 @@ fn singular_points_stay_finite_with_huge_steps() {
             if trubal::sim::cycle::run(&mut sc, 1).is_err() {
                 break;
             }
-            for c in &sc.contacts.pairs {
+            for c in sc.contacts.iter() {
                 assert!(c.s.normal_force.is_finite() && c.s.a.is_finite(), "FRA {f}");
             }
         }
@@ -263,16 +263,72 @@ fn impact_flag_uses_base_surface_energy() {
         let mut s2 = sc.clone();
         s2.impact = flag;
         trubal::sim::cycle::run(&mut s2, 5000).unwrap();
-        let c = s2
-            .contacts
-            .pairs
-            .iter()
-            .find(|c| c.s.touching)
-            .expect("contact");
+        let c = s2.contacts.iter().find(|c| c.s.touching).expect("contact");
         assert!(
             (c.s.gamma() - want).abs() < 1e-12,
             "flag {flag}: γ {}",
             c.s.gamma()
         );
     }
+}
+
+#[test]
+fn a_contact_keeps_its_surface_energy_when_the_material_loses_it() {
+    // A JKR contact is made, then the material's surface energy is set to zero (as
+    // `COHesion 0` would): the scene now runs the kernel without adhesion, which must hand
+    // the still-adhering contact to the adhesive law. Pulled apart, it keeps its γ: the force
+    // reaches −Pc and the contact detaches at α_s, not at α = 0 as a Hertz contact would.
+    let v = 2e-5;
+    let mut sc = two_spheres("fraction 0.2", 1e-9, -v);
+    sc.particles.fixed = vec![0b111111, 0b111111];
+    while !sc
+        .contacts
+        .iter()
+        .next()
+        .is_some_and(|c| c.s.overlap > -alpha_s())
+    {
+        step(&mut sc);
+    }
+    sc.materials[0].gamma = 0.0;
+    sc.materials[0].gamma_base = 0.0;
+    sc.particles.vel[1].x = v;
+    let mut pmin = f64::INFINITY;
+    let mut last_touching = None;
+    for _ in 0..400_000 {
+        step(&mut sc);
+        let c = sc.contacts.pair(0).s;
+        if !c.touching {
+            break;
+        }
+        pmin = pmin.min(c.normal_force);
+        last_touching = Some(c.overlap);
+    }
+    assert!(rel(pmin, -pc()) < 5e-3, "pull-off {pmin} vs {}", -pc());
+    let a_det = last_touching.expect("touching after the change");
+    let step_alpha = v * sc.time / sc.cycle as f64;
+    assert!(
+        (a_det - alpha_s()).abs() < 2.0 * step_alpha,
+        "detach at {a_det} vs α_s {}",
+        alpha_s()
+    );
+    // New contacts of the changed material are Hertzian: no snap-in.
+    let mut fresh = two_spheres("fraction 0.2", 1e-9, -v);
+    fresh.materials[0].gamma = 0.0;
+    fresh.materials[0].gamma_base = 0.0;
+    fresh.particles.fixed = vec![0b111111, 0b111111];
+    let mut touched = false;
+    for _ in 0..100_000 {
+        step(&mut fresh);
+        let c = fresh.contacts.pair(0).s;
+        assert!(
+            c.normal_force >= 0.0,
+            "a Hertz contact never pulls: {}",
+            c.normal_force
+        );
+        touched |= c.touching;
+        if c.overlap > -alpha_s() {
+            break;
+        }
+    }
+    assert!(touched);
 }

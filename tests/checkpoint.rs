@@ -135,8 +135,8 @@ fn facts(sc: &Scene) -> Value {
             "servo": w.servo.map(|s| fs(&[s.force, s.vmax, s.gain])),
             "force": fs(&w.force), "normal_force": f(w.normal_force), "disp": fs(&w.disp),
         })).collect::<Vec<_>>(),
-        "pairs": sc.contacts.pairs.iter().map(|c| json!({
-            "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb, "s": contact_facts(&c.s),
+        "pairs": sc.contacts.iter().map(|c| json!({
+            "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb, "s": contact_facts(c.s),
         })).collect::<Vec<_>>(),
         "wall_pairs": sc.contacts.wall_pairs.iter().map(|c| json!({
             "i": c.i, "id": c.id, "wall": c.wall, "s": contact_facts(&c.s),
@@ -343,7 +343,7 @@ fn the_whole_state_round_trips() {
     // The fixture scene exercises every part of the state.
     assert!(sc.particles.len() == 4 && sc.walls.len() == 1);
     assert!(sc.walls[0].servo.is_some());
-    let pair = &sc.contacts.pairs[0].s;
+    let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
     let wall = &sc.contacts.wall_pairs[0].s;
@@ -515,7 +515,7 @@ fn impossible_states_are_refused() {
         ("unequal", |s| {
             s.particles.vel.pop();
         }),
-        ("contact", |s| s.contacts.pairs[0].j = 99),
+        ("contact", |s| s.contacts.pairs_mut()[0].j = 99),
         ("wall contact", |s| s.contacts.wall_pairs[0].wall = 5),
         ("share an id", |s| s.particles.id[1] = s.particles.id[0]),
         ("material", |s| s.particles.material[0] = 9),

@@ -38,7 +38,7 @@ fn run_impact(sc: &mut trubal::sim::Scene, wall: bool) -> (f64, f64) {
         let c = if wall {
             &sc.contacts.wall_pairs[0].s
         } else {
-            &sc.contacts.pairs[0].s
+            sc.contacts.pair(0).s
         };
         fmax = fmax.max(c.normal_force + c.damp_force);
         let gap = -c.overlap;
@@ -221,7 +221,7 @@ fn search_matches_brute_force() {
             trubal::sim::cycle::run(&mut sc, 50).unwrap();
             let touching = search::brute_force_pairs(&sc, 0.0);
             let listed: std::collections::HashSet<(u32, u32)> =
-                sc.contacts.pairs.iter().map(|p| (p.ida, p.idb)).collect();
+                sc.contacts.iter().map(|p| (p.ida, p.idb)).collect();
             for t in &touching {
                 assert!(
                     listed.contains(t),

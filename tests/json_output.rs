@@ -338,9 +338,8 @@ fn numbers_round_trip_exactly() {
     let cs = c["contacts"].as_array().unwrap();
     let all: Vec<_> = sc
         .contacts
-        .pairs
         .iter()
-        .map(|x| &*x.s)
+        .map(|x| x.s)
         .chain(sc.contacts.wall_pairs.iter().map(|x| &x.s))
         .collect();
     assert_eq!(cs.len(), all.len());

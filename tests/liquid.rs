@@ -24,7 +24,7 @@ fn pair(liq: &str, extra: &str) -> trubal::sim::Scene {
 fn stretched_bridge_follows_lian_and_ruptures_at_sc() {
     let mut sc = pair("liquid 0.1 0.025 0 0", "");
     step(&mut sc);
-    assert!(sc.contacts.pairs[0].s.bridge.is_some(), "bridge on contact");
+    assert!(sc.contacts.pair(0).s.bridge.is_some(), "bridge on contact");
     let v = 0.01;
     sc.particles.fixed = vec![0b111111, 0b111111];
     set_velocity(&mut sc, 1, Vec3::new(v, 0.0, 0.0));
@@ -39,12 +39,12 @@ fn stretched_bridge_follows_lian_and_ruptures_at_sc() {
     let mut trace = Vec::new();
     let mut rupture_gap = None;
     for _ in 0..200_000 {
-        let before = sc.contacts.pairs[0].s.bridge.clone();
+        let before = sc.contacts.pair(0).s.bridge.clone();
         step(&mut sc);
-        match &sc.contacts.pairs[0].s.bridge {
+        match &sc.contacts.pair(0).s.bridge {
             Some(b) => trace.push((b.gap, b.f_static)),
             None => {
-                rupture_gap = Some(-sc.contacts.pairs[0].s.overlap);
+                rupture_gap = Some(-sc.contacts.pair(0).s.overlap);
                 assert!(before.is_some());
                 break;
             }
@@ -85,7 +85,7 @@ fn viscous_approach_matches_the_analytic_decay() {
     let eta = 0.01;
     let mut sc = pair("liquid 0.1 1e-9 0 0.01", "set smin 1e-9");
     step(&mut sc);
-    assert!(sc.contacts.pairs[0].s.bridge.is_some());
+    assert!(sc.contacts.pair(0).s.bridge.is_some());
     let s0 = 3e-6;
     sc.particles.pos[1].x = 4e-4 + 2.0 * R + s0;
     sc.particles.fixed = vec![0b111111, 0];
@@ -267,7 +267,7 @@ fn goldman_tangential_viscosity() {
         set_velocity(&mut sc, 1, Vec3::new(0.0, 0.01, 0.0));
         sc.contacts.stale = true;
         trubal::sim::cycle::run(&mut sc, 2).unwrap();
-        let ft = sc.contacts.pairs[0].s.bridge.as_ref().unwrap().f_tang;
+        let ft = sc.contacts.pair(0).s.bridge.as_ref().unwrap().f_tang;
         if on {
             let rs = R / 2.0;
             let t_th = (8.0 / 15.0 * (rs / s0).ln() + 0.9588) * 6.0 * PI * eta * rs * 0.01;

@@ -16,7 +16,7 @@ fn hertz_binary(fraction: f64) -> (f64, f64, f64, u64) {
     let mut tc = f64::NAN;
     for _ in 0..100_000 {
         step(&mut sc);
-        let c = &sc.contacts.pairs[0].s;
+        let c = &sc.contacts.pair(0).s;
         fmax = fmax.max(c.normal_force);
         let gap = -c.overlap;
         if gap < 0.0 {
@@ -44,7 +44,7 @@ fn jkr_threshold(fraction: f64) -> f64 {
             -v / 2.0
         ));
         trubal::sim::cycle::run(&mut sc, (2000.0 / fraction) as u64).unwrap();
-        !sc.contacts.pairs.iter().any(|c| c.s.touching)
+        !sc.contacts.iter().any(|c| c.s.touching)
     };
     let (mut lo, mut hi) = (0.01, 0.1);
     for _ in 0..14 {

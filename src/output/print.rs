@@ -54,7 +54,7 @@ fn info(scene: &Scene) -> (String, Value) {
     let (b, bw) = scene.contacts.bridge_counts();
     let touching = touching_pairs(scene);
     let (mut bc, mut bt) = (0, 0);
-    for p in &scene.contacts.pairs {
+    for p in scene.contacts.iter() {
         if let Some(br) = &p.s.bridge {
             if br.gap <= 0.0 { bc += 1 } else { bt += 1 }
         }
@@ -71,7 +71,7 @@ fn info(scene: &Scene) -> (String, Value) {
         scene.walls.len(),
         c,
         cw,
-        scene.contacts.pairs.len(),
+        scene.contacts.len(),
         touching
     );
     let (free, in_bridges) = crate::sim::liquid::total_liquid(scene);
@@ -185,8 +185,8 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
         "a", "b", "overlap", "normal_force", "tang_force", "bridge_force"
     );
     let mut arr = Vec::new();
-    for c in &scene.contacts.pairs {
-        if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
+    for c in scene.contacts.iter() {
+        if !keep(c.s) || !in_window(scene, &p.pos[c.i as usize]) {
             continue;
         }
         let bf = c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
@@ -206,7 +206,7 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
                 bf
             ));
         }
-        let mut v = contact_json(&c.s);
+        let mut v = contact_json(c.s);
         v["a"] = json!(c.ida);
         v["b"] = json!(c.idb);
         arr.push(v);
@@ -328,7 +328,7 @@ pub fn stress_tensor(scene: &Scene) -> [[f64; 3]; 3] {
     let p = &scene.particles;
     let mut sig = [[0.0; 3]; 3];
     let vol = scene.size[0] * scene.size[1] * scene.size[2];
-    for c in &scene.contacts.pairs {
+    for c in scene.contacts.iter() {
         let (i, j) = (c.i as usize, c.j as usize);
         let l = scene.branch(&p.pos[i], &p.pos[j]);
         let n = l.normalize();
@@ -373,7 +373,7 @@ fn partitions(scene: &Scene) -> (String, Value) {
     let p = &scene.particles;
     let vol = scene.size[0] * scene.size[1] * scene.size[2];
     let (mut comp, mut tens, mut brid) = (0.0, 0.0, 0.0);
-    for c in &scene.contacts.pairs {
+    for c in scene.contacts.iter() {
         let l = scene
             .branch(&p.pos[c.i as usize], &p.pos[c.j as usize])
             .norm();
@@ -475,7 +475,7 @@ fn chist(scene: &Scene) -> (String, Value) {
     // Histogram of the number of solid contacts per particle.
     let n = scene.particles.len();
     let mut z = vec![0usize; n];
-    for c in &scene.contacts.pairs {
+    for c in scene.contacts.iter() {
         if c.s.touching {
             z[c.i as usize] += 1;
             z[c.j as usize] += 1;

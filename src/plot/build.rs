@@ -662,11 +662,11 @@ struct ForceLine {
 fn force_list(scene: &Scene, index: &HashMap<u32, usize>, set: ForceSet) -> Vec<ForceLine> {
     let p = &scene.particles;
     let mut list = Vec::new();
-    for c in &scene.contacts.pairs {
+    for c in scene.contacts.iter() {
         let (Some(&i), Some(&j)) = (index.get(&c.ida), index.get(&c.idb)) else {
             continue;
         };
-        if let Some(f) = contact_force(&c.s, set) {
+        if let Some(f) = contact_force(c.s, set) {
             list.push(ForceLine {
                 f,
                 tag: Tag::Pair(c.ida, c.idb),

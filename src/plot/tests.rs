@@ -9,7 +9,7 @@ use super::picture::*;
 use super::*;
 use crate::lang::command::{PlotItem, View, WallGeom};
 use crate::sim::Vec3;
-use crate::sim::contacts::{BridgeState, ContactState, Pair, WallPair};
+use crate::sim::contacts::{BridgeState, ContactState, PairWithState, WallPair};
 use crate::sim::reference::Reference;
 use crate::sim::scene::Wall;
 
@@ -67,7 +67,6 @@ fn bridge_template() -> Box<BridgeState> {
     let scene = session.scene.expect("scene");
     scene
         .contacts
-        .pairs
         .iter()
         .find_map(|p| p.s.bridge.clone())
         .expect("a bridge between touching wet spheres")
@@ -90,22 +89,22 @@ fn state(touching: bool, normal: f64, damp: f64, bridge: Option<(f64, f64)>) -> 
     }
 }
 
-fn pair(s: &Scene, ida: u32, idb: u32, st: ContactState) -> Pair {
+fn pair(s: &Scene, ida: u32, idb: u32, st: ContactState) -> PairWithState {
     let i = s.particles.id.iter().position(|&x| x == ida).expect("id");
     let j = s.particles.id.iter().position(|&x| x == idb).expect("id");
-    Pair {
+    PairWithState {
         i: i as u32,
         j: j as u32,
         ida,
         idb,
-        s: crate::sim::contacts::StateBox::new(st),
+        s: st,
     }
 }
 
 fn touching(s: &mut Scene, bonds: &[(u32, u32)]) {
     for &(a, b) in bonds {
         let p = pair(s, a, b, state(true, 1.0, 0.0, None));
-        s.contacts.pairs.push(p);
+        s.contacts.push(p);
     }
 }
 
@@ -206,7 +205,7 @@ fn force_scene() -> Scene {
         pair(&s, 3, 4, state(true, 1.0, 0.0, Some((0.3, 0.1)))),
         pair(&s, 4, 5, state(false, 0.0, 0.0, None)),
     ];
-    s.contacts.pairs = c;
+    s.contacts.set_pairs(c);
     s
 }
 
@@ -408,7 +407,7 @@ fn periodic_pairs_are_drawn_as_two_halves() {
     let mut s = scene_at(&[[0.005, 0.5, 0.5], [0.995, 0.5, 0.5]]);
     s.settings.periodic = [true; 3];
     let p = pair(&s, 1, 2, state(true, 1.0, 0.0, None));
-    s.contacts.pairs.push(p);
+    s.contacts.push(p);
     let pic = picture(&s, &[PlotItem::MForces]).expect("picture");
     assert_eq!(pic.segments.len(), 2);
     assert_eq!(pic.segments[0].a, [0.005, 0.5]);
@@ -469,7 +468,7 @@ fn a_cluster_of_three_bridges() {
         wet(&s, 2, 3),
         pair(&s, 3, 4, state(true, 0.5, 0.0, None)),
     ];
-    s.contacts.pairs = c;
+    s.contacts.set_pairs(c);
     let pic = picture(&s, &[PlotItem::LCluster]).expect("picture");
     let want = [
         colour::CLUSTER[1],
@@ -528,9 +527,9 @@ fn cnd_kept_new_broken() {
     touching(&mut s, &[(1, 2), (2, 3), (3, 4)]);
     // A bridge 4-5 in the reference.
     let p = pair(&s, 4, 5, state(false, 0.0, 0.0, Some((0.1, 0.0))));
-    s.contacts.pairs.push(p);
+    s.contacts.push(p);
     s.reference = Some(Reference::take(&s));
-    s.contacts.pairs.clear();
+    s.contacts.clear_pairs();
     touching(&mut s, &[(1, 2), (3, 4), (4, 5)]);
     let pic = picture(&s, &[PlotItem::Cnd]).expect("picture");
     let mut l: Vec<(Tag, Mark, Rgb)> = pic

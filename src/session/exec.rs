@@ -469,11 +469,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
         } => {
             if *pvol == 0.0 {
                 scene.liquid = None;
-                for c in scene.contacts.pairs.iter_mut() {
-                    if let Some(s) = c.s.get_mut() {
-                        s.bridge = None;
-                    }
-                }
+                scene.contacts.for_each_state_mut(|_, s| s.bridge = None);
                 for c in scene.contacts.wall_pairs.iter_mut() {
                     c.s.bridge = None;
                 }

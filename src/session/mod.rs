@@ -291,8 +291,8 @@ fn max_contact_force(scene: &Scene) -> f64 {
         f.abs()
     }
     let mut f: f64 = 0.0;
-    for c in &scene.contacts.pairs {
-        f = f.max(net(&c.s));
+    for c in scene.contacts.iter() {
+        f = f.max(net(c.s));
     }
     for c in &scene.contacts.wall_pairs {
         f = f.max(net(&c.s));

@@ -132,8 +132,15 @@ impl ContactState {
     }
 }
 
-/// A candidate particle–particle pair: gap < TOL at the last rebuild, or a live bond.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Pairs per block of contact states (and per chunk of the parallel force loop).
+pub const BLOCK: usize = 1024;
+
+/// No contact state allocated for a pair.
+pub const NO_STATE: u32 = u32::MAX;
+
+/// A candidate particle–particle pair: gap < TOL at the last rebuild, or a live bond. Its
+/// contact state lives in the store's block of the pair (see [`ContactStore`]).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Pair {
     /// Particle indices (valid until the next re-ordering; refreshed at rebuilds).
     pub i: u32,
@@ -141,56 +148,34 @@ pub struct Pair {
     /// Stable ids, `ida < idb`.
     pub ida: u32,
     pub idb: u32,
-    pub s: StateBox,
+    /// Index of the state in the pair's block, or `NO_STATE`.
+    pub(super) slot: u32,
 }
 
-/// The contact state of a candidate pair, allocated only once the pair comes within reach:
-/// most candidates never touch, and an inline state for each of them made the pair
-/// list, its merges and the blow-up snapshot several times larger than the contacts need.
-/// Reads of a pair without a state see the default state ([`std::ops::Deref`]); writes go
-/// through [`StateBox::make_mut`] (allocates) or [`StateBox::get_mut`] (does not). In a
-/// checkpoint it is written exactly as an inline [`ContactState`] (format version 1).
-#[derive(Clone, Debug, Default)]
-pub struct StateBox(Option<Box<ContactState>>);
+/// A pair with its contact state, as checkpoints hold it and as pairs are given to
+/// [`ContactStore::set_pairs`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PairWithState {
+    pub i: u32,
+    pub j: u32,
+    pub ida: u32,
+    pub idb: u32,
+    #[serde(deserialize_with = "v1::deserialize_state")]
+    pub s: ContactState,
+}
+
+/// A pair and its contact state (the default state if none is allocated), read-only.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairView<'a> {
+    pub i: u32,
+    pub j: u32,
+    pub ida: u32,
+    pub idb: u32,
+    pub s: &'a ContactState,
+}
 
 static DEFAULT_STATE: std::sync::LazyLock<ContactState> =
     std::sync::LazyLock::new(ContactState::default);
-
-impl StateBox {
-    pub fn new(s: ContactState) -> Self {
-        StateBox(Some(Box::new(s)))
-    }
-    /// The state, allocated (as the default state) if the pair had none.
-    pub fn make_mut(&mut self) -> &mut ContactState {
-        self.0.get_or_insert_with(Box::default)
-    }
-    /// The state if the pair has one (no allocation).
-    pub fn get_mut(&mut self) -> Option<&mut ContactState> {
-        self.0.as_deref_mut()
-    }
-}
-
-impl std::ops::Deref for StateBox {
-    type Target = ContactState;
-    fn deref(&self) -> &ContactState {
-        match &self.0 {
-            Some(b) => b,
-            None => &DEFAULT_STATE,
-        }
-    }
-}
-
-impl PartialEq for StateBox {
-    fn eq(&self, o: &Self) -> bool {
-        **self == **o
-    }
-}
-
-impl Serialize for StateBox {
-    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
-        (**self).serialize(ser)
-    }
-}
 
 /// The default state's encoding: a loaded state that encodes the same (bit for bit, so
 /// signed zeros count) stays unallocated.
@@ -198,19 +183,13 @@ static DEFAULT_BYTES: std::sync::LazyLock<Vec<u8>> = std::sync::LazyLock::new(||
     bincode::serde::encode_to_vec(&*DEFAULT_STATE, bincode::config::standard()).unwrap_or_default()
 });
 
-impl<'de> Deserialize<'de> for StateBox {
-    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
-        let s = v1::deserialize_state(de)?;
-        let pristine = !s.touching
-            && s.bridge.is_none()
-            && bincode::serde::encode_to_vec(&s, bincode::config::standard())
-                .is_ok_and(|b| b == *DEFAULT_BYTES);
-        Ok(if pristine {
-            StateBox::default()
-        } else {
-            StateBox::new(s)
-        })
-    }
+/// The state is the default state of a pair that never came within reach (it needs no
+/// allocation).
+fn pristine(s: &ContactState) -> bool {
+    !s.touching
+        && s.bridge.is_none()
+        && bincode::serde::encode_to_vec(s, bincode::config::standard())
+            .is_ok_and(|b| b == *DEFAULT_BYTES)
 }
 
 /// A candidate pair found by the search (no state yet).
@@ -255,6 +234,8 @@ pub struct PairForce {
 pub struct HotPair {
     pub i: u32,
     pub j: u32,
+    /// Index of the pair's state in its block (`u32::MAX`: none yet).
+    pub slot: u32,
     /// The pair had a solid contact or a bridge after its last evaluation.
     pub live: bool,
     /// The pair was evaluated in this step (its `out` slot holds its force); pairs skipped as
@@ -262,17 +243,38 @@ pub struct HotPair {
     pub evaluated: bool,
 }
 
+/// What the force loop works on (see [`ContactStore::step_parts`]).
+pub type StepParts<'a> = (
+    &'a mut [HotPair],
+    &'a mut [Pair],
+    &'a mut [Vec<ContactState>],
+    &'a mut Vec<PairForce>,
+    &'a mut (usize, Vec<Vec<u32>>),
+);
+
+/// The contact history of all candidate pairs.
+///
+/// Pairs are sorted by ids. Their contact states are stored in blocks: block `b` holds the
+/// states of pairs `b·BLOCK .. (b+1)·BLOCK`, in pair order after each merge, so the force loop
+/// reads them as a forward stream, each chunk of the parallel loop owns its block, and a pair
+/// that comes within reach between rebuilds gets its state appended to its own block. Pairs
+/// that never come within reach have no state (they read as the default state).
+///
 /// Cloning (the blow-up snapshot, command undo) copies the state, not the derived per-step
-/// buffers `out` and `hot` (rebuilt when needed).
-#[derive(Debug, Default, Serialize, Deserialize)]
+/// buffers `out` and `hot` (rebuilt when needed). In a checkpoint every pair is written with
+/// its state inline ([`PairWithState`]), as format versions 1 and 2 always did.
+#[derive(Default)]
 pub struct ContactStore {
-    /// Per-pair forces of the current step (derived; not saved).
-    #[serde(skip)]
+    /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
-    /// Indices and liveness of `pairs`, in the same order. Derived: rebuilt after a merge.
-    #[serde(skip)]
+    /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
+    /// after a merge.
     pub hot: Vec<HotPair>,
-    pub pairs: Vec<Pair>,
+    /// Derived with `hot`: particles per range of the parallel scatter, and each range's
+    /// pairs in pair order.
+    pub scatter: (usize, Vec<Vec<u32>>),
+    pairs: Vec<Pair>,
+    blocks: Vec<Vec<ContactState>>,
     pub wall_pairs: Vec<WallPair>,
     /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
     /// states at the current positions (`cycle::prime`) before the next step.
@@ -296,13 +298,117 @@ impl Clone for ContactStore {
     }
     fn clone_from(&mut self, o: &Self) {
         self.out.clear();
-        self.hot.clear();
+        self.clear_hot();
+        self.scatter.1.clear();
         self.pairs.clone_from(&o.pairs);
+        self.blocks.clone_from(&o.blocks);
         self.wall_pairs.clone_from(&o.wall_pairs);
         self.stale = o.stale;
         self.remap = o.remap;
         self.tol = o.tol;
         self.rebuilds = o.rebuilds;
+    }
+}
+
+/// The state of the store: pairs with their states (not where the states are kept, nor the
+/// derived buffers).
+impl std::fmt::Debug for ContactStore {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ContactStore")
+            .field("pairs", &self.iter().collect::<Vec<_>>())
+            .field("wall_pairs", &self.wall_pairs)
+            .field("stale", &self.stale)
+            .field("remap", &self.remap)
+            .field("tol", &self.tol)
+            .field("rebuilds", &self.rebuilds)
+            .finish()
+    }
+}
+
+impl PartialEq for ContactStore {
+    fn eq(&self, o: &Self) -> bool {
+        self.pairs.len() == o.pairs.len()
+            && self.iter().eq(o.iter())
+            && self.wall_pairs == o.wall_pairs
+            && (self.stale, self.remap, self.rebuilds) == (o.stale, o.remap, o.rebuilds)
+            && self.tol.to_bits() == o.tol.to_bits()
+    }
+}
+
+/// The checkpoint layout of the store (field order of format versions 1 and 2).
+#[derive(Serialize)]
+struct StoreOut<'a> {
+    pairs: PairsOut<'a>,
+    wall_pairs: &'a Vec<WallPair>,
+    stale: bool,
+    remap: bool,
+    tol: f64,
+    rebuilds: u64,
+}
+
+struct PairsOut<'a>(&'a ContactStore);
+
+#[derive(Serialize)]
+struct PairOut<'a> {
+    i: u32,
+    j: u32,
+    ida: u32,
+    idb: u32,
+    s: &'a ContactState,
+}
+
+impl Serialize for PairsOut<'_> {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        ser.collect_seq((0..self.0.pairs.len()).map(|k| {
+            let v = self.0.pair(k);
+            PairOut {
+                i: v.i,
+                j: v.j,
+                ida: v.ida,
+                idb: v.idb,
+                s: v.s,
+            }
+        }))
+    }
+}
+
+impl Serialize for ContactStore {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        StoreOut {
+            pairs: PairsOut(self),
+            wall_pairs: &self.wall_pairs,
+            stale: self.stale,
+            remap: self.remap,
+            tol: self.tol,
+            rebuilds: self.rebuilds,
+        }
+        .serialize(ser)
+    }
+}
+
+#[derive(Deserialize)]
+struct StoreIn {
+    pairs: Vec<PairWithState>,
+    wall_pairs: Vec<WallPair>,
+    stale: bool,
+    remap: bool,
+    tol: f64,
+    rebuilds: u64,
+}
+
+impl<'de> Deserialize<'de> for ContactStore {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        let s = StoreIn::deserialize(de)?;
+        let mut c = ContactStore {
+            wall_pairs: s.wall_pairs,
+            stale: s.stale,
+            remap: s.remap,
+            tol: s.tol,
+            rebuilds: s.rebuilds,
+            ..Default::default()
+        };
+        c.set_pairs(s.pairs);
+        Ok(c)
     }
 }
 
@@ -326,41 +432,191 @@ fn carry<K, T, I: Ord>(
 }
 
 impl ContactStore {
+    /// Number of candidate pairs.
+    pub fn len(&self) -> usize {
+        self.pairs.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+    /// The candidate pairs, sorted by ids.
+    pub fn pairs(&self) -> &[Pair] {
+        &self.pairs
+    }
+    /// The candidate pairs, to change their indices (not their number or order).
+    pub fn pairs_mut(&mut self) -> &mut [Pair] {
+        &mut self.pairs
+    }
+    /// The contact state of pair `k` (the default state if it has none).
+    pub fn state(&self, k: usize) -> &ContactState {
+        let slot = self.pairs[k].slot;
+        if slot == NO_STATE {
+            &DEFAULT_STATE
+        } else {
+            &self.blocks[k / BLOCK][slot as usize]
+        }
+    }
+    /// The contact state of pair `k`, allocated (as the default state) if it had none.
+    pub fn state_mut(&mut self, k: usize) -> &mut ContactState {
+        let b = &mut self.blocks[k / BLOCK];
+        let p = &mut self.pairs[k];
+        if p.slot == NO_STATE {
+            p.slot = b.len() as u32;
+            b.push(ContactState::default());
+            if let Some(h) = self.hot.get_mut(k) {
+                h.slot = p.slot;
+            }
+        }
+        &mut b[p.slot as usize]
+    }
+    /// Pair `k` with its state.
+    pub fn pair(&self, k: usize) -> PairView<'_> {
+        let p = &self.pairs[k];
+        PairView {
+            i: p.i,
+            j: p.j,
+            ida: p.ida,
+            idb: p.idb,
+            s: self.state(k),
+        }
+    }
+    /// All pairs with their states, in pair order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = PairView<'_>> + '_ {
+        (0..self.pairs.len()).map(|k| self.pair(k))
+    }
+    /// Calls `f` on every pair that has a state, in pair order, with the state to change.
+    pub fn for_each_state_mut(&mut self, mut f: impl FnMut(&Pair, &mut ContactState)) {
+        for (k, p) in self.pairs.iter().enumerate() {
+            if p.slot != NO_STATE {
+                f(p, &mut self.blocks[k / BLOCK][p.slot as usize]);
+            }
+        }
+    }
+    /// The parts the force loop works on: hot pairs, pairs, blocks of states (one per
+    /// `BLOCK` pairs) and the per-pair force slots.
+    pub fn step_parts(&mut self) -> StepParts<'_> {
+        if self.hot.len() != self.pairs.len() {
+            self.build_hot();
+        }
+        (
+            &mut self.hot,
+            &mut self.pairs,
+            &mut self.blocks,
+            &mut self.out,
+            &mut self.scatter,
+        )
+    }
+
+    /// Replaces all pairs (sorted by ids) and their states.
+    pub fn set_pairs(&mut self, pairs: Vec<PairWithState>) {
+        self.pairs.clear();
+        self.blocks.clear();
+        for p in pairs {
+            self.push(p);
+        }
+        self.clear_hot();
+    }
+    /// Appends a pair with its state (the caller keeps the pairs sorted by ids).
+    pub fn push(&mut self, p: PairWithState) {
+        let k = self.pairs.len();
+        if k.is_multiple_of(BLOCK) {
+            self.blocks.push(Vec::new());
+        }
+        let b = &mut self.blocks[k / BLOCK];
+        let slot = if pristine(&p.s) {
+            NO_STATE
+        } else {
+            b.push(p.s);
+            (b.len() - 1) as u32
+        };
+        self.pairs.push(Pair {
+            i: p.i,
+            j: p.j,
+            ida: p.ida,
+            idb: p.idb,
+            slot,
+        });
+        self.clear_hot();
+    }
+    /// Removes all particle–particle pairs.
+    pub fn clear_pairs(&mut self) {
+        self.pairs.clear();
+        self.blocks.clear();
+        self.clear_hot();
+    }
+    /// Keeps the pairs for which `f` returns true (it may change their indices), with their
+    /// states; the others lose their history.
+    pub fn retain_pairs(&mut self, mut f: impl FnMut(&mut Pair) -> bool) {
+        let pairs = std::mem::take(&mut self.pairs);
+        let mut blocks = std::mem::take(&mut self.blocks);
+        for (k, mut p) in pairs.into_iter().enumerate() {
+            if f(&mut p) {
+                let s = if p.slot == NO_STATE {
+                    ContactState::default()
+                } else {
+                    std::mem::take(&mut blocks[k / BLOCK][p.slot as usize])
+                };
+                self.push(PairWithState {
+                    i: p.i,
+                    j: p.j,
+                    ida: p.ida,
+                    idb: p.idb,
+                    s,
+                });
+            }
+        }
+        self.clear_hot();
+    }
+
     /// Replaces the pair lists by new candidates (sorted by ids), carrying over the state of
     /// pairs present in both. Pairs that disappear lose their history (they were farther apart
-    /// than TOL and carried no bond).
+    /// than TOL and carried no bond). The states are laid out anew in pair order.
     pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
         // The keys are unique, so the parallel sort gives the one sorted order.
         new_pairs.par_sort_unstable();
-        let mut pairs: Vec<Pair> = carry(
-            new_pairs,
-            std::mem::take(&mut self.pairs),
-            |k| (k.ida, k.idb),
-            |o| (o.ida, o.idb),
-        )
-        .map(|(k, old)| Pair {
-            i: k.i,
-            j: k.j,
-            ida: k.ida,
-            idb: k.idb,
-            s: old.map(|o| o.s).unwrap_or_default(),
-        })
-        .collect();
-        // Re-allocate the states in pair order (all of a block freed first), so that the
-        // force loop walks the heap forward instead of in the order the contacts were made.
-        // Blocks in parallel (addresses do not affect results).
-        pairs.par_chunks_mut(1024).for_each(|block| {
-            let moved: Vec<(usize, ContactState)> = block
-                .iter_mut()
-                .enumerate()
-                .filter_map(|(k, p)| p.s.0.take().map(|b| (k, *b)))
-                .collect();
-            for (k, st) in moved {
-                block[k].s = StateBox::new(st);
-            }
-        });
-        self.pairs = pairs;
+        let old_pairs = std::mem::take(&mut self.pairs);
+        let old_blocks = std::mem::take(&mut self.blocks);
+        // Each block of new pairs finds its first old pair by bisection and walks on from
+        // there (blocks in parallel; the same pairs and states as one walk).
+        let built: Vec<(Vec<Pair>, Vec<ContactState>)> = new_pairs
+            .par_chunks(BLOCK)
+            .map(|keys| {
+                let id_old = |k: usize| (old_pairs[k].ida, old_pairs[k].idb);
+                let first = (keys[0].ida, keys[0].idb);
+                let mut ko = old_pairs.partition_point(|o| (o.ida, o.idb) < first);
+                let mut pairs = Vec::with_capacity(keys.len());
+                let mut states = Vec::new();
+                for key in keys {
+                    let id = (key.ida, key.idb);
+                    while ko < old_pairs.len() && id_old(ko) < id {
+                        ko += 1;
+                    }
+                    let slot = match old_pairs.get(ko) {
+                        Some(o) if id_old(ko) == id && o.slot != NO_STATE => {
+                            states.push(old_blocks[ko / BLOCK][o.slot as usize].clone());
+                            (states.len() - 1) as u32
+                        }
+                        _ => NO_STATE,
+                    };
+                    pairs.push(Pair {
+                        i: key.i,
+                        j: key.j,
+                        ida: key.ida,
+                        idb: key.idb,
+                        slot,
+                    });
+                }
+                (pairs, states)
+            })
+            .collect();
+        drop(old_blocks);
+        self.pairs = Vec::with_capacity(new_pairs.len());
+        self.blocks = Vec::with_capacity(built.len());
+        for (pairs, states) in built {
+            self.pairs.extend(pairs);
+            self.blocks.push(states);
+        }
 
         new_walls.sort_unstable();
         self.wall_pairs = carry(
@@ -379,31 +635,43 @@ impl ContactStore {
         self.stale = false;
         self.remap = false;
         self.rebuilds += 1;
-        self.hot.clear();
+        self.clear_hot();
     }
 
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
         self.out.clear();
+        self.clear_hot();
+    }
+
+    /// Drops the hot list and what is derived from it.
+    fn clear_hot(&mut self) {
         self.hot.clear();
+        self.scatter.1.clear();
     }
 
     /// Builds the compact [`HotPair`] list from the pairs.
     pub fn build_hot(&mut self) {
-        self.hot.clear();
-        self.hot.extend(self.pairs.iter().map(|c| HotPair {
-            i: c.i,
-            j: c.j,
-            live: c.s.touching || c.s.bridge.is_some(),
-            evaluated: false,
-        }));
+        let hot: Vec<HotPair> = (0..self.pairs.len())
+            .map(|k| {
+                let s = self.state(k);
+                let p = &self.pairs[k];
+                HotPair {
+                    i: p.i,
+                    j: p.j,
+                    slot: p.slot,
+                    live: s.touching || s.bridge.is_some(),
+                    evaluated: false,
+                }
+            })
+            .collect();
+        self.hot = hot;
     }
 
     /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges
     /// (`bridges` true), as sorted id pairs.
     pub fn bonded_pairs(&self, _p: &Particles, bridges: bool) -> Vec<(u32, u32)> {
         let mut v: Vec<(u32, u32)> = self
-            .pairs
             .iter()
             .filter(|p| {
                 if bridges {
@@ -421,7 +689,7 @@ impl ContactStore {
     /// Active solid contacts (particle–particle) and particle–wall.
     pub fn active_counts(&self) -> (usize, usize) {
         (
-            self.pairs.iter().filter(|p| p.s.touching).count(),
+            self.iter().filter(|p| p.s.touching).count(),
             self.wall_pairs.iter().filter(|p| p.s.touching).count(),
         )
     }
@@ -429,7 +697,7 @@ impl ContactStore {
     /// Live liquid bridges (particle–particle, particle–wall).
     pub fn bridge_counts(&self) -> (usize, usize) {
         (
-            self.pairs.iter().filter(|p| p.s.bridge.is_some()).count(),
+            self.iter().filter(|p| p.s.bridge.is_some()).count(),
             self.wall_pairs
                 .iter()
                 .filter(|p| p.s.bridge.is_some())
@@ -528,7 +796,138 @@ mod tests {
     #[test]
     fn the_per_step_contact_state_stays_small() {
         assert!(std::mem::size_of::<ContactState>() <= 112);
-        assert!(std::mem::size_of::<Pair>() <= 24);
-        assert!(std::mem::size_of::<HotPair>() <= 12);
+        assert!(std::mem::size_of::<Pair>() <= 20);
+        assert!(std::mem::size_of::<HotPair>() <= 16);
+    }
+
+    fn marked(x: f64) -> ContactState {
+        ContactState {
+            touching: true,
+            overlap: x,
+            ..Default::default()
+        }
+    }
+
+    /// 2500 pairs over three blocks; every third has a state whose overlap names the pair.
+    fn store() -> ContactStore {
+        let mut c = ContactStore::default();
+        c.set_pairs(
+            (0..2500u32)
+                .map(|k| PairWithState {
+                    i: k,
+                    j: k + 1,
+                    ida: k,
+                    idb: k + 1,
+                    s: if k % 3 == 0 {
+                        marked(k as f64)
+                    } else {
+                        ContactState::default()
+                    },
+                })
+                .collect(),
+        );
+        c
+    }
+
+    fn allocated(c: &ContactStore) -> usize {
+        c.blocks.iter().map(Vec::len).sum()
+    }
+
+    #[test]
+    fn states_live_in_the_block_of_their_pair_and_only_when_needed() {
+        let mut c = store();
+        assert_eq!(c.blocks.len(), 3);
+        assert_eq!(allocated(&c), 834);
+        for k in 0..2500 {
+            let want = if k % 3 == 0 {
+                marked(k as f64)
+            } else {
+                ContactState::default()
+            };
+            assert_eq!(*c.state(k), want);
+        }
+        // A pair of block 1 comes within reach: its state is appended to block 1.
+        c.state_mut(1501).overlap = -1.0;
+        assert_eq!(c.blocks[1].len(), 342); // 341 multiples of 3 in 1024..2048, and 1501
+        assert_eq!(c.state(1501).overlap, -1.0);
+        assert_eq!(*c.state(1500), marked(1500.0));
+        // The checkpoint layout has no slots: a round trip gives the same pairs and states.
+        let bytes = bincode::serde::encode_to_vec(&c, bincode::config::standard()).unwrap();
+        let (back, _): (ContactStore, usize) =
+            bincode::serde::decode_from_slice(&bytes, bincode::config::standard()).unwrap();
+        assert_eq!(back, c);
+        assert!(back.iter().eq(c.iter()));
+    }
+
+    #[test]
+    fn a_merge_carries_states_by_id_and_lays_them_out_in_pair_order() {
+        let mut c = store();
+        c.state_mut(1).overlap = 7.0;
+        // New candidates: every pair with an even id, plus new pairs, in scrambled order.
+        let mut keys: Vec<PairKey> = (0..3000u32)
+            .filter(|k| k % 2 == 0)
+            .map(|k| PairKey {
+                ida: k,
+                idb: k + 1,
+                i: k + 10,
+                j: k + 11,
+            })
+            .collect();
+        keys.reverse();
+        keys.push(PairKey {
+            ida: 1,
+            idb: 2,
+            i: 1,
+            j: 2,
+        });
+        c.merge(keys, Vec::new());
+        assert_eq!(c.len(), 1501);
+        for (k, v) in c.iter().enumerate() {
+            let id = v.ida;
+            assert!(k == 0 || (c.pairs[k - 1].ida, c.pairs[k - 1].idb) < (v.ida, v.idb));
+            let want = if id == 1 {
+                ContactState {
+                    overlap: 7.0,
+                    ..Default::default()
+                }
+            } else if id < 2500 && id % 3 == 0 {
+                marked(id as f64)
+            } else {
+                ContactState::default()
+            };
+            assert_eq!(*v.s, want, "pair {id}");
+            if id >= 2 {
+                assert_eq!((v.i, v.j), (id + 10, id + 11), "indices from the new keys");
+            }
+        }
+        // Each block holds its own pairs' states, in pair order.
+        for (b, block) in c.blocks.iter().enumerate() {
+            let slots: Vec<u32> = c.pairs[b * BLOCK..((b + 1) * BLOCK).min(c.len())]
+                .iter()
+                .map(|p| p.slot)
+                .filter(|&s| s != NO_STATE)
+                .collect();
+            assert_eq!(slots, (0..block.len() as u32).collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn retained_pairs_keep_their_states() {
+        let mut c = store();
+        c.retain_pairs(|p| {
+            p.i += 1;
+            p.ida % 2 == 1
+        });
+        assert_eq!(c.len(), 1250);
+        for v in c.iter() {
+            assert_eq!(v.i, v.ida + 1);
+            let want = if v.ida % 3 == 0 {
+                marked(v.ida as f64)
+            } else {
+                ContactState::default()
+            };
+            assert_eq!(*v.s, want);
+        }
+        assert_eq!(allocated(&c), c.iter().filter(|v| v.s.touching).count());
     }
 }

@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use super::contacts::PairForce;
+use super::contacts::{BLOCK, ContactState, HotPair, NO_STATE, PairForce};
 use super::interact::{Acc, Kin, Laws, interact};
 use super::params::{self, Model};
 use super::scene::{Scene, Vec3};
@@ -59,7 +59,7 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
     }
     if let Some(l) = &scene.liquid {
         if l.pvol > 0.0 {
-            for c in &scene.contacts.pairs {
+            for c in scene.contacts.iter() {
                 if let Some(b) = &c.s.bridge {
                     need = need.max(b.s_c);
                 }
@@ -321,13 +321,24 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
 fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
+    // The kernel for what the scene has: adhesion, liquid (see `interact`).
+    match (model.adhesion, scene.liquid.is_some()) {
+        (false, false) => forces_with::<false, false>(scene, model, dt),
+        (false, true) => forces_with::<false, true>(scene, model, dt),
+        (true, false) => forces_with::<true, false>(scene, model, dt),
+        (true, true) => forces_with::<true, true>(scene, model, dt),
+    }
+}
+
+fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     let mut acc = Acc::default();
+    let liquid = scene.liquid;
     let laws_pp = Laws {
         dt,
         tangential: scene.settings.tangential,
         rotation: model.rotation,
         beta: scene.damping_pp.beta,
-        liquid: scene.liquid.as_ref(),
+        liquid: liquid.as_ref(),
         bridge: scene.settings.bridge,
         smin: scene.settings.smin,
         impact: scene.impact,
@@ -337,118 +348,131 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     };
 
     // ---- particle–particle contacts ---------------------------------------------------
-    // Each pair writes its force into its own slot (parallel over fixed chunks of pairs);
-    // each particle then sums its pairs in a fixed order (parallel over particles). The
-    // result does not depend on the number of threads.
+    // Each pair's force goes onto its two particles in pair order. With one thread that is
+    // done in the pair loop; with several, each pair writes its force into its own slot
+    // (parallel over fixed chunks of pairs) and the slots are then scattered in pair order.
+    // Either way every particle sums its pairs in the same order and the energy partial sums
+    // are added per chunk in chunk order: the result does not depend on the number of threads.
     {
-        let size = scene.size;
-        let periodic = scene.settings.periodic;
-        let p = &scene.particles;
-        let store = &mut scene.contacts;
-        if store.hot.len() != store.pairs.len() {
-            store.build_hot();
-        }
-        store.out.resize(store.pairs.len(), PairForce::default());
-        let chunk_acc: Vec<Acc> = store
-            .hot
-            .par_chunks_mut(CHUNK)
-            .zip(store.pairs.par_chunks_mut(CHUNK))
-            .zip(store.out.par_chunks_mut(CHUNK))
-            .map(|((hots, pairs), outs)| {
-                let mut acc = Acc::default();
-                for (e, (h, o)) in hots.iter_mut().zip(outs.iter_mut()).enumerate() {
-                    let (i, j) = (h.i as usize, h.j as usize);
-                    let mut d = p.pos[j] - p.pos[i];
-                    for k in 0..3 {
-                        if periodic[k] {
-                            d[k] -= size[k] * (d[k] / size[k]).round();
-                        }
-                    }
-                    let (ri, rj) = (p.radius[i], p.radius[j]);
-                    let dist2 = d.norm_squared();
-                    // Far apart and nothing to remember: skip the contact laws. The reach
-                    // includes the round-off allowance of bridge formation (gap ≤ 1e-6 R,
-                    // interact.rs), so pairs that touch exactly (lattices) are not skipped.
-                    let reach = (ri + rj) * (1.0 + 1e-6);
-                    if dist2 > reach * reach && !h.live {
-                        h.evaluated = false;
-                        continue;
-                    }
-                    h.evaluated = true;
-                    let c = &mut pairs[e];
-                    let dist = dist2.sqrt();
-                    let n = d / dist;
-                    let v_rel = p.vel[j] - p.vel[i] - (p.spin[i] * ri + p.spin[j] * rj).cross(&n);
-                    let (mi, mj) = (p.mass[i], p.mass[j]);
-                    let k = Kin {
-                        n,
-                        gap: dist - ri - rj,
-                        v_rel,
-                        r_star: ri * rj / (ri + rj),
-                        m_star: mi * mj / (mi + mj),
-                        r1: ri,
-                        r2: rj,
-                    };
-                    let pc = model.pair(p.material[i] as usize, p.material[j] as usize);
-                    let out = interact(&k, pc, &laws_pp, c.s.make_mut(), &mut acc);
-                    h.live = c.s.touching || c.s.bridge.is_some();
-                    o.f = out.f;
-                    o.m = if model.rotation {
-                        -n.cross(&out.ft)
-                    } else {
-                        Vec3::zeros()
-                    };
-                }
-                acc
-            })
-            .collect();
-        for a in &chunk_acc {
-            acc.add(a);
-        }
-        // Each particle's sum runs over its pairs in pair order: scattering the pairs in order
-        // gives the same sums, bit for bit, as gathering them per particle, and reads the
-        // pair forces sequentially. With several threads each takes a range of particles and
-        // scans all pairs for those it owns: every particle still sums in pair order, so the
-        // result does not depend on the number of threads.
+        let ctx = PairCtx {
+            pos: &scene.particles.pos,
+            vel: &scene.particles.vel,
+            spin: &scene.particles.spin,
+            radius: &scene.particles.radius,
+            mass: &scene.particles.mass,
+            material: &scene.particles.material,
+            model,
+            laws: &laws_pp,
+            size: scene.size,
+            periodic: scene.settings.periodic,
+        };
+        let (hot, pairs, blocks, out, scatter) = scene.contacts.step_parts();
         let rotation = model.rotation;
-        let p = &mut scene.particles;
-        let per = p.len().div_ceil(rayon::current_num_threads().max(1)).max(1);
-        let (hot, out, radius) = (&store.hot, &store.out, &p.radius);
-        p.force
-            .par_chunks_mut(per)
-            .zip(p.moment.par_chunks_mut(per))
-            .enumerate()
-            .for_each(|(c, (force, moment))| {
-                let lo = c * per;
-                let n = force.len();
-                force.fill(Vec3::zeros());
-                moment.fill(Vec3::zeros());
-                for (h, o) in hot.iter().zip(out.iter()) {
-                    if !h.evaluated {
-                        continue;
-                    }
-                    // Force −f on the pair's first particle (A), +f on B.
-                    let i = (h.i as usize).wrapping_sub(lo);
-                    if i < n {
+        let force = &mut scene.particles.force;
+        let moment = &mut scene.particles.moment;
+        if rayon::current_num_threads() == 1 {
+            force.fill(Vec3::zeros());
+            moment.fill(Vec3::zeros());
+            for ((hots, pairs), block) in hot
+                .chunks_mut(BLOCK)
+                .zip(pairs.chunks_mut(BLOCK))
+                .zip(blocks.iter_mut())
+            {
+                let mut a = Acc::default();
+                for (h, pair) in hots.iter_mut().zip(pairs.iter_mut()) {
+                    if let Some(o) = pair_force::<ADH, LIQ>(h, &mut pair.slot, block, &ctx, &mut a)
+                    {
+                        let (i, j) = (h.i as usize, h.j as usize);
                         force[i] -= o.f;
-                        if rotation {
-                            moment[i] += o.m;
-                        }
-                    }
-                    let j = (h.j as usize).wrapping_sub(lo);
-                    if j < n {
                         force[j] += o.f;
                         if rotation {
+                            moment[i] += o.m;
                             moment[j] += o.m;
                         }
                     }
                 }
-                if rotation {
-                    for (m, r) in moment.iter_mut().zip(&radius[lo..lo + n]) {
+                acc.add(&a);
+            }
+        } else {
+            out.resize(hot.len(), PairForce::default());
+            let chunk_acc: Vec<Acc> = hot
+                .par_chunks_mut(BLOCK)
+                .zip(pairs.par_chunks_mut(BLOCK))
+                .zip(blocks.par_iter_mut())
+                .zip(out.par_chunks_mut(BLOCK))
+                // One task per chunk: contacts are unevenly spread over the pair list (a
+                // settled bed has them at the bottom), so let idle threads steal chunks.
+                .with_max_len(1)
+                .map(|(((hots, pairs), block), outs)| {
+                    let mut a = Acc::default();
+                    for ((h, pair), o) in hots.iter_mut().zip(pairs.iter_mut()).zip(outs.iter_mut())
+                    {
+                        if let Some(f) =
+                            pair_force::<ADH, LIQ>(h, &mut pair.slot, block, &ctx, &mut a)
+                        {
+                            *o = f;
+                        }
+                    }
+                    a
+                })
+                .collect();
+            for a in &chunk_acc {
+                acc.add(a);
+            }
+            // Each task takes a range of particles and walks, in pair order, the pairs of
+            // its range (listed once per rebuild): every particle still sums in pair order.
+            let per = CHUNK;
+            if scatter.0 != per || scatter.1.is_empty() {
+                *scatter = (per, scatter_lists(hot, per, force.len()));
+            }
+            let (hot, out, lists) = (&*hot, &*out, &scatter.1);
+            force
+                .par_chunks_mut(per)
+                .zip(moment.par_chunks_mut(per))
+                .zip(lists.par_iter())
+                .with_max_len(1)
+                .enumerate()
+                .for_each(|(c, ((force, moment), list))| {
+                    let lo = c * per;
+                    let n = force.len();
+                    force.fill(Vec3::zeros());
+                    moment.fill(Vec3::zeros());
+                    for &k in list {
+                        let (h, o) = (&hot[k as usize], &out[k as usize]);
+                        if !h.evaluated {
+                            continue;
+                        }
+                        // Force −f on the pair's first particle (A), +f on B.
+                        let i = (h.i as usize).wrapping_sub(lo);
+                        if i < n {
+                            force[i] -= o.f;
+                            if rotation {
+                                moment[i] += o.m;
+                            }
+                        }
+                        let j = (h.j as usize).wrapping_sub(lo);
+                        if j < n {
+                            force[j] += o.f;
+                            if rotation {
+                                moment[j] += o.m;
+                            }
+                        }
+                    }
+                });
+        }
+        if rotation {
+            let radius = &scene.particles.radius;
+            scene
+                .particles
+                .moment
+                .par_chunks_mut(CHUNK)
+                .zip(radius.par_chunks(CHUNK))
+                .for_each(|(m, r)| {
+                    for (m, r) in m.iter_mut().zip(r) {
                         *m *= *r;
                     }
-                }
-            });
+                });
+        }
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
@@ -487,7 +511,7 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
                 r2: if r2 < 0.0 { f64::INFINITY } else { r2 },
             };
             let pc = model.pair(p.material[i] as usize, w.material);
-            let out = interact(&k, pc, &laws, &mut c.s, &mut acc);
+            let out = interact::<ADH, LIQ>(&k, pc, &laws, &mut c.s, &mut acc);
             p.force[i] -= out.f;
             for kk in 0..3 {
                 w.force[kk] += out.f[kk];
@@ -499,6 +523,95 @@ fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
     }
 
     acc
+}
+
+/// For each range of `per` particles, the pairs (indices into `hot`) that touch it, in pair
+/// order (one pass over the pairs, once per rebuild).
+fn scatter_lists(hot: &[HotPair], per: usize, n: usize) -> Vec<Vec<u32>> {
+    let mut lists = vec![Vec::new(); n.div_ceil(per)];
+    for (k, h) in hot.iter().enumerate() {
+        let (ri, rj) = (h.i as usize / per, h.j as usize / per);
+        lists[ri].push(k as u32);
+        if rj != ri {
+            lists[rj].push(k as u32);
+        }
+    }
+    lists
+}
+
+/// What the pair loop reads of the particles and the scene.
+struct PairCtx<'a> {
+    pos: &'a [Vec3],
+    vel: &'a [Vec3],
+    spin: &'a [Vec3],
+    radius: &'a [f64],
+    mass: &'a [f64],
+    material: &'a [u16],
+    model: &'a Model,
+    laws: &'a Laws<'a>,
+    size: [f64; 3],
+    periodic: [bool; 3],
+}
+
+/// One candidate pair of the force loop: `None` if it is far apart with nothing to remember
+/// (its contact laws are skipped), else its force on B and moment per unit radius. A pair
+/// that comes within reach for the first time gets its state appended to its block.
+#[inline(always)]
+fn pair_force<const ADH: bool, const LIQ: bool>(
+    h: &mut HotPair,
+    slot: &mut u32,
+    block: &mut Vec<ContactState>,
+    c: &PairCtx,
+    acc: &mut Acc,
+) -> Option<PairForce> {
+    let (i, j) = (h.i as usize, h.j as usize);
+    let mut d = c.pos[j] - c.pos[i];
+    for k in 0..3 {
+        if c.periodic[k] {
+            d[k] -= c.size[k] * (d[k] / c.size[k]).round();
+        }
+    }
+    let (ri, rj) = (c.radius[i], c.radius[j]);
+    let dist2 = d.norm_squared();
+    // Far apart and nothing to remember: skip the contact laws. The reach includes the
+    // round-off allowance of bridge formation (gap ≤ 1e-6 R, interact.rs), so pairs that
+    // touch exactly (lattices) are not skipped.
+    let reach = (ri + rj) * (1.0 + 1e-6);
+    if dist2 > reach * reach && !h.live {
+        h.evaluated = false;
+        return None;
+    }
+    h.evaluated = true;
+    if h.slot == NO_STATE {
+        h.slot = block.len() as u32;
+        *slot = h.slot;
+        block.push(ContactState::default());
+    }
+    let s = &mut block[h.slot as usize];
+    let dist = dist2.sqrt();
+    let n = d / dist;
+    let v_rel = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(&n);
+    let (mi, mj) = (c.mass[i], c.mass[j]);
+    let k = Kin {
+        n,
+        gap: dist - ri - rj,
+        v_rel,
+        r_star: ri * rj / (ri + rj),
+        m_star: mi * mj / (mi + mj),
+        r1: ri,
+        r2: rj,
+    };
+    let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
+    let out = interact::<ADH, LIQ>(&k, pc, c.laws, s, acc);
+    h.live = s.touching || s.bridge.is_some();
+    Some(PairForce {
+        f: out.f,
+        m: if c.model.rotation {
+            -n.cross(&out.ft)
+        } else {
+            Vec3::zeros()
+        },
+    })
 }
 
 /// Primes the contact states if commands changed the scene (no-op otherwise, or when the
@@ -759,8 +872,7 @@ fn remove_lost(scene: &mut Scene) {
         }
         scene
             .contacts
-            .pairs
-            .retain_mut(|c| match (index.get(&c.ida), index.get(&c.idb)) {
+            .retain_pairs(|c| match (index.get(&c.ida), index.get(&c.idb)) {
                 (Some(&a), Some(&b)) => {
                     c.i = a;
                     c.j = b;

@@ -85,12 +85,12 @@ pub fn stored(scene: &Scene) -> Stored {
         let (a, b) = (&scene.materials[m1 - 1], &scene.materials[m2 - 1]);
         hertz::e_star(a.young, a.poisson, b.young, b.poisson)
     };
-    for c in &scene.contacts.pairs {
+    for c in scene.contacts.iter() {
         let (i, j) = (c.i as usize, c.j as usize);
         if c.s.touching {
             let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
             let es = e_star(p.material[i] as usize, p.material[j] as usize);
-            s.strain_normal += normal_strain(&c.s, es, r_star);
+            s.strain_normal += normal_strain(c.s, es, r_star);
             s.strain_tangential += c.s.tang_energy;
         }
         if let Some(b) = &c.s.bridge {

@@ -116,8 +116,23 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
 }
 
 /// Computes the contact force and updates the contact state.
+///
+/// The kernel is specialised per scene ("model only what a scene needs"): `ADH` false is for
+/// scenes whose materials have no surface energy (contacts are Hertzian; a contact still
+/// adhering from an earlier `Cycle` is handed to the adhesive kernel), `LIQ` false for scenes
+/// without `LIQuid`. Each specialisation does exactly the arithmetic of the general kernel
+/// for the contacts it handles, so results do not depend on the choice.
 #[inline]
-pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc: &mut Acc) -> Out {
+pub fn interact<const ADH: bool, const LIQ: bool>(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+) -> Out {
+    if !ADH && s.touching && s.gamma() > 0.0 {
+        return interact::<true, LIQ>(k, pc, laws, s, acc);
+    }
     let alpha = -k.gap;
     let dt = laws.dt;
     let v_n = k.v_rel.dot(&k.n); // separation rate (positive = opening)
@@ -134,7 +149,9 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     let p_old = s.normal_force;
     // A touching contact keeps its own γ; a new one takes the material value, or the base
     // value after an impact (`VELocity ... 1`, Lian App. B).
-    let gamma = if s.touching {
+    let gamma = if !ADH {
+        0.0
+    } else if s.touching {
         s.gamma()
     } else if laws.impact {
         pc.gamma_base
@@ -233,7 +250,7 @@ pub fn interact(k: &Kin, pc: &PairConst, laws: &Laws, s: &mut ContactState, acc:
     }
 
     // ---- liquid bridge ------------------------------------------------------------------
-    if let Some(liq) = laws.liquid {
+    if let Some(liq) = laws.liquid.filter(|_| LIQ) {
         // Formation on solid contact (DECISIONS.md); touching within round-off counts.
         if s.bridge.is_none() && liq.pvol > 0.0 && k.gap <= 1e-6 * k.r1 {
             let (volume, share) = match laws.liquid_share {

@@ -36,11 +36,8 @@ pub fn share_request(share: f64, pvol: f64, r1: f64, r2: f64) -> [f64; 2] {
 pub fn settle(scene: &mut Scene) {
     let model = super::interact::bridge_model(scene.settings.bridge);
     let p = &mut scene.particles;
-    for c in scene.contacts.pairs.iter_mut() {
+    scene.contacts.for_each_state_mut(|c, s| {
         let (i, j) = (c.i as usize, c.j as usize);
-        let Some(s) = c.s.get_mut() else {
-            continue;
-        };
         if let Some(e) = s.ext.as_deref_mut() {
             if e.released != [0.0; 2] {
                 p.liquid[i] += e.released[0];
@@ -66,7 +63,7 @@ pub fn settle(scene: &mut Scene) {
                 }
             }
         }
-    }
+    });
     for c in scene.contacts.wall_pairs.iter_mut() {
         let i = c.i as usize;
         if let Some(e) = c.s.ext.as_deref_mut() {
@@ -99,7 +96,6 @@ pub fn total_liquid(scene: &Scene) -> (f64, f64) {
     let free: f64 = scene.particles.liquid.iter().fold(0.0, |a, b| a + b);
     let in_bridges: f64 = scene
         .contacts
-        .pairs
         .iter()
         .filter_map(|c| c.s.bridge.as_ref().map(|b| b.volume))
         .chain(
@@ -126,7 +122,7 @@ pub fn reissue(scene: &mut Scene) {
         for i in 0..p.len() {
             p.liquid[i] = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
         }
-        for c in &scene.contacts.pairs {
+        for c in scene.contacts.iter() {
             if let Some(b) = &c.s.bridge {
                 p.liquid[c.i as usize] -= b.share[0];
                 p.liquid[c.j as usize] -= b.share[1];
@@ -162,12 +158,12 @@ pub fn reissue(scene: &mut Scene) {
         };
         b.fresh = false;
     };
-    for c in scene.contacts.pairs.iter_mut() {
+    scene.contacts.for_each_state_mut(|c, s| {
         let (ri, rj) = (p.radius[c.i as usize], p.radius[c.j as usize]);
-        if let Some(b) = c.s.get_mut().and_then(|s| s.bridge.as_deref_mut()) {
+        if let Some(b) = s.bridge.as_deref_mut() {
             update(b, ri, rj);
         }
-    }
+    });
     for c in scene.contacts.wall_pairs.iter_mut() {
         if let Some(b) = c.s.bridge.as_deref_mut() {
             update(b, p.radius[c.i as usize], f64::INFINITY);

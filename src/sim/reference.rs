@@ -28,7 +28,7 @@ impl Reference {
         let p = &scene.particles;
         let st = super::energy::stored(scene);
         let mut bond_energy = 0.0;
-        for c in &scene.contacts.pairs {
+        for c in scene.contacts.iter() {
             let (i, j) = (c.i as usize, c.j as usize);
             if let Some(b) = &c.s.bridge {
                 bond_energy += b.coeffs.bond_energy(b.gap.max(0.0));

@@ -134,6 +134,7 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
     const BLOCK: usize = 256;
     let per_block: Vec<(Vec<PairKey>, usize, usize)> = head
         .par_chunks(BLOCK)
+        .with_max_len(1)
         .enumerate()
         .map(|(blk, heads)| {
             let mut pairs = Vec::new();
