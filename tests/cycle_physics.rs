@@ -200,14 +200,24 @@ fn ledger_closes_with_friction_and_damping() {
 
 #[test]
 fn search_matches_brute_force() {
-    // Polydisperse (size ratio 10), periodic and open.
-    for open in ["", "set open all"] {
+    // Polydisperse (size ratio 10: multi-entry search) and near-monodisperse (ratio 1.4 and 1:
+    // single-cell search), periodic and open.
+    for (open, r2) in [
+        ("", 0.0005),
+        ("set open all", 0.0005),
+        ("", 0.0035),
+        ("set open all", 0.0035),
+        ("", 0.005),
+    ] {
         let mut sc = scene(&format!(
-            "start 0.1 0.1 0.1 1000 3000 0\n{open}\nrad 0.005 1\nrad 0.0005 2\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n\
-             rge 100 1 1 0\nrge 2000 2 1 0\n"
+            "start 0.1 0.1 0.1 1000 3000 0\n{open}\nrad 0.005 1\nrad {r2} 2\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n\
+             rge 100 1 1 0\nrge {} 2 1 0\n",
+            if r2 < 0.001 { 2000 } else { 150 }
         ));
         for tol in [1e-5, 1e-4, 1e-3] {
-            let (pairs, _, _) = search::candidates(&sc, tol);
+            let (pairs, _, info) = search::candidates(&sc, tol);
+            // The single-cell search enters each particle once.
+            assert_eq!(info.entries == sc.particles.len(), r2 > 0.001, "{open} {r2}");
             let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
             got.sort_unstable();
             assert_eq!(got, search::brute_force_pairs(&sc, tol), "{open} tol {tol}");

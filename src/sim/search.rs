@@ -1,11 +1,15 @@
 //! Contact search by box-mapped link lists (Lian §5.5, physics-lian1994 §5), modern form.
 //!
-//! The work-space is divided into a uniform grid of boxes. Each particle is entered (head/next
-//! link arrays) into every box touched by its cube of side 2(R + TOL/2), as in TRUBAL, so a
-//! polydisperse assembly stays linear: big particles have many entries, small boxes stay
-//! small. Two particles are candidates when their gap is below TOL; a pair found in several
-//! boxes is reported only by the box holding the lower corner of the intersection of their
-//! cubes. The candidate list is rebuilt only when some particle has moved more than XRES
+//! Two ways to fill the boxes, both giving exactly the pairs with gap < TOL (the merge sorts
+//! them, so the choice never changes a result):
+//! - near-monodisperse scenes (R_max ≤ 1.5 × median): one box per particle, boxes at least
+//!   2 R_max + TOL wide, each box compared with itself and its 13 forward neighbours;
+//! - otherwise TRUBAL's: each particle is entered into every box touched by its cube of side
+//!   2(R + TOL/2), so a polydisperse assembly stays linear (big particles have many entries,
+//!   small boxes stay small); a pair found in several boxes is reported only by the box
+//!   holding the lower corner of the intersection of their cubes.
+//!
+//! The candidate list is rebuilt only when some particle has moved more than XRES
 //! (< TOL/(2√3)) in any component since the last rebuild, so no pair can come into contact
 //! unseen between rebuilds.
 
@@ -70,6 +74,194 @@ fn wrap(c: i64, n: usize) -> usize {
 
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
 pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridInfo) {
+    let (pairs, info) = match single_cell_grid(scene, tol) {
+        Some((n, cell)) => single_cell_pairs(scene, tol, n, cell),
+        None => multi_entry_pairs(scene, tol),
+    };
+    (pairs, wall_candidates(scene, tol), info)
+}
+
+/// Grid of the single-cell search, if it suits the scene: near-monodisperse (largest radius
+/// at most 1.5 × the median), cells no smaller than the largest reach 2 R_max + TOL, and at
+/// least 3 cells along every periodic axis (so that the 27 neighbours of a cell are distinct).
+fn single_cell_grid(scene: &Scene, tol: f64) -> Option<([usize; 3], [f64; 3])> {
+    let p = &scene.particles;
+    if p.is_empty() {
+        return None;
+    }
+    let mut r: Vec<f64> = p.radius.clone();
+    let k = r.len() / 2;
+    r.select_nth_unstable_by(k, f64::total_cmp);
+    let median = r[k];
+    let rmax = scene.max_radius();
+    if !(rmax <= 1.5 * median) || !(tol >= 0.0) {
+        return None;
+    }
+    let mut h = 2.0 * rmax + tol;
+    // No more cells than about 2 per particle (a dilute gas gets bigger cells).
+    let vol = scene.size[0] * scene.size[1] * scene.size[2];
+    let max_cells = (2 * p.len()).max(27) as f64;
+    if vol / (h * h * h) > max_cells {
+        h = (vol / max_cells).cbrt();
+    }
+    let mut n = [1usize; 3];
+    let mut cell = [0.0; 3];
+    for k in 0..3 {
+        n[k] = ((scene.size[k] / h).floor() as usize).clamp(1, 1 << 20);
+        cell[k] = scene.size[k] / n[k] as f64;
+        if scene.settings.periodic[k] && n[k] < 3 {
+            return None;
+        }
+    }
+    Some((n, cell))
+}
+
+/// Single-cell search: each particle is entered in the one cell of its centre (a counting
+/// sort), and each cell is compared with itself and its 13 forward neighbours (half stencil),
+/// so every pair is examined once. Cells are at least 2 R_max + TOL wide, so every pair with
+/// gap < TOL is in the same or adjacent cells (positions outside an open side are clamped to
+/// the edge cells, which only brings particles closer in cell index).
+fn single_cell_pairs(
+    scene: &Scene,
+    tol: f64,
+    n: [usize; 3],
+    cell: [f64; 3],
+) -> (Vec<PairKey>, GridInfo) {
+    let p = &scene.particles;
+    let np = p.len();
+    let periodic = scene.settings.periodic;
+    let ncell = n[0] * n[1] * n[2];
+    let coord = |i: usize| -> [usize; 3] {
+        let mut c = [0usize; 3];
+        for k in 0..3 {
+            let x = cell_index(p.pos[i][k], k, &n, &cell, periodic[k]);
+            c[k] = if periodic[k] {
+                wrap(x, n[k])
+            } else {
+                x as usize
+            };
+        }
+        c
+    };
+    let flat = |c: [usize; 3]| c[0] + n[0] * (c[1] + n[1] * c[2]);
+    // Counting sort of the particles by cell (particles of a cell in index order).
+    let cell_of: Vec<u32> = (0..np)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| flat(coord(i)) as u32)
+        .collect();
+    let mut start = vec![0u32; ncell + 1];
+    for &c in &cell_of {
+        start[c as usize + 1] += 1;
+    }
+    for c in 0..ncell {
+        start[c + 1] += start[c];
+    }
+    let mut fill = start.clone();
+    let mut members = vec![0u32; np];
+    for (i, &c) in cell_of.iter().enumerate() {
+        members[fill[c as usize] as usize] = i as u32;
+        fill[c as usize] += 1;
+    }
+    let members_of = |c: usize| &members[start[c] as usize..start[c + 1] as usize];
+    // The 13 forward neighbours.
+    let mut stencil = Vec::with_capacity(13);
+    for dz in -1i64..=1 {
+        for dy in -1i64..=1 {
+            for dx in -1i64..=1 {
+                if (dz, dy, dx) > (0, 0, 0) {
+                    stencil.push([dx, dy, dz]);
+                }
+            }
+        }
+    }
+    let key = |i: usize, j: usize| {
+        let (ida, idb) = (p.id[i], p.id[j]);
+        let (i, j, ida, idb) = if ida < idb {
+            (i, j, ida, idb)
+        } else {
+            (j, i, idb, ida)
+        };
+        PairKey {
+            i: i as u32,
+            j: j as u32,
+            ida,
+            idb,
+        }
+    };
+    let close = |i: usize, j: usize| {
+        let d = scene.branch(&p.pos[i], &p.pos[j]);
+        let reach = p.radius[i] + p.radius[j] + tol;
+        d.norm_squared() < reach * reach
+    };
+    const BLOCK: usize = 256;
+    let per_block: Vec<Vec<PairKey>> = (0..ncell.div_ceil(BLOCK))
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|blk| {
+            let mut pairs = Vec::new();
+            for c in blk * BLOCK..((blk + 1) * BLOCK).min(ncell) {
+                let here = members_of(c);
+                if here.is_empty() {
+                    continue;
+                }
+                let cz = c / (n[0] * n[1]);
+                let cy = (c / n[0]) % n[1];
+                let cx = c % n[0];
+                for (x, &a) in here.iter().enumerate() {
+                    for &b in &here[x + 1..] {
+                        if close(a as usize, b as usize) {
+                            pairs.push(key(a as usize, b as usize));
+                        }
+                    }
+                }
+                for d in &stencil {
+                    let mut o = [0usize; 3];
+                    let mut inside = true;
+                    for (k, (&ck, &dk)) in [cx, cy, cz].iter().zip(d).enumerate() {
+                        let q = ck as i64 + dk;
+                        if periodic[k] {
+                            o[k] = wrap(q, n[k]);
+                        } else if q < 0 || q >= n[k] as i64 {
+                            inside = false;
+                        } else {
+                            o[k] = q as usize;
+                        }
+                    }
+                    if !inside {
+                        continue;
+                    }
+                    let there = members_of(flat(o));
+                    for &a in here {
+                        for &b in there {
+                            if close(a as usize, b as usize) {
+                                pairs.push(key(a as usize, b as usize));
+                            }
+                        }
+                    }
+                }
+            }
+            pairs
+        })
+        .collect();
+    let mut pairs = Vec::with_capacity(per_block.iter().map(Vec::len).sum());
+    for v in per_block {
+        pairs.extend(v);
+    }
+    let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
+    let info = GridInfo {
+        n,
+        cell,
+        entries: np,
+        max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
+        empty_boxes: counts.filter(|&m| m == 0).count(),
+    };
+    (pairs, info)
+}
+
+/// Multi-entry search (TRUBAL's): each particle is entered in every box its cube of side
+/// 2(R + TOL/2) touches, so that a wide size distribution stays linear.
+fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
     let p = &scene.particles;
     let np = p.len();
     let (n, cell) = grid_dims(scene, tol);
@@ -198,9 +390,15 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
         info.max_entries_per_box = info.max_entries_per_box.max(max_entries);
         info.empty_boxes += empty;
     }
+    (pairs, info)
+}
 
-    // Particle–wall candidates in parallel over fixed blocks of particles, in particle order.
-    let walls: Vec<WallKey> = if scene.walls.is_empty() {
+/// Particle–wall candidates (gap < tol), in parallel over fixed blocks of particles, in
+/// particle order.
+fn wall_candidates(scene: &Scene, tol: f64) -> Vec<WallKey> {
+    let p = &scene.particles;
+    let np = p.len();
+    if scene.walls.is_empty() {
         Vec::new()
     } else {
         (0..np)
@@ -219,8 +417,7 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
                     })
             })
             .collect()
-    };
-    (pairs, walls, info)
+    }
 }
 
 /// Brute-force O(N²) reference used by the tests.
