@@ -122,7 +122,7 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
 /// adhering from an earlier `Cycle` is handed to the adhesive kernel), `LIQ` false for scenes
 /// without `LIQuid`. Each specialisation does exactly the arithmetic of the general kernel
 /// for the contacts it handles, so results do not depend on the choice.
-#[inline]
+#[inline(always)]
 pub fn interact<const ADH: bool, const LIQ: bool>(
     k: &Kin,
     pc: &PairConst,
@@ -347,6 +347,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
 /// Tangential force on B: rotate the history into the current contact plane, advance the
 /// signed resultant displacement (Lian (5.22)–(5.26), corrected sign rule of
 /// physics-lian1994 §2.4 item 6) and apply the chosen law.
+#[inline(always)]
 fn tangential_step(
     k: &Kin,
     pc: &PairConst,
