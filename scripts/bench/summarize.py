@@ -87,8 +87,9 @@ def summarize(rows):
         out[key] = dict(
             used=len(ok), dropped=len(rs) - len(ok) if not disturbed else len(rs), disturbed=disturbed,
             wall=wall, loop=loop, lmin=min(loops), lmax=max(loops),
-            psps_loop=work / loop, psps_wall=work / wall,
-            cpu_loop=cpu_loop, psps_cpu=work / cpu_loop, nall=len(good),
+            psps_loop=work / loop if loop > 0 else float('nan'),
+            psps_wall=work / wall if wall > 0 else float('nan'),  # /usr/bin/time rounds to 0.01 s
+            cpu_loop=cpu_loop, psps_cpu=work / cpu_loop if cpu_loop > 0 else float('nan'), nall=len(good),
             rss=statistics.median(f(r["maxrss_kB"]) for r in ok) / 1024.0,
             contacts=ok[-1]["contacts"], extra=ok[-1]["extra"],
             cpu=statistics.median(share(r) for r in ok),

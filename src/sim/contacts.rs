@@ -412,6 +412,36 @@ impl<'de> Deserialize<'de> for ContactStore {
     }
 }
 
+/// Sorts candidate keys by their ids (ida, idb): a least-significant-digit radix sort on
+/// the id pair packed into one integer (11-bit digits, as many passes as the ids need). The
+/// id pairs are unique, so this is the one order a comparison sort would give too.
+fn sort_keys(keys: &mut Vec<PairKey>) {
+    const D: u32 = 11;
+    let max_id = keys.iter().map(|k| k.idb).max().unwrap_or(0);
+    let bits = 32 - max_id.leading_zeros();
+    let packed = |k: &PairKey| ((k.ida as u64) << bits) | k.idb as u64;
+    let mut buf = keys.clone();
+    let mut shift = 0;
+    while shift < 2 * bits {
+        let digit = |k: &PairKey| ((packed(k) >> shift) & ((1 << D) - 1)) as usize;
+        let mut start = [0usize; 1 << D];
+        for k in keys.iter() {
+            start[digit(k)] += 1;
+        }
+        let mut sum = 0;
+        for c in start.iter_mut() {
+            (*c, sum) = (sum, sum + *c);
+        }
+        for k in keys.iter() {
+            let d = digit(k);
+            buf[start[d]] = *k;
+            start[d] += 1;
+        }
+        std::mem::swap(keys, &mut buf);
+        shift += D;
+    }
+}
+
 /// Walks the sorted new keys against the sorted old entries: each key comes with the old
 /// entry of the same id (whose history it carries on), or `None` for a new candidate.
 fn carry<K, T, I: Ord>(
@@ -573,8 +603,7 @@ impl ContactStore {
     /// than TOL and carried no bond). The states are laid out anew in pair order.
     pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
-        // The keys are unique, so the parallel sort gives the one sorted order.
-        new_pairs.par_sort_unstable();
+        sort_keys(&mut new_pairs);
         let old_pairs = std::mem::take(&mut self.pairs);
         let old_blocks = std::mem::take(&mut self.blocks);
         // Each block of new pairs finds its first old pair by bisection and walks on from
@@ -798,6 +827,33 @@ mod tests {
         assert!(std::mem::size_of::<ContactState>() <= 112);
         assert!(std::mem::size_of::<Pair>() <= 20);
         assert!(std::mem::size_of::<HotPair>() <= 16);
+    }
+
+    #[test]
+    fn keys_sort_by_ids() {
+        // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort.
+        let mut rng = crate::sim::rng::Rng::new(7);
+        for max in [1u32, 5, 3000, 1 << 20, u32::MAX] {
+            let mut keys: Vec<PairKey> = (0..5000u32)
+                .map(|k| {
+                    let a = (rng.next_u64() % (max as u64 + 1)) as u32;
+                    let b = (rng.next_u64() % (max as u64 + 1)) as u32;
+                    PairKey {
+                        ida: a.min(b),
+                        idb: a.max(b).max(1),
+                        i: k,
+                        j: k,
+                    }
+                })
+                .collect();
+            keys.sort_unstable_by_key(|k| (k.ida, k.idb));
+            keys.dedup_by_key(|k| (k.ida, k.idb));
+            let mut want = keys.clone();
+            want.sort_unstable();
+            keys.reverse();
+            sort_keys(&mut keys);
+            assert_eq!(keys, want, "ids up to {max}");
+        }
     }
 
     fn marked(x: f64) -> ContactState {
