@@ -217,7 +217,11 @@ fn search_matches_brute_force() {
         for tol in [1e-5, 1e-4, 1e-3] {
             let (pairs, _, info) = search::candidates(&sc, tol);
             // The single-cell search enters each particle once.
-            assert_eq!(info.entries == sc.particles.len(), r2 > 0.001, "{open} {r2}");
+            assert_eq!(
+                info.entries == sc.particles.len(),
+                r2 > 0.001,
+                "{open} {r2}"
+            );
             let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
             got.sort_unstable();
             assert_eq!(got, search::brute_force_pairs(&sc, tol), "{open} tol {tol}");
@@ -298,4 +302,28 @@ fn bad_scenes_are_refused_before_cycling() {
     );
     let e = p.run_line("cycle 1").unwrap_err();
     assert!(e.message.contains("too small along x"), "{}", e.message);
+}
+
+#[test]
+fn rgenerate_numbers_particles_along_a_morton_curve() {
+    // Random placement, then numbered in space-filling-curve order: neighbours in space are
+    // neighbours in memory. Ids stay consecutive and unique, positions are those placed.
+    let sc = scene(
+        "start 0.1 0.1 0.1 1000 3000 0\nrad 0.002 1\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n\
+         create 0.05 0.05 0.05 0 0 0 0 0 0 1 1\nrge 800 1 1 0\n",
+    );
+    let p = &sc.particles;
+    assert_eq!(p.len(), 801);
+    assert_eq!(p.id, (1..=801).collect::<Vec<u32>>());
+    let lo = trubal::sim::Vec3::zeros();
+    let hi = trubal::sim::Vec3::new(0.1, 0.1, 0.1);
+    let order = trubal::sim::generate::morton_order(&p.pos[1..], lo, hi);
+    assert_eq!(order, (0..800).collect::<Vec<_>>());
+    // Consecutive particles are close: the mean distance between index neighbours is a
+    // small fraction of what a random order gives (about half the box).
+    let mean: f64 = (2..801)
+        .map(|i| (p.pos[i] - p.pos[i - 1]).norm())
+        .sum::<f64>()
+        / 799.0;
+    assert!(mean < 0.02, "mean distance of index neighbours {mean}");
 }

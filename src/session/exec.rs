@@ -4,7 +4,9 @@
 #[allow(unused_imports)]
 use crate::lang::command::SizeDist;
 use crate::lang::command::*;
-use crate::sim::generate::{OverlapIndex, first_overlap, inside, lattice_sites, sphere_mass};
+use crate::sim::generate::{
+    OverlapIndex, first_overlap, inside, lattice_sites, morton_order, sphere_mass,
+};
 use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall};
 
 fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
@@ -251,6 +253,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 None => (Vec3::zeros(), Vec3::from(scene.size)),
             };
             let limit = 1000 * n + 10_000;
+            let (start, first_id) = (scene.particles.len(), scene.next_id);
             let r_big = scene.max_radius_of(*size).unwrap_or(r);
             let mut idx = OverlapIndex::new(scene, r_big);
             let mut made = 0;
@@ -292,6 +295,13 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 idx.insert(&x, r);
                 made += 1;
                 need_radius = true;
+            }
+            // Number the new particles along a Morton curve (the random placement order
+            // would scatter neighbours over memory: 2.6 × the cost per step at 10^6).
+            let order = morton_order(&scene.particles.pos[start..], lo, hi);
+            scene.particles.permute_tail(start, &order);
+            for (k, id) in scene.particles.id[start..].iter_mut().enumerate() {
+                *id = first_id + k as u32;
             }
             scene.contacts.stale = true;
             if made < *n {

@@ -128,6 +128,32 @@ impl Particles {
         self.liquid.remove(i);
     }
 
+    /// Reorders particles `start..` so that the k-th of them is the old `start + order[k]`
+    /// (`order` a permutation of `0..len - start`).
+    pub fn permute_tail(&mut self, start: usize, order: &[usize]) {
+        fn tail<T: Copy>(v: &mut [T], start: usize, order: &[usize]) {
+            let old: Vec<T> = v[start..].to_vec();
+            for (k, &o) in order.iter().enumerate() {
+                v[start + k] = old[o];
+            }
+        }
+        tail(&mut self.id, start, order);
+        tail(&mut self.pos, start, order);
+        tail(&mut self.vel, start, order);
+        tail(&mut self.spin, start, order);
+        tail(&mut self.rot, start, order);
+        tail(&mut self.force, start, order);
+        tail(&mut self.moment, start, order);
+        tail(&mut self.radius, start, order);
+        tail(&mut self.mass, start, order);
+        tail(&mut self.size, start, order);
+        tail(&mut self.material, start, order);
+        tail(&mut self.agg, start, order);
+        tail(&mut self.fixed, start, order);
+        tail(&mut self.disp, start, order);
+        tail(&mut self.liquid, start, order);
+    }
+
     pub fn inertia(&self, i: usize) -> f64 {
         0.4 * self.mass[i] * self.radius[i] * self.radius[i]
     }
