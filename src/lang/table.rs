@@ -500,7 +500,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["Seed"],
         true,
         b_rgenerate,
-        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; Seed n draws and discards n random numbers."
+        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; the placed particles are numbered along a space-filling (Morton) curve, so that neighbours in space are neighbours in memory; Seed n draws and discards n random numbers."
     ),
     def!(
         "RSet",
