@@ -442,6 +442,21 @@ fn sort_keys(keys: &mut Vec<PairKey>) {
     }
 }
 
+/// Walks sorted keys over the sorted old pairs from index `start`: for each key, the old pair
+/// of the same ids if it has a state (its index and slot).
+fn old_states(old: &[Pair], start: usize) -> impl FnMut(&PairKey) -> Option<(usize, u32)> + '_ {
+    let mut k = start;
+    move |key| {
+        let id = (key.ida, key.idb);
+        while k < old.len() && (old[k].ida, old[k].idb) < id {
+            k += 1;
+        }
+        old.get(k)
+            .filter(|o| (o.ida, o.idb) == id && o.slot != NO_STATE)
+            .map(|o| (k, o.slot))
+    }
+}
+
 /// Walks the sorted new keys against the sorted old entries: each key comes with the old
 /// entry of the same id (whose history it carries on), or `None` for a new candidate.
 fn carry<K, T, I: Ord>(
@@ -604,48 +619,60 @@ impl ContactStore {
     pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
         sort_keys(&mut new_pairs);
+        // The hot list goes first: a rebuild holds the old and the new lists at once.
+        self.hot = Vec::new();
+        self.scatter.1.clear();
         let old_pairs = std::mem::take(&mut self.pairs);
         let old_blocks = std::mem::take(&mut self.blocks);
         // Each block of new pairs finds its first old pair by bisection and walks on from
-        // there (blocks in parallel; the same pairs and states as one walk).
-        let built: Vec<(Vec<Pair>, Vec<ContactState>)> = new_pairs
+        // there (blocks in parallel; the same pairs and states as one walk), writing its pairs
+        // in place and its states into a block of the exact size.
+        let mut pairs = vec![
+            Pair {
+                i: 0,
+                j: 0,
+                ida: 0,
+                idb: 0,
+                slot: NO_STATE
+            };
+            new_pairs.len()
+        ];
+        let blocks: Vec<Vec<ContactState>> = new_pairs
             .par_chunks(BLOCK)
-            .map(|keys| {
-                let id_old = |k: usize| (old_pairs[k].ida, old_pairs[k].idb);
+            .zip(pairs.par_chunks_mut(BLOCK))
+            .map(|(keys, out)| {
                 let first = (keys[0].ida, keys[0].idb);
-                let mut ko = old_pairs.partition_point(|o| (o.ida, o.idb) < first);
-                let mut pairs = Vec::with_capacity(keys.len());
-                let mut states = Vec::new();
-                for key in keys {
-                    let id = (key.ida, key.idb);
-                    while ko < old_pairs.len() && id_old(ko) < id {
-                        ko += 1;
-                    }
-                    let slot = match old_pairs.get(ko) {
-                        Some(o) if id_old(ko) == id && o.slot != NO_STATE => {
-                            states.push(old_blocks[ko / BLOCK][o.slot as usize].clone());
+                let start = old_pairs.partition_point(|o| (o.ida, o.idb) < first);
+                let n = keys
+                    .iter()
+                    .filter_map(old_states(&old_pairs, start))
+                    .count();
+                let mut states = Vec::with_capacity(n);
+                let mut matched = old_states(&old_pairs, start);
+                for (key, p) in keys.iter().zip(out.iter_mut()) {
+                    let slot = match matched(key) {
+                        Some((k_old, s_old)) => {
+                            states.push(old_blocks[k_old / BLOCK][s_old as usize].clone());
                             (states.len() - 1) as u32
                         }
-                        _ => NO_STATE,
+                        None => NO_STATE,
                     };
-                    pairs.push(Pair {
+                    *p = Pair {
                         i: key.i,
                         j: key.j,
                         ida: key.ida,
                         idb: key.idb,
                         slot,
-                    });
+                    };
                 }
-                (pairs, states)
+                states
             })
             .collect();
         drop(old_blocks);
-        self.pairs = Vec::with_capacity(new_pairs.len());
-        self.blocks = Vec::with_capacity(built.len());
-        for (pairs, states) in built {
-            self.pairs.extend(pairs);
-            self.blocks.push(states);
-        }
+        drop(old_pairs);
+        drop(new_pairs);
+        self.pairs = pairs;
+        self.blocks = blocks;
 
         new_walls.sort_unstable();
         self.wall_pairs = carry(
