@@ -33,17 +33,25 @@ pub struct GridInfo {
 /// diameter: large particles simply get more entries), limited so the grid has at most about
 /// 4 boxes per particle.
 fn grid_dims(scene: &Scene, tol: f64) -> ([usize; 3], [f64; 3]) {
-    let p = &scene.particles;
-    let mut r: Vec<f64> = p.radius.clone();
-    let median = if r.is_empty() {
-        1.0
-    } else {
-        let k = r.len() / 2;
-        r.select_nth_unstable_by(k, f64::total_cmp);
-        r[k]
-    };
-    let mut h = 2.0 * median + tol;
-    let max_cells = (4 * p.len()).max(27) as f64;
+    let median = median_radius(scene).unwrap_or(1.0);
+    grid_of(scene, 2.0 * median + tol, 4)
+}
+
+/// The median particle radius (None without particles).
+fn median_radius(scene: &Scene) -> Option<f64> {
+    let mut r: Vec<f64> = scene.particles.radius.clone();
+    if r.is_empty() {
+        return None;
+    }
+    let k = r.len() / 2;
+    r.select_nth_unstable_by(k, f64::total_cmp);
+    Some(r[k])
+}
+
+/// Boxes of side at least `h` filling the work-space, enlarged so that there are at most about
+/// `per_particle` boxes per particle (a dilute gas gets bigger boxes).
+fn grid_of(scene: &Scene, mut h: f64, per_particle: usize) -> ([usize; 3], [f64; 3]) {
+    let max_cells = (per_particle * scene.particles.len()).max(27) as f64;
     let vol = scene.size[0] * scene.size[1] * scene.size[2];
     if vol / (h * h * h) > max_cells {
         h = (vol / max_cells).cbrt();
@@ -85,33 +93,16 @@ pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridI
 /// at most 1.5 × the median), cells no smaller than the largest reach 2 R_max + TOL, and at
 /// least 3 cells along every periodic axis (so that the 27 neighbours of a cell are distinct).
 fn single_cell_grid(scene: &Scene, tol: f64) -> Option<([usize; 3], [f64; 3])> {
-    let p = &scene.particles;
-    if p.is_empty() {
-        return None;
-    }
-    let mut r: Vec<f64> = p.radius.clone();
-    let k = r.len() / 2;
-    r.select_nth_unstable_by(k, f64::total_cmp);
-    let median = r[k];
+    let median = median_radius(scene)?;
     let rmax = scene.max_radius();
-    if !(rmax <= 1.5 * median) || !(tol >= 0.0) {
+    // (Written so that a NaN radius or TOL chooses the general search.)
+    let suits = rmax <= 1.5 * median && tol >= 0.0;
+    if !suits {
         return None;
     }
-    let mut h = 2.0 * rmax + tol;
-    // No more cells than about 2 per particle (a dilute gas gets bigger cells).
-    let vol = scene.size[0] * scene.size[1] * scene.size[2];
-    let max_cells = (2 * p.len()).max(27) as f64;
-    if vol / (h * h * h) > max_cells {
-        h = (vol / max_cells).cbrt();
-    }
-    let mut n = [1usize; 3];
-    let mut cell = [0.0; 3];
-    for k in 0..3 {
-        n[k] = ((scene.size[k] / h).floor() as usize).clamp(1, 1 << 20);
-        cell[k] = scene.size[k] / n[k] as f64;
-        if scene.settings.periodic[k] && n[k] < 3 {
-            return None;
-        }
+    let (n, cell) = grid_of(scene, 2.0 * rmax + tol, 2);
+    if (0..3).any(|k| scene.settings.periodic[k] && n[k] < 3) {
+        return None;
     }
     Some((n, cell))
 }
