@@ -4,18 +4,11 @@
 
 use std::process::Command;
 
-fn run(threads: &str) -> String {
+/// Runs trubal with `args` in folder `dir`; its standard output (it must succeed).
+fn trubal(dir: &std::path::Path, args: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
-        .args([
-            "scripts/dry_agglomerate_impact.tru",
-            "--json",
-            "--threads",
-            threads,
-            "--set",
-            "v=2",
-            "--set",
-            "n=300",
-        ])
+        .current_dir(dir)
+        .args(args)
         .output()
         .unwrap();
     assert!(
@@ -24,6 +17,20 @@ fn run(threads: &str) -> String {
         String::from_utf8_lossy(&out.stderr)
     );
     String::from_utf8(out.stdout).unwrap()
+}
+
+fn run(threads: &str) -> String {
+    let args = [
+        "scripts/dry_agglomerate_impact.tru",
+        "--json",
+        "--threads",
+        threads,
+        "--set",
+        "v=2",
+        "--set",
+        "n=300",
+    ];
+    trubal(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), &args)
 }
 
 #[test]
@@ -53,23 +60,9 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
         let mut saved = Vec::new();
         for t in ["1", "2"] {
             let f = format!("{name}_t{t}.sav");
-            let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
-                .current_dir(&dir)
-                .args([
-                    &format!("{name}.tru"),
-                    "--threads",
-                    t,
-                    "--set",
-                    &format!("f={f}"),
-                ])
-                .output()
-                .unwrap();
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-            let text = String::from_utf8_lossy(&out.stdout).to_string();
+            let deck = format!("{name}.tru");
+            let set = format!("f={f}");
+            let text = trubal(&dir, &[&deck, "--threads", t, "--set", &set]);
             assert!(text.contains("particle-particle"), "{text}");
             saved.push(std::fs::read(dir.join(&f)).unwrap());
         }
