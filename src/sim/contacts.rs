@@ -249,7 +249,7 @@ pub type StepParts<'a> = (
     &'a mut [Pair],
     &'a mut [Vec<ContactState>],
     &'a mut Vec<PairForce>,
-    &'a mut (usize, Vec<Vec<u32>>),
+    &'a mut Vec<Vec<u32>>,
 );
 
 /// The contact history of all candidate pairs.
@@ -270,9 +270,9 @@ pub struct ContactStore {
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.
     pub hot: Vec<HotPair>,
-    /// Derived with `hot`: particles per range of the parallel scatter, and each range's
-    /// pairs in pair order.
-    pub scatter: (usize, Vec<Vec<u32>>),
+    /// Derived with `hot` (several threads): for each range of `cycle::CHUNK` particles,
+    /// the pairs that touch it, in pair order (empty: not built yet).
+    pub scatter: Vec<Vec<u32>>,
     pairs: Vec<Pair>,
     blocks: Vec<Vec<ContactState>>,
     pub wall_pairs: Vec<WallPair>,
@@ -297,9 +297,7 @@ impl Clone for ContactStore {
         c
     }
     fn clone_from(&mut self, o: &Self) {
-        self.out.clear();
-        self.clear_hot();
-        self.scatter.1.clear();
+        self.clear_derived();
         self.pairs.clone_from(&o.pairs);
         self.blocks.clone_from(&o.blocks);
         self.wall_pairs.clone_from(&o.wall_pairs);
@@ -501,7 +499,9 @@ impl ContactStore {
             &self.blocks[k / BLOCK][slot as usize]
         }
     }
-    /// The contact state of pair `k`, allocated (as the default state) if it had none.
+    /// The contact state of pair `k`, allocated (as the default state) if it had none (the
+    /// force loop allocates in place, `cycle::pair_force`; this is for tests).
+    #[cfg(test)]
     pub fn state_mut(&mut self, k: usize) -> &mut ContactState {
         let b = &mut self.blocks[k / BLOCK];
         let p = &mut self.pairs[k];
@@ -621,7 +621,7 @@ impl ContactStore {
         sort_keys(&mut new_pairs);
         // The hot list goes first: a rebuild holds the old and the new lists at once.
         self.hot = Vec::new();
-        self.scatter.1.clear();
+        self.scatter.clear();
         let old_pairs = std::mem::take(&mut self.pairs);
         let old_blocks = std::mem::take(&mut self.blocks);
         // Each block of new pairs finds its first old pair by bisection and walks on from
@@ -703,7 +703,7 @@ impl ContactStore {
     /// Drops the hot list and what is derived from it.
     fn clear_hot(&mut self) {
         self.hot.clear();
-        self.scatter.1.clear();
+        self.scatter.clear();
     }
 
     /// Builds the compact [`HotPair`] list from the pairs.

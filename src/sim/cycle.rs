@@ -422,10 +422,10 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             // Each task takes a range of particles and walks, in pair order, the pairs of
             // its range (listed once per rebuild): every particle still sums in pair order.
             let per = CHUNK;
-            if scatter.0 != per || scatter.1.is_empty() {
-                *scatter = (per, scatter_lists(hot, per, force.len()));
+            if scatter.is_empty() {
+                *scatter = scatter_lists(hot, per, force.len());
             }
-            let (hot, out, lists) = (&*hot, &*out, &scatter.1);
+            let (hot, out, lists) = (&*hot, &*out, &*scatter);
             force
                 .par_chunks_mut(per)
                 .zip(moment.par_chunks_mut(per))
