@@ -10,13 +10,14 @@
 
 use rayon::prelude::*;
 
-use super::contacts::{BLOCK, ContactState, HotPair, NO_STATE, PairForce};
+use super::contacts::{BLOCK, ContactState, HotPair, NO_STATE, Pair, PairForce};
 use super::interact::{Acc, Kin, Laws, interact};
+use super::lanes;
 use super::params::{self, Model};
 use super::scene::{Scene, Vec3};
 use super::search;
 use super::walls::{self, surface_velocity, wall_gap, wall_r_star};
-use crate::lang::command::WallGeom;
+use crate::lang::command::{TangentialChoice, WallGeom};
 
 /// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
 /// chunk order, so results are bitwise independent of the number of threads.
@@ -379,18 +380,15 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
                 .zip(blocks.iter_mut())
             {
                 let mut a = Acc::default();
-                for (h, pair) in hots.iter_mut().zip(pairs.iter_mut()) {
-                    if let Some(o) = pair_force::<ADH, LIQ>(h, &mut pair.slot, block, &ctx, &mut a)
-                    {
-                        let (i, j) = (h.i as usize, h.j as usize);
-                        force[i] -= o.f;
-                        force[j] += o.f;
-                        if rotation {
-                            moment[i] += o.m;
-                            moment[j] += o.m;
-                        }
+                block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |_, h, o| {
+                    let (i, j) = (h.i as usize, h.j as usize);
+                    force[i] -= o.f;
+                    force[j] += o.f;
+                    if rotation {
+                        moment[i] += o.m;
+                        moment[j] += o.m;
                     }
-                }
+                });
                 acc.add(&a);
             }
         } else {
@@ -405,14 +403,9 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
                 .with_max_len(1)
                 .map(|(((hots, pairs), block), outs)| {
                     let mut a = Acc::default();
-                    for ((h, pair), o) in hots.iter_mut().zip(pairs.iter_mut()).zip(outs.iter_mut())
-                    {
-                        if let Some(f) =
-                            pair_force::<ADH, LIQ>(h, &mut pair.slot, block, &ctx, &mut a)
-                        {
-                            *o = f;
-                        }
-                    }
+                    block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |k, _, o| {
+                        outs[k] = o;
+                    });
                     a
                 })
                 .collect();
@@ -553,17 +546,154 @@ struct PairCtx<'a> {
     periodic: [bool; 3],
 }
 
-/// One candidate pair of the force loop: `None` if it is far apart with nothing to remember
-/// (its contact laws are skipped), else its force on B and moment per unit radius. A pair
-/// that comes within reach for the first time gets its state appended to its block.
+/// The pair loop over one block, in sub-batches of [`lanes::SUB`] pairs and three passes:
+/// the geometry of every pair (far-apart pairs are dropped; steady Hertz contacts with the
+/// no-slip law are gathered into a [`lanes::Batch`]), the batch's contact law on arrays
+/// (vectorised), then, in pair order, the ledger terms and forces of the batch and the
+/// general kernel for every other pair. The arithmetic and its order are those of one pass
+/// with the general kernel, and `emit` gets each force (with the pair's index in the block)
+/// in pair order.
 #[inline(always)]
-fn pair_force<const ADH: bool, const LIQ: bool>(
-    h: &mut HotPair,
-    slot: &mut u32,
+fn block_forces<const ADH: bool, const LIQ: bool>(
+    hots: &mut [HotPair],
+    pairs: &mut [Pair],
     block: &mut Vec<ContactState>,
     c: &PairCtx,
     acc: &mut Acc,
-) -> Option<PairForce> {
+    mut emit: impl FnMut(usize, &HotPair, PairForce),
+) {
+    use lanes::SUB;
+    let laws = c.laws;
+    let batched = !ADH
+        && !LIQ
+        && laws.tangential == TangentialChoice::NoSlip
+        && !(laws.beta > 0.0)
+        && laws.rotation
+        && c.model.rotation
+        && laws.dt > 0.0;
+    let mut batch = lanes::Batch::new();
+    let mut kins = [Kin::ZERO; SUB];
+    let mut idx = [0u32; SUB];
+    let mut ds = [Vec3::zeros(); SUB];
+    let mut d2s = [0.0; SUB];
+    // Lane of each evaluated pair in the batch (u8::MAX: general kernel).
+    let mut lane = [u8::MAX; SUB];
+    let mut start = 0;
+    while start < hots.len() {
+        let end = (start + SUB).min(hots.len());
+        // Which pairs are evaluated, without a branch per pair (whether a pair is near is
+        // as good as random along the list).
+        let mut m = 0;
+        for k in start..end {
+            let h = &mut hots[k];
+            let (d, dist2, ev) = pair_reach(h, c);
+            h.evaluated = ev;
+            idx[m] = k as u32;
+            ds[m] = d;
+            d2s[m] = dist2;
+            m += ev as usize;
+        }
+        batch.len = 0;
+        for q in 0..m {
+            let k = idx[q] as usize;
+            let h = &mut hots[k];
+            {
+                let kin = pair_kin(h, &mut pairs[k].slot, block, c, ds[q], d2s[q]);
+                lane[q] = u8::MAX;
+                if batched {
+                    let s = &block[h.slot as usize];
+                    let pc = c.model.pair(
+                        c.material[h.i as usize] as usize,
+                        c.material[h.j as usize] as usize,
+                    );
+                    if s.touching
+                        && s.ext.is_none()
+                        && s.bridge.is_none()
+                        && kin.gap < 0.0
+                        && pc.zeta > 0.0
+                        && pc.mu > 0.0
+                    {
+                        let l = batch.len;
+                        batch.nx[l] = kin.n.x;
+                        batch.ny[l] = kin.n.y;
+                        batch.nz[l] = kin.n.z;
+                        batch.vx[l] = kin.v_rel.x;
+                        batch.vy[l] = kin.v_rel.y;
+                        batch.vz[l] = kin.v_rel.z;
+                        batch.gap[l] = kin.gap;
+                        batch.r_star[l] = kin.r_star;
+                        batch.m_star[l] = kin.m_star;
+                        batch.e_star[l] = pc.e_star;
+                        batch.g_star[l] = pc.g_star;
+                        batch.mu[l] = pc.mu;
+                        batch.zeta[l] = pc.zeta;
+                        batch.damp[l] = s.damp_force;
+                        batch.tfx[l] = s.tforce.x;
+                        batch.tfy[l] = s.tforce.y;
+                        batch.tfz[l] = s.tforce.z;
+                        batch.tdx[l] = s.tdamp.x;
+                        batch.tdy[l] = s.tdamp.y;
+                        batch.tdz[l] = s.tdamp.z;
+                        batch.tang_energy[l] = s.tang_energy;
+                        lane[q] = l as u8;
+                        batch.len += 1;
+                    }
+                }
+                kins[q] = kin;
+            }
+        }
+        if batch.len > 0 {
+            lanes::hertz_noslip(&mut batch, laws.dt);
+        }
+        for q in 0..m {
+            let k = idx[q] as usize;
+            let h = &mut hots[k];
+            let s = &mut block[h.slot as usize];
+            let f = if lane[q] != u8::MAX {
+                let l = lane[q] as usize;
+                let b = &batch;
+                s.a = b.a[l];
+                s.normal_force = b.normal[l];
+                s.overlap = -kins[q].gap;
+                s.damp_force = b.damp[l];
+                s.tforce = Vec3::new(b.tfx[l], b.tfy[l], b.tfz[l]);
+                s.tang_energy = b.tang_energy[l];
+                s.tdamp = Vec3::zeros();
+                acc.damping_contact += b.e_damp_n[l];
+                acc.friction += b.e_friction[l];
+                acc.damping_contact += b.e_damp_t[l];
+                h.live = true;
+                PairForce {
+                    f: Vec3::new(b.fx[l], b.fy[l], b.fz[l]),
+                    m: Vec3::new(b.mx[l], b.my[l], b.mz[l]),
+                }
+            } else {
+                let kin = &kins[q];
+                let (i, j) = (h.i as usize, h.j as usize);
+                let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
+                let out = interact::<ADH, LIQ>(kin, pc, laws, s, acc);
+                h.live = s.touching || s.bridge.is_some();
+                PairForce {
+                    f: out.f,
+                    m: if c.model.rotation {
+                        -kin.n.cross(&out.ft)
+                    } else {
+                        Vec3::zeros()
+                    },
+                }
+            };
+            emit(k, h, f);
+        }
+        start = end;
+    }
+}
+
+/// Separation of a candidate pair: the vector A → B (nearest image), its squared length,
+/// and whether the pair's contact laws run (it is within reach or has something to
+/// remember). The reach includes the round-off allowance of bridge formation (gap ≤ 1e-6 R,
+/// interact.rs), so pairs that touch exactly (lattices) are evaluated.
+#[inline(always)]
+fn pair_reach(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
     let mut d = c.pos[j] - c.pos[i];
     for k in 0..3 {
@@ -573,26 +703,33 @@ fn pair_force<const ADH: bool, const LIQ: bool>(
     }
     let (ri, rj) = (c.radius[i], c.radius[j]);
     let dist2 = d.norm_squared();
-    // Far apart and nothing to remember: skip the contact laws. The reach includes the
-    // round-off allowance of bridge formation (gap ≤ 1e-6 R, interact.rs), so pairs that
-    // touch exactly (lattices) are not skipped.
     let reach = (ri + rj) * (1.0 + 1e-6);
-    if dist2 > reach * reach && !h.live {
-        h.evaluated = false;
-        return None;
-    }
-    h.evaluated = true;
+    (d, dist2, h.live | !(dist2 > reach * reach))
+}
+
+/// The geometry of an evaluated pair. A pair that comes within reach for the first time
+/// gets its state appended to its block.
+#[inline(always)]
+fn pair_kin(
+    h: &mut HotPair,
+    slot: &mut u32,
+    block: &mut Vec<ContactState>,
+    c: &PairCtx,
+    d: Vec3,
+    dist2: f64,
+) -> Kin {
+    let (i, j) = (h.i as usize, h.j as usize);
     if h.slot == NO_STATE {
         h.slot = block.len() as u32;
         *slot = h.slot;
         block.push(ContactState::default());
     }
-    let s = &mut block[h.slot as usize];
+    let (ri, rj) = (c.radius[i], c.radius[j]);
     let dist = dist2.sqrt();
     let n = d / dist;
     let v_rel = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(&n);
     let (mi, mj) = (c.mass[i], c.mass[j]);
-    let k = Kin {
+    Kin {
         n,
         gap: dist - ri - rj,
         v_rel,
@@ -600,18 +737,7 @@ fn pair_force<const ADH: bool, const LIQ: bool>(
         m_star: mi * mj / (mi + mj),
         r1: ri,
         r2: rj,
-    };
-    let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
-    let out = interact::<ADH, LIQ>(&k, pc, c.laws, s, acc);
-    h.live = s.touching || s.bridge.is_some();
-    Some(PairForce {
-        f: out.f,
-        m: if c.model.rotation {
-            -n.cross(&out.ft)
-        } else {
-            Vec3::zeros()
-        },
-    })
+    }
 }
 
 /// Primes the contact states if commands changed the scene (no-op otherwise, or when the

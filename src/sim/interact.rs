@@ -12,6 +12,7 @@ use crate::physics::{hertz, jkr::Jkr};
 
 /// Geometry and kinematics of a contact at this step. A is the particle, B the other
 /// particle or the wall; `n` points from A to B.
+#[derive(Clone, Copy)]
 pub struct Kin {
     pub n: Vec3,
     /// Gap between surfaces (negative = overlap).
@@ -23,6 +24,18 @@ pub struct Kin {
     /// Radii for the liquid bridge (r2 = ∞ for a plane wall).
     pub r1: f64,
     pub r2: f64,
+}
+
+impl Kin {
+    pub const ZERO: Kin = Kin {
+        n: Vec3::new(0.0, 0.0, 0.0),
+        gap: 0.0,
+        v_rel: Vec3::new(0.0, 0.0, 0.0),
+        r_star: 0.0,
+        m_star: 0.0,
+        r1: 0.0,
+        r2: 0.0,
+    };
 }
 
 /// What the scene asks of contacts, fixed for a `Cycle` command.

@@ -7,6 +7,7 @@ pub mod energy;
 pub mod generate;
 pub mod history;
 pub mod interact;
+pub mod lanes;
 pub mod liquid;
 pub mod params;
 pub mod reference;
