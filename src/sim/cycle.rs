@@ -857,7 +857,10 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                 }
                 let vbar = (v + v_old) * 0.5;
                 w_grav += fb.dot(&vbar) * dt;
-                d_mass += alpha * m * vbar.norm_squared() * dt;
+                if alpha != 0.0 {
+                    // (With α = 0 the term is +0 and adding it changes nothing.)
+                    d_mass += alpha * m * vbar.norm_squared() * dt;
+                }
                 vel[l] = v;
                 let dx = v * dt;
                 pos[l] += dx;
@@ -874,14 +877,14 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                         w.x = 0.0;
                         w.y = 0.0;
                     }
-                    let wbar = (w + w_old) * 0.5;
-                    d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                    if alpha != 0.0 {
+                        let wbar = (w + w_old) * 0.5;
+                        d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                    }
                     spin[l] = w;
                     rot[l] += w * dt;
                 }
-                if !(pos[l].iter().all(|x| x.is_finite()) && v.iter().all(|x| x.is_finite()))
-                    && bad.is_none()
-                {
+                if !all_finite(&pos[l], &v) && bad.is_none() {
                     bad = Some(i);
                 }
             }
@@ -946,6 +949,13 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     scene.cycle += 1;
     scene.time += dt;
     Ok(())
+}
+
+/// Every component of the two vectors is finite (without a branch per component: x·0 is
+/// ±0 for finite x and NaN otherwise, and a sum of zeros is zero).
+#[inline(always)]
+fn all_finite(a: &Vec3, b: &Vec3) -> bool {
+    (a.x * 0.0 + a.y * 0.0 + a.z * 0.0 + b.x * 0.0 + b.y * 0.0 + b.z * 0.0) == 0.0
 }
 
 /// Fixed degrees of freedom (`Fix`): components whose bit is set in `mask` (bit k for
