@@ -249,8 +249,122 @@ pub type StepParts<'a> = (
     &'a mut [Pair],
     &'a mut [Vec<ContactState>],
     &'a mut Vec<PairForce>,
-    &'a mut Vec<Vec<u32>>,
+    &'a mut Incidence,
+    &'a mut [WallPair],
+    &'a mut Vec<WallForce>,
+    &'a mut usize,
 );
+
+/// Force of a particle–wall pair in the current step: on the wall (`f`; the particle gets
+/// −f) and the moment on the particle; `on`: the pair was evaluated.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallForce {
+    pub f: Vec3,
+    pub m: Vec3,
+    pub on: bool,
+}
+
+/// For each particle, the pairs that touch it, in pair order, and how the force loop with
+/// several threads splits the work (derived from the hot pairs at each rebuild).
+#[derive(Clone, Debug, Default)]
+pub struct Incidence {
+    /// The pairs of particle `p` are `pairs[start[p]..start[p + 1]]`.
+    pub start: Vec<u32>,
+    pub pairs: Vec<u32>,
+    /// The first and the last pair of each particle (`u32::MAX` and 0 if it has none).
+    pub first: Vec<u32>,
+    pub last: Vec<u32>,
+    /// The tasks (for `threads` threads): ranges of whole blocks and particle intervals.
+    pub ranges: Vec<PairRange>,
+    pub threads: usize,
+    /// Particles whose pairs are not all in the task of their interval (summed from the
+    /// pairs' slots after the tasks), as flags and as a list.
+    pub shared: Vec<bool>,
+    pub shared_list: Vec<u32>,
+    /// Their sums (force, moment) in the current step.
+    pub shared_sums: Vec<(Vec3, Vec3)>,
+}
+
+/// A task of the multi-thread force loop: a range of whole blocks of pairs and an interval of
+/// particles (the intervals of successive tasks follow each other and cover all particles).
+#[derive(Clone, Debug, Default)]
+pub struct PairRange {
+    pub pairs: std::ops::Range<usize>,
+    pub parts: std::ops::Range<usize>,
+}
+
+impl Incidence {
+    /// Counting sort of the pairs' two particles: one pass to count, one to place.
+    pub fn build(hot: &[HotPair], np: usize) -> Incidence {
+        let mut start = vec![0u32; np + 1];
+        for h in hot {
+            start[h.i as usize + 1] += 1;
+            start[h.j as usize + 1] += 1;
+        }
+        for p in 0..np {
+            start[p + 1] += start[p];
+        }
+        let mut fill = start.clone();
+        let mut pairs = vec![0u32; 2 * hot.len()];
+        let mut first = vec![u32::MAX; np];
+        let mut last = vec![0u32; np];
+        for (k, h) in hot.iter().enumerate() {
+            for p in [h.i as usize, h.j as usize] {
+                pairs[fill[p] as usize] = k as u32;
+                fill[p] += 1;
+                first[p] = first[p].min(k as u32);
+                last[p] = k as u32;
+            }
+        }
+        Incidence {
+            start,
+            pairs,
+            first,
+            last,
+            ..Default::default()
+        }
+    }
+
+    /// Sets the tasks and marks the particles they do not own.
+    pub fn split(&mut self, ranges: Vec<PairRange>, threads: usize) {
+        let np = self.first.len();
+        self.shared.clear();
+        self.shared.resize(np, false);
+        self.shared_list.clear();
+        for r in &ranges {
+            for q in r.parts.clone() {
+                let own = self.first[q] as usize >= r.pairs.start
+                    && (self.last[q] as usize) < r.pairs.end;
+                if !own {
+                    self.shared[q] = true;
+                    self.shared_list.push(q as u32);
+                }
+            }
+        }
+        self.ranges = ranges;
+        self.threads = threads;
+    }
+
+    /// Not built (or cleared).
+    pub fn is_empty(&self) -> bool {
+        self.start.is_empty()
+    }
+
+    pub fn clear(&mut self) {
+        self.start.clear();
+        self.pairs.clear();
+        self.first.clear();
+        self.last.clear();
+        self.ranges.clear();
+        self.shared.clear();
+        self.shared_list.clear();
+    }
+
+    /// The pairs of particle `p`, in pair order.
+    pub fn of(&self, p: usize) -> &[u32] {
+        &self.pairs[self.start[p] as usize..self.start[p + 1] as usize]
+    }
+}
 
 /// The contact history of all candidate pairs.
 ///
@@ -267,12 +381,16 @@ pub type StepParts<'a> = (
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
+    /// Per-wall-pair forces of the current step (derived; not saved).
+    pub wall_out: Vec<WallForce>,
+    /// Wall pairs evaluated in the last step (derived: balances the threads' work).
+    pub wall_live: usize,
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.
     pub hot: Vec<HotPair>,
-    /// Derived with `hot` (several threads): for each range of `cycle::CHUNK` particles,
-    /// the pairs that touch it, in pair order (empty: not built yet).
-    pub scatter: Vec<Vec<u32>>,
+    /// Derived with `hot` (several threads): the pairs of each particle, in pair order
+    /// (empty: not built yet).
+    pub scatter: Incidence,
     pairs: Vec<Pair>,
     blocks: Vec<Vec<ContactState>>,
     pub wall_pairs: Vec<WallPair>,
@@ -549,6 +667,9 @@ impl ContactStore {
             &mut self.blocks,
             &mut self.out,
             &mut self.scatter,
+            &mut self.wall_pairs,
+            &mut self.wall_out,
+            &mut self.wall_live,
         )
     }
 
@@ -697,6 +818,7 @@ impl ContactStore {
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
         self.out.clear();
+        self.wall_out.clear();
         self.clear_hot();
     }
 
@@ -846,6 +968,59 @@ pub mod v1 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Pairs in the order of a list sorted by ids, where ids need not follow the particle
+    /// indices: the incidence lists every pair of a particle once, in pair order, and a
+    /// particle not marked shared has all its pairs in the task of its interval.
+    #[test]
+    fn incidence_lists_pairs_in_order_and_shared_particles_are_the_others() {
+        let np = 200;
+        let mut rng = crate::sim::rng::Rng::new(3);
+        let mut hot = Vec::new();
+        for _ in 0..3000 {
+            let i = (rng.uniform() * np as f64) as u32 % np as u32;
+            let mut j = (i + 1 + (rng.uniform() * 12.0) as u32) % np as u32;
+            if j == i {
+                j = (i + 1) % np as u32;
+            }
+            hot.push(HotPair {
+                i,
+                j,
+                ..Default::default()
+            });
+        }
+        // Mostly in index order, as in a bed sorted by ids that follow the indices.
+        hot.sort_by_key(|h| (h.i.min(h.j) / 8, h.i, h.j));
+        let mut inc = Incidence::build(&hot, np);
+        for q in 0..np {
+            let mine: Vec<u32> = (0..hot.len() as u32)
+                .filter(|&k| hot[k as usize].i as usize == q || hot[k as usize].j as usize == q)
+                .collect();
+            assert_eq!(inc.of(q), &mine[..], "particle {q}");
+            assert_eq!(inc.first[q], mine.first().copied().unwrap_or(u32::MAX));
+            assert_eq!(inc.last[q], mine.last().copied().unwrap_or(0));
+        }
+        let cut = [0, 1024, 2048, hot.len()];
+        let parts = [0, hot[1024].i as usize, hot[2048].i.max(hot[1024].i) as usize, np];
+        let ranges: Vec<PairRange> = (0..3)
+            .map(|r| PairRange {
+                pairs: cut[r]..cut[r + 1],
+                parts: parts[r]..parts[r + 1],
+            })
+            .collect();
+        inc.split(ranges.clone(), 3);
+        let mut owned = 0;
+        for (r, rg) in ranges.iter().enumerate() {
+            for q in rg.parts.clone() {
+                let inside = inc.of(q).iter().all(|&k| rg.pairs.contains(&(k as usize)));
+                assert_eq!(inc.shared[q], !inside, "particle {q} of task {r}");
+                owned += inside as usize;
+            }
+        }
+        assert_eq!(inc.shared_list.len(), np - owned);
+        assert!(owned > np / 2 && owned < np, "{owned} of {np} owned");
+    }
+
 
     /// The state every contact reads and writes at every step stays small (the force loop
     /// streams it): law-specific state belongs in `ContactExt` or `BridgeState`.

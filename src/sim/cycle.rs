@@ -10,11 +10,14 @@
 
 use rayon::prelude::*;
 
-use super::contacts::{BLOCK, ContactState, HotPair, NO_STATE, Pair, PairForce};
+use super::contacts::{
+    BLOCK, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange, WallForce,
+    WallPair,
+};
 use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
 use super::params::{self, Model};
-use super::scene::{Scene, Vec3};
+use super::scene::{Scene, Vec3, Wall};
 use super::search;
 use super::walls::{self, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::{TangentialChoice, WallGeom};
@@ -350,10 +353,12 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
 
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
-    // done in the pair loop; with several, each pair writes its force into its own slot
-    // (parallel over fixed chunks of pairs) and the slots are then scattered in pair order.
-    // Either way every particle sums its pairs in the same order and the energy partial sums
-    // are added per chunk in chunk order: the result does not depend on the number of threads.
+    // done in the pair loop; with several, each task (a range of whole blocks) does it for
+    // the particles whose pairs all lie in its range, and the few others are summed from
+    // the pairs' slots afterwards, also in pair order. Either way every particle sums its
+    // pairs in the same order, and the energy partial sums are added per block in block
+    // order (then the wall contacts' per chunk): the result does not depend on the number
+    // of threads.
     {
         let ctx = PairCtx {
             pos: &scene.particles.pos,
@@ -367,11 +372,91 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             size: scene.size,
             periodic: scene.settings.periodic,
         };
-        let (hot, pairs, blocks, out, scatter) = scene.contacts.step_parts();
-        let rotation = model.rotation;
+        let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out, wall_live) =
+            scene.contacts.step_parts();
         let force = &mut scene.particles.force;
         let moment = &mut scene.particles.moment;
+        let radius = &scene.particles.radius;
+        // The same laws for particle–wall contacts; Rayleigh contact damping has its own
+        // particle–wall set.
+        let laws_pw = Laws {
+            beta: scene.damping_pw.beta,
+            ..laws_pp
+        };
+        let walls = &scene.walls;
+        let wall_ctx = PairCtx {
+            laws: &laws_pw,
+            ..ctx
+        };
+        // The wall contacts (their forces into slots) are one more job of the pair loop,
+        // weighted by the wall pairs evaluated in the last step.
+        let wall_cost = wall_pairs.len() + 7 * *wall_live;
+        let wall_job = || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, walls, &wall_ctx);
+        let (pair_acc, (wall_acc, live)) = pair_forces::<ADH, LIQ, _>(
+            (hot, pairs, blocks, out, scatter),
+            (force, moment, radius),
+            &ctx,
+            (wall_job, wall_cost),
+        );
+        *wall_live = live;
+        acc.add(&pair_acc);
+        for a in &wall_acc {
+            acc.add(a);
+        }
+    }
+
+    // ---- particle–wall contacts -------------------------------------------------------
+    // Applied in pair order after the particle–particle sums.
+    for w in scene.walls.iter_mut() {
+        w.force = [0.0; 3];
+    }
+    let p = &mut scene.particles;
+    for (c, o) in scene
+        .contacts
+        .wall_pairs
+        .iter()
+        .zip(&scene.contacts.wall_out)
+    {
+        if !o.on {
+            continue;
+        }
+        let i = c.i as usize;
+        let w = &mut scene.walls[c.wall as usize];
+        p.force[i] -= o.f;
+        for kk in 0..3 {
+            w.force[kk] += o.f[kk];
+        }
+        if model.rotation {
+            p.moment[i] += o.m;
+        }
+    }
+    acc
+}
+
+/// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two
+/// particles in pair order, then the moments (per unit radius) are scaled by the radius.
+/// Returns the energy increments, summed per block in block order. `job` (the wall contacts,
+/// of about `job_cost` pair costs, see [`pair_ranges`]) runs alongside: with several threads
+/// in the last task, before its pairs.
+fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
+    (hot, pairs, blocks, out, scatter): (
+        &mut [HotPair],
+        &mut [Pair],
+        &mut [Vec<ContactState>],
+        &mut Vec<PairForce>,
+        &mut Incidence,
+    ),
+    (force, moment, radius): (&mut Vec<Vec3>, &mut Vec<Vec3>, &[f64]),
+    ctx: &PairCtx,
+    (job, job_cost): (impl FnOnce() -> J + Send, usize),
+) -> (Acc, J) {
+    let ctx = *ctx;
+    let rotation = ctx.model.rotation;
+    let mut acc = Acc::default();
+    let job_out;
+    {
         if rayon::current_num_threads() == 1 {
+            job_out = job();
             force.fill(Vec3::zeros());
             moment.fill(Vec3::zeros());
             for ((hots, pairs), block) in hot
@@ -392,72 +477,134 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
                 acc.add(&a);
             }
         } else {
+            let np = force.len();
+            let threads = rayon::current_num_threads();
+            if scatter.is_empty() || scatter.first.len() != np || scatter.threads != threads {
+                // Once per rebuild: one task per thread (measured: more tasks make more
+                // particles shared), balanced on the contacts of this step.
+                *scatter = Incidence::build(hot, np);
+                scatter.split(pair_ranges(hot, np, threads, job_cost), threads);
+            }
             out.resize(hot.len(), PairForce::default());
-            let chunk_acc: Vec<Acc> = hot
-                .par_chunks_mut(BLOCK)
-                .zip(pairs.par_chunks_mut(BLOCK))
-                .zip(blocks.par_iter_mut())
-                .zip(out.par_chunks_mut(BLOCK))
-                // One task per chunk: contacts are unevenly spread over the pair list (a
-                // settled bed has them at the bottom), so let idle threads steal chunks.
-                .with_max_len(1)
-                .map(|(((hots, pairs), block), outs)| {
-                    let mut a = Acc::default();
-                    block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |k, _, o| {
-                        outs[k] = o;
-                    });
-                    a
-                })
-                .collect();
-            for a in &chunk_acc {
-                acc.add(a);
+            let job = std::sync::Mutex::new(Some(job));
+            let job_out_slot = std::sync::Mutex::new(None);
+            let mut sums = std::mem::take(&mut scatter.shared_sums);
+            let inc = &*scatter;
+            let ranges = &inc.ranges;
+            let n_tasks = ranges.len();
+            // Each task takes a range of whole blocks and the particles it owns: those of
+            // its particle interval whose pairs all lie in its blocks. Their forces are summed
+            // in the pair loop, in pair order, as with one thread; every other particle's
+            // share is left in the pair's slot and summed below, also in pair order.
+            let mut tasks = Vec::with_capacity(ranges.len());
+            {
+                let (mut hot, mut pairs, mut blocks, mut out) =
+                    (&mut hot[..], &mut pairs[..], &mut blocks[..], &mut out[..]);
+                let (mut force, mut moment) = (&mut force[..], &mut moment[..]);
+                for r in ranges {
+                    let (h, rest) = hot.split_at_mut(r.pairs.len());
+                    hot = rest;
+                    let (p, rest) = pairs.split_at_mut(r.pairs.len());
+                    pairs = rest;
+                    let (b, rest) = blocks.split_at_mut(r.pairs.len().div_ceil(BLOCK));
+                    blocks = rest;
+                    let (o, rest) = out.split_at_mut(r.pairs.len());
+                    out = rest;
+                    let (f, rest) = force.split_at_mut(r.parts.len());
+                    force = rest;
+                    let (m, rest) = moment.split_at_mut(r.parts.len());
+                    moment = rest;
+                    tasks.push((tasks.len(), r.clone(), h, p, b, o, f, m));
+                }
             }
-            // Each task takes a range of particles and walks, in pair order, the pairs of
-            // its range (listed once per rebuild): every particle still sums in pair order.
-            let per = CHUNK;
-            if scatter.is_empty() {
-                *scatter = scatter_lists(hot, per, force.len());
-            }
-            let (hot, out, lists) = (&*hot, &*out, &*scatter);
-            force
-                .par_chunks_mut(per)
-                .zip(moment.par_chunks_mut(per))
-                .zip(lists.par_iter())
+            let task_acc: Vec<Vec<Acc>> = tasks
+                .into_par_iter()
                 .with_max_len(1)
-                .enumerate()
-                .for_each(|(c, ((force, moment), list))| {
-                    let lo = c * per;
-                    let n = force.len();
+                .map(|(t, r, hots, pairs, blocks, outs, force, moment)| {
+                    if t + 1 == n_tasks {
+                        let job = job.lock().ok().and_then(|mut j| j.take());
+                        if let (Some(job), Ok(mut slot)) = (job, job_out_slot.lock()) {
+                            *slot = Some(job());
+                        }
+                    }
+                    // A particle this task's pairs touch is its own unless shared.
+                    let owned = |q: usize| !inc.shared[q];
+                    let lo = r.parts.start;
                     force.fill(Vec3::zeros());
                     moment.fill(Vec3::zeros());
-                    for &k in list {
+                    let mut accs = Vec::with_capacity(blocks.len());
+                    for (((hots, pairs), block), outs) in hots
+                        .chunks_mut(BLOCK)
+                        .zip(pairs.chunks_mut(BLOCK))
+                        .zip(blocks.iter_mut())
+                        .zip(outs.chunks_mut(BLOCK))
+                    {
+                        let mut a = Acc::default();
+                        block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |k, h, o| {
+                            let (i, j) = (h.i as usize, h.j as usize);
+                            let (oi, oj) = (owned(i), owned(j));
+                            if oi {
+                                force[i - lo] -= o.f;
+                                if rotation {
+                                    moment[i - lo] += o.m;
+                                }
+                            }
+                            if oj {
+                                force[j - lo] += o.f;
+                                if rotation {
+                                    moment[j - lo] += o.m;
+                                }
+                            }
+                            if !(oi && oj) {
+                                outs[k] = o;
+                            }
+                        });
+                        accs.push(a);
+                    }
+                    accs
+                })
+                .collect();
+            for a in task_acc.iter().flatten() {
+                acc.add(a);
+            }
+            job_out = job_out_slot
+                .into_inner()
+                .ok()
+                .flatten()
+                .expect("the last task ran the job");
+            // The particles no task owned: their pairs' slots, in pair order.
+            let (hot, out) = (&*hot, &*out);
+            inc.shared_list
+                .par_iter()
+                .map(|&q| {
+                    let q = q as usize;
+                    let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+                    for &k in inc.of(q) {
                         let (h, o) = (&hot[k as usize], &out[k as usize]);
                         if !h.evaluated {
                             continue;
                         }
                         // Force −f on the pair's first particle (A), +f on B.
-                        let i = (h.i as usize).wrapping_sub(lo);
-                        if i < n {
-                            force[i] -= o.f;
-                            if rotation {
-                                moment[i] += o.m;
-                            }
+                        if h.i as usize == q {
+                            f -= o.f;
+                        } else {
+                            f += o.f;
                         }
-                        let j = (h.j as usize).wrapping_sub(lo);
-                        if j < n {
-                            force[j] += o.f;
-                            if rotation {
-                                moment[j] += o.m;
-                            }
+                        if rotation {
+                            m += o.m;
                         }
                     }
-                });
+                    (f, m)
+                })
+                .collect_into_vec(&mut sums);
+            for (&q, &(f, m)) in inc.shared_list.iter().zip(&sums) {
+                force[q as usize] = f;
+                moment[q as usize] = m;
+            }
+            scatter.shared_sums = sums;
         }
         if rotation {
-            let radius = &scene.particles.radius;
-            scene
-                .particles
-                .moment
+            moment
                 .par_chunks_mut(CHUNK)
                 .zip(radius.par_chunks(CHUNK))
                 .for_each(|(m, r)| {
@@ -468,71 +615,121 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         }
     }
 
-    // ---- particle–wall contacts -------------------------------------------------------
-    if !scene.walls.is_empty() {
-        // The same laws; Rayleigh contact damping has its own particle–wall set.
-        let laws = Laws {
-            beta: scene.damping_pw.beta,
-            ..laws_pp
-        };
-        for w in scene.walls.iter_mut() {
-            w.force = [0.0; 3];
-        }
-        let p = &mut scene.particles;
-        for c in scene.contacts.wall_pairs.iter_mut() {
-            let i = c.i as usize;
-            let w = &mut scene.walls[c.wall as usize];
-            let (gap, n) = wall_gap(&w.geom, &p.pos[i], p.radius[i]);
-            if gap > 1e-6 * p.radius[i] && !c.s.touching && c.s.bridge.is_none() {
-                continue;
-            }
-            let ri = p.radius[i];
-            let vw = surface_velocity(w, &n);
-            let v_rel = vw - p.vel[i] - (p.spin[i] * ri).cross(&n);
-            let r2 = match w.geom {
-                WallGeom::Plane { .. } => f64::INFINITY,
-                WallGeom::Sphere { radius, .. } => -radius,
-                WallGeom::Obstacle { radius, .. } => radius,
-            };
-            let k = Kin {
-                n,
-                gap,
-                v_rel,
-                r_star: wall_r_star(&w.geom, ri),
-                m_star: p.mass[i],
-                r1: ri,
-                r2: if r2 < 0.0 { f64::INFINITY } else { r2 },
-            };
-            let pc = model.pair(p.material[i] as usize, w.material);
-            let out = interact::<ADH, LIQ>(&k, pc, &laws, &mut c.s, &mut acc);
-            p.force[i] -= out.f;
-            for kk in 0..3 {
-                w.force[kk] += out.f[kk];
-            }
-            if model.rotation {
-                p.moment[i] += -n.cross(&out.ft) * ri;
-            }
-        }
-    }
-
-    acc
+    (acc, job_out)
 }
 
-/// For each range of `per` particles, the pairs (indices into `hot`) that touch it, in pair
-/// order (one pass over the pairs, once per rebuild).
-fn scatter_lists(hot: &[HotPair], per: usize, n: usize) -> Vec<Vec<u32>> {
-    let mut lists = vec![Vec::new(); n.div_ceil(per)];
-    for (k, h) in hot.iter().enumerate() {
-        let (ri, rj) = (h.i as usize / per, h.j as usize / per);
-        lists[ri].push(k as u32);
-        if rj != ri {
-            lists[rj].push(k as u32);
+/// The particle–wall contacts: each evaluated pair's force and moment into its slot; returns
+/// the energy increments per chunk of `BLOCK` pairs and the number of pairs evaluated.
+fn wall_forces<const ADH: bool, const LIQ: bool>(
+    wall_pairs: &mut [WallPair],
+    out: &mut Vec<WallForce>,
+    walls: &[Wall],
+    c: &PairCtx,
+) -> (Vec<Acc>, usize) {
+    out.resize(wall_pairs.len(), WallForce::default());
+    let mut live = 0;
+    let accs = wall_pairs
+        .chunks_mut(BLOCK)
+        .zip(out.chunks_mut(BLOCK))
+        .map(|(pairs, outs)| {
+            let mut acc = Acc::default();
+            for (c2, o) in pairs.iter_mut().zip(outs.iter_mut()) {
+                *o = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc);
+                live += o.on as usize;
+            }
+            acc
+        })
+        .collect();
+    (accs, live)
+}
+
+/// One particle–wall pair (skipped, `on` false, if the particle is out of reach with nothing
+/// to remember).
+#[inline(always)]
+fn wall_force<const ADH: bool, const LIQ: bool>(
+    c: &mut WallPair,
+    walls: &[Wall],
+    ctx: &PairCtx,
+    acc: &mut Acc,
+) -> WallForce {
+    let i = c.i as usize;
+    let w = &walls[c.wall as usize];
+    let ri = ctx.radius[i];
+    let (gap, n) = wall_gap(&w.geom, &ctx.pos[i], ri);
+    if gap > 1e-6 * ri && !c.s.touching && c.s.bridge.is_none() {
+        return WallForce::default();
+    }
+    let vw = surface_velocity(w, &n);
+    let v_rel = vw - ctx.vel[i] - (ctx.spin[i] * ri).cross(&n);
+    let r2 = match w.geom {
+        WallGeom::Plane { .. } => f64::INFINITY,
+        WallGeom::Sphere { radius, .. } => -radius,
+        WallGeom::Obstacle { radius, .. } => radius,
+    };
+    let k = Kin {
+        n,
+        gap,
+        v_rel,
+        r_star: wall_r_star(&w.geom, ri),
+        m_star: ctx.mass[i],
+        r1: ri,
+        r2: if r2 < 0.0 { f64::INFINITY } else { r2 },
+    };
+    let pc = ctx.model.pair(ctx.material[i] as usize, w.material);
+    let out = interact::<ADH, LIQ>(&k, pc, ctx.laws, &mut c.s, acc);
+    WallForce {
+        f: out.f,
+        m: if ctx.model.rotation {
+            -n.cross(&out.ft) * ri
+        } else {
+            Vec3::zeros()
+        },
+        on: true,
+    }
+}
+
+/// Splits the pairs into about `n` ranges of whole blocks of similar cost (pairs evaluated in
+/// the last step count 8, the others 1; the last range also has `extra`), each with the
+/// particle interval that starts at its first pair's first particle. Where the split falls
+/// changes which particles are summed in the pair loop and which from the slots, not the
+/// result.
+fn pair_ranges(hot: &[HotPair], np: usize, n: usize, extra: usize) -> Vec<PairRange> {
+    let cost: Vec<usize> = hot
+        .chunks(BLOCK)
+        .map(|c| c.len() + 7 * c.iter().filter(|h| h.live).count())
+        .collect();
+    let total: usize = cost.iter().sum::<usize>() + extra;
+    let n = n.clamp(1, cost.len().max(1));
+    let mut ranges = Vec::with_capacity(n);
+    let (mut b0, mut acc, mut p0) = (0, 0, 0);
+    for (b, c) in cost.iter().enumerate() {
+        acc += c;
+        let last = b + 1 == cost.len();
+        if last || acc * n >= total * (ranges.len() + 1) {
+            let end = ((b + 1) * BLOCK).min(hot.len());
+            let p1 = if last {
+                np
+            } else {
+                (hot[end].i as usize).clamp(p0, np)
+            };
+            ranges.push(PairRange {
+                pairs: b0 * BLOCK..end,
+                parts: p0..p1,
+            });
+            (b0, p0) = (b + 1, p1);
         }
     }
-    lists
+    if ranges.is_empty() {
+        ranges.push(PairRange {
+            pairs: 0..0,
+            parts: 0..np,
+        });
+    }
+    ranges
 }
 
 /// What the pair loop reads of the particles and the scene.
+#[derive(Clone, Copy)]
 struct PairCtx<'a> {
     pos: &'a [Vec3],
     vel: &'a [Vec3],
