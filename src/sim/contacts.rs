@@ -1001,7 +1001,12 @@ mod tests {
             assert_eq!(inc.last[q], mine.last().copied().unwrap_or(0));
         }
         let cut = [0, 1024, 2048, hot.len()];
-        let parts = [0, hot[1024].i as usize, hot[2048].i.max(hot[1024].i) as usize, np];
+        let parts = [
+            0,
+            hot[1024].i as usize,
+            hot[2048].i.max(hot[1024].i) as usize,
+            np,
+        ];
         let ranges: Vec<PairRange> = (0..3)
             .map(|r| PairRange {
                 pairs: cut[r]..cut[r + 1],
@@ -1020,7 +1025,6 @@ mod tests {
         assert_eq!(inc.shared_list.len(), np - owned);
         assert!(owned > np / 2 && owned < np, "{owned} of {np} owned");
     }
-
 
     /// The state every contact reads and writes at every step stays small (the force loop
     /// streams it): law-specific state belongs in `ContactExt` or `BridgeState`.

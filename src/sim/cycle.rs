@@ -351,6 +351,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         goldman: scene.settings.goldman,
     };
 
+    let one_thread = rayon::current_num_threads() == 1;
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
     // done in the pair loop; with several, each task (a range of whole blocks) does it for
@@ -388,46 +389,89 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             laws: &laws_pw,
             ..ctx
         };
-        // The wall contacts (their forces into slots) are one more job of the pair loop,
-        // weighted by the wall pairs evaluated in the last step.
-        let wall_cost = wall_pairs.len() + 7 * *wall_live;
-        let wall_job = || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, walls, &wall_ctx);
-        let (pair_acc, (wall_acc, live)) = pair_forces::<ADH, LIQ, _>(
-            (hot, pairs, blocks, out, scatter),
-            (force, moment, radius),
-            &ctx,
-            (wall_job, wall_cost),
-        );
-        *wall_live = live;
-        acc.add(&pair_acc);
-        for a in &wall_acc {
-            acc.add(a);
+        if one_thread {
+            let (pair_acc, ()) = pair_forces::<ADH, LIQ, _>(
+                (hot, pairs, blocks, out, scatter),
+                (force, moment, radius),
+                &ctx,
+                (|| (), 0),
+            );
+            acc.add(&pair_acc);
+        } else {
+            // The wall contacts (their forces into slots) are one more job of the pair loop,
+            // weighted by the wall pairs evaluated in the last step.
+            let wall_cost = wall_pairs.len() + 7 * *wall_live;
+            let wall_job = || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, walls, &wall_ctx);
+            let (pair_acc, (wall_acc, live)) = pair_forces::<ADH, LIQ, _>(
+                (hot, pairs, blocks, out, scatter),
+                (force, moment, radius),
+                &ctx,
+                (wall_job, wall_cost),
+            );
+            *wall_live = live;
+            acc.add(&pair_acc);
+            for a in &wall_acc {
+                acc.add(a);
+            }
         }
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
-    // Applied in pair order after the particle–particle sums.
+    // Applied in pair order after the particle–particle sums; the energy increments are
+    // summed per chunk of `BLOCK` wall pairs, as `wall_forces` does.
     for w in scene.walls.iter_mut() {
         w.force = [0.0; 3];
     }
     let p = &mut scene.particles;
-    for (c, o) in scene
-        .contacts
-        .wall_pairs
-        .iter()
-        .zip(&scene.contacts.wall_out)
-    {
-        if !o.on {
-            continue;
+    let apply =
+        |p_force: &mut [Vec3], p_moment: &mut [Vec3], w: &mut Wall, i: usize, o: &WallForce| {
+            p_force[i] -= o.f;
+            for kk in 0..3 {
+                w.force[kk] += o.f[kk];
+            }
+            if model.rotation {
+                p_moment[i] += o.m;
+            }
+        };
+    if one_thread {
+        let laws_pw = Laws {
+            beta: scene.damping_pw.beta,
+            ..laws_pp
+        };
+        let ctx = PairCtx {
+            pos: &p.pos,
+            vel: &p.vel,
+            spin: &p.spin,
+            radius: &p.radius,
+            mass: &p.mass,
+            material: &p.material,
+            model,
+            laws: &laws_pw,
+            size: scene.size,
+            periodic: scene.settings.periodic,
+        };
+        for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
+            let mut a = Acc::default();
+            for c in chunk.iter_mut() {
+                let o = wall_force::<ADH, LIQ>(c, &scene.walls, &ctx, &mut a);
+                if o.on {
+                    let w = &mut scene.walls[c.wall as usize];
+                    apply(&mut p.force, &mut p.moment, w, c.i as usize, &o);
+                }
+            }
+            acc.add(&a);
         }
-        let i = c.i as usize;
-        let w = &mut scene.walls[c.wall as usize];
-        p.force[i] -= o.f;
-        for kk in 0..3 {
-            w.force[kk] += o.f[kk];
-        }
-        if model.rotation {
-            p.moment[i] += o.m;
+    } else {
+        for (c, o) in scene
+            .contacts
+            .wall_pairs
+            .iter()
+            .zip(&scene.contacts.wall_out)
+        {
+            if o.on {
+                let w = &mut scene.walls[c.wall as usize];
+                apply(&mut p.force, &mut p.moment, w, c.i as usize, o);
+            }
         }
     }
     acc
