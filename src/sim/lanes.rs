@@ -15,6 +15,7 @@ pub const SUB: usize = 32;
 
 /// One batch of steady contacts: inputs (geometry, constants, the state of the last step)
 /// and, after [`hertz_noslip`], the new state and the forces.
+#[derive(Clone)]
 pub struct Batch {
     pub len: usize,
     // geometry: normal A → B, relative velocity of B's contact point, gap
@@ -318,7 +319,32 @@ mod tests {
                 pcs.push(pc);
             }
             b.len = SUB;
+            // The portable build of the kernel (two lanes on x86-64 without AVX2) gives the
+            // same bits as the one the processor runs.
+            let mut portable = b.clone();
+            hertz_noslip_impl(&mut portable, dt);
             hertz_noslip(&mut b, dt);
+            let fields = |b: &Batch| {
+                let mut v = Vec::new();
+                for a in [
+                    &b.fx, &b.fy, &b.fz, &b.mx, &b.my, &b.mz, &b.a, &b.normal, &b.damp,
+                ] {
+                    v.extend(a.iter().map(|x| x.to_bits()));
+                }
+                for a in [
+                    &b.tfx,
+                    &b.tfy,
+                    &b.tfz,
+                    &b.tang_energy,
+                    &b.e_damp_n,
+                    &b.e_friction,
+                ] {
+                    v.extend(a.iter().map(|x| x.to_bits()));
+                }
+                v.extend(b.e_damp_t.iter().map(|x| x.to_bits()));
+                v
+            };
+            assert_eq!(fields(&portable), fields(&b));
             for l in 0..SUB {
                 let s = &mut states[l];
                 let tf_old = s.tforce;
