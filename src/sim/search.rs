@@ -154,7 +154,17 @@ fn single_cell_pairs(
         members[fill[c as usize] as usize] = i as u32;
         fill[c as usize] += 1;
     }
-    let members_of = |c: usize| &members[start[c] as usize..start[c + 1] as usize];
+    // Position and radius of each particle in cell order, packed, so that the cell pairs
+    // below read neighbouring memory instead of gathering from the particle arrays.
+    let packed: Vec<[f64; 4]> = members
+        .par_iter()
+        .with_min_len(4096)
+        .map(|&i| {
+            let x = p.pos[i as usize];
+            [x.x, x.y, x.z, p.radius[i as usize]]
+        })
+        .collect();
+    let slots_of = |c: usize| start[c] as usize..start[c + 1] as usize;
     // The 13 forward neighbours.
     let mut stencil = Vec::with_capacity(13);
     for dz in -1i64..=1 {
@@ -166,6 +176,12 @@ fn single_cell_pairs(
             }
         }
     }
+    // The stencil as offsets of the flat cell index, for cells whose 13 neighbours all exist
+    // without wrapping.
+    let offsets: Vec<isize> = stencil
+        .iter()
+        .map(|d| (d[0] + n[0] as i64 * (d[1] + n[1] as i64 * d[2])) as isize)
+        .collect();
     let key = |i: usize, j: usize| {
         let (ida, idb) = (p.id[i], p.id[j]);
         let (i, j, ida, idb) = if ida < idb {
@@ -180,9 +196,11 @@ fn single_cell_pairs(
             idb,
         }
     };
-    let close = |i: usize, j: usize| {
-        let d = scene.branch(&p.pos[i], &p.pos[j]);
-        let reach = p.radius[i] + p.radius[j] + tol;
+    // The test of `close` (below), on the packed copies of slots sa and sb.
+    let close_slots = |sa: usize, sb: usize| {
+        let (a, b) = (&packed[sa], &packed[sb]);
+        let d = scene.branch(&Vec3::new(a[0], a[1], a[2]), &Vec3::new(b[0], b[1], b[2]));
+        let reach = a[3] + b[3] + tol;
         d.norm_squared() < reach * reach
     };
     const BLOCK: usize = 256;
@@ -192,19 +210,35 @@ fn single_cell_pairs(
         .map(|blk| {
             let mut pairs = Vec::new();
             for c in blk * BLOCK..((blk + 1) * BLOCK).min(ncell) {
-                let here = members_of(c);
+                let here = slots_of(c);
                 if here.is_empty() {
                     continue;
                 }
                 let cz = c / (n[0] * n[1]);
                 let cy = (c / n[0]) % n[1];
                 let cx = c % n[0];
-                for (x, &a) in here.iter().enumerate() {
-                    for &b in &here[x + 1..] {
-                        if close(a as usize, b as usize) {
-                            pairs.push(key(a as usize, b as usize));
+                for sa in here.clone() {
+                    for sb in sa + 1..here.end {
+                        if close_slots(sa, sb) {
+                            pairs.push(key(members[sa] as usize, members[sb] as usize));
                         }
                     }
+                }
+                let interior =
+                    cx >= 1 && cx + 2 <= n[0] && cy >= 1 && cy + 2 <= n[1] && cz + 2 <= n[2];
+                if interior {
+                    // All 13 neighbours exist without wrapping: flat offsets, same order.
+                    for &off in &offsets {
+                        let there = slots_of(c.wrapping_add_signed(off));
+                        for sa in here.clone() {
+                            for sb in there.clone() {
+                                if close_slots(sa, sb) {
+                                    pairs.push(key(members[sa] as usize, members[sb] as usize));
+                                }
+                            }
+                        }
+                    }
+                    continue;
                 }
                 for d in &stencil {
                     let mut o = [0usize; 3];
@@ -222,11 +256,11 @@ fn single_cell_pairs(
                     if !inside {
                         continue;
                     }
-                    let there = members_of(flat(o));
-                    for &a in here {
-                        for &b in there {
-                            if close(a as usize, b as usize) {
-                                pairs.push(key(a as usize, b as usize));
+                    let there = slots_of(flat(o));
+                    for sa in here.clone() {
+                        for sb in there.clone() {
+                            if close_slots(sa, sb) {
+                                pairs.push(key(members[sa] as usize, members[sb] as usize));
                             }
                         }
                     }
