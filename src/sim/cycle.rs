@@ -19,7 +19,7 @@ use super::lanes;
 use super::params::{self, Model};
 use super::scene::{Scene, Vec3, Wall};
 use super::search;
-use super::walls::{self, surface_velocity, wall_gap, wall_r_star};
+use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::{TangentialChoice, WallGeom};
 
 /// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
@@ -352,6 +352,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     };
 
     let one_thread = rayon::current_num_threads() == 1;
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
     // done in the pair loop; with several, each task (a range of whole blocks) does it for
@@ -385,6 +386,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             ..laws_pp
         };
         let walls = &scene.walls;
+        let shapes = &shapes;
         let wall_ctx = PairCtx {
             laws: &laws_pw,
             ..ctx
@@ -401,7 +403,8 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             // The wall contacts (their forces into slots) are one more job of the pair loop,
             // weighted by the wall pairs evaluated in the last step.
             let wall_cost = wall_pairs.len() + 7 * *wall_live;
-            let wall_job = || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, walls, &wall_ctx);
+            let wall_job =
+                || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx);
             let (pair_acc, (wall_acc, live)) = pair_forces::<ADH, LIQ, _>(
                 (hot, pairs, blocks, out, scatter),
                 (force, moment, radius),
@@ -453,7 +456,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
             let mut a = Acc::default();
             for c in chunk.iter_mut() {
-                let o = wall_force::<ADH, LIQ>(c, &scene.walls, &ctx, &mut a);
+                let o = wall_force::<ADH, LIQ>(c, (&scene.walls, &shapes), &ctx, &mut a);
                 if o.on {
                     let w = &mut scene.walls[c.wall as usize];
                     apply(&mut p.force, &mut p.moment, w, c.i as usize, &o);
@@ -667,7 +670,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
 fn wall_forces<const ADH: bool, const LIQ: bool>(
     wall_pairs: &mut [WallPair],
     out: &mut Vec<WallForce>,
-    walls: &[Wall],
+    walls: (&[Wall], &[WallShape]),
     c: &PairCtx,
 ) -> (Vec<Acc>, usize) {
     out.resize(wall_pairs.len(), WallForce::default());
@@ -692,14 +695,14 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
 #[inline(always)]
 fn wall_force<const ADH: bool, const LIQ: bool>(
     c: &mut WallPair,
-    walls: &[Wall],
+    (walls, shapes): (&[Wall], &[WallShape]),
     ctx: &PairCtx,
     acc: &mut Acc,
 ) -> WallForce {
     let i = c.i as usize;
     let w = &walls[c.wall as usize];
     let ri = ctx.radius[i];
-    let (gap, n) = wall_gap(&w.geom, &ctx.pos[i], ri);
+    let (gap, n) = shapes[c.wall as usize].gap(&ctx.pos[i], ri);
     if gap > 1e-6 * ri && !c.s.touching && c.s.bridge.is_none() {
         return WallForce::default();
     }

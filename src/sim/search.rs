@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use super::contacts::{PairKey, WallKey};
 use super::scene::{Scene, Vec3};
-use super::walls::wall_gap;
+use super::walls::WallShape;
 
 /// The grid of the last rebuild (for `PRint Entries`/`Map`).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -426,15 +426,16 @@ fn wall_candidates(scene: &Scene, tol: f64) -> Vec<WallKey> {
     if scene.walls.is_empty() {
         Vec::new()
     } else {
+        let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+        let shapes = &shapes;
         (0..np)
             .into_par_iter()
             .with_min_len(1024)
             .flat_map_iter(|i| {
-                scene
-                    .walls
+                shapes
                     .iter()
                     .enumerate()
-                    .filter(move |(_, wall)| wall_gap(&wall.geom, &p.pos[i], p.radius[i]).0 < tol)
+                    .filter(move |(_, shape)| shape.gap(&p.pos[i], p.radius[i]).0 < tol)
                     .map(move |(w, _)| WallKey {
                         i: i as u32,
                         id: p.id[i],

@@ -9,14 +9,50 @@ use super::scene::{Vec3, Wall};
 /// pointing from the particle to the wall (the contact normal, A = particle, B = wall).
 #[inline]
 pub fn wall_gap(geom: &WallGeom, x: &Vec3, r: f64) -> (f64, Vec3) {
-    match *geom {
-        WallGeom::Plane { normal, d } => {
-            let n = Vec3::from(normal);
-            let len = n.norm();
-            let nh = n / len;
-            let s = nh.dot(x) - d / len;
-            (s - r, -nh)
+    WallShape::of(geom).gap(x, r)
+}
+
+/// A wall's geometry with what every gap needs computed once (a plane's unit normal and
+/// offset): [`WallShape::gap`] gives the bits of [`wall_gap`] without a square root and four
+/// divisions per particle.
+#[derive(Clone, Copy, Debug)]
+pub enum WallShape {
+    Plane { nh: Vec3, offset: f64 },
+    Other(WallGeom),
+}
+
+impl WallShape {
+    pub fn of(geom: &WallGeom) -> WallShape {
+        match *geom {
+            WallGeom::Plane { normal, d } => {
+                let n = Vec3::from(normal);
+                let len = n.norm();
+                WallShape::Plane {
+                    nh: n / len,
+                    offset: d / len,
+                }
+            }
+            g => WallShape::Other(g),
         }
+    }
+
+    /// Gap between the wall and a sphere (centre `x`, radius `r`) and the unit normal from the
+    /// sphere towards the wall.
+    #[inline]
+    pub fn gap(&self, x: &Vec3, r: f64) -> (f64, Vec3) {
+        match self {
+            WallShape::Plane { nh, offset } => {
+                let s = nh.dot(x) - offset;
+                (s - r, -nh)
+            }
+            WallShape::Other(g) => curved_gap(g, x, r),
+        }
+    }
+}
+
+fn curved_gap(geom: &WallGeom, x: &Vec3, r: f64) -> (f64, Vec3) {
+    match *geom {
+        WallGeom::Plane { .. } => WallShape::of(geom).gap(x, r),
         WallGeom::Sphere { centre, radius } => {
             let e = x - Vec3::from(centre);
             let rho = e.norm();
