@@ -255,13 +255,13 @@ pub type StepParts<'a> = (
     &'a mut usize,
 );
 
-/// Force of a particle–wall pair in the current step: on the wall (`f`; the particle gets
-/// −f) and the moment on the particle; `on`: the pair was evaluated.
+/// Force of an evaluated particle–wall pair (index `pair` in the wall pairs) in the current
+/// step: on the wall (`f`; the particle gets −f) and the moment on the particle.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallForce {
     pub f: Vec3,
     pub m: Vec3,
-    pub on: bool,
+    pub pair: u32,
 }
 
 /// For each particle, the pairs that touch it, in pair order, and how the force loop with
@@ -381,7 +381,8 @@ impl Incidence {
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
-    /// Per-wall-pair forces of the current step (derived; not saved).
+    /// Forces of the wall pairs evaluated in the current step, in pair order (derived; not
+    /// saved; used with several threads).
     pub wall_out: Vec<WallForce>,
     /// Wall pairs evaluated in the last step (derived: balances the threads' work).
     pub wall_live: usize,

@@ -456,8 +456,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
             let mut a = Acc::default();
             for c in chunk.iter_mut() {
-                let o = wall_force::<ADH, LIQ>(c, (&scene.walls, &shapes), &ctx, &mut a);
-                if o.on {
+                if let Some(o) = wall_force::<ADH, LIQ>(c, (&scene.walls, &shapes), &ctx, &mut a) {
                     let w = &mut scene.walls[c.wall as usize];
                     apply(&mut p.force, &mut p.moment, w, c.i as usize, &o);
                 }
@@ -465,16 +464,10 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             acc.add(&a);
         }
     } else {
-        for (c, o) in scene
-            .contacts
-            .wall_pairs
-            .iter()
-            .zip(&scene.contacts.wall_out)
-        {
-            if o.on {
-                let w = &mut scene.walls[c.wall as usize];
-                apply(&mut p.force, &mut p.moment, w, c.i as usize, o);
-            }
+        for o in &scene.contacts.wall_out {
+            let c = &scene.contacts.wall_pairs[o.pair as usize];
+            let w = &mut scene.walls[c.wall as usize];
+            apply(&mut p.force, &mut p.moment, w, c.i as usize, o);
         }
     }
     acc
@@ -665,46 +658,48 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
     (acc, job_out)
 }
 
-/// The particle–wall contacts: each evaluated pair's force and moment into its slot; returns
-/// the energy increments per chunk of `BLOCK` pairs and the number of pairs evaluated.
+/// The particle–wall contacts: each evaluated pair's force and moment into `out`, in pair
+/// order; returns the energy increments per chunk of `BLOCK` pairs and the number of pairs
+/// evaluated.
 fn wall_forces<const ADH: bool, const LIQ: bool>(
     wall_pairs: &mut [WallPair],
     out: &mut Vec<WallForce>,
     walls: (&[Wall], &[WallShape]),
     c: &PairCtx,
 ) -> (Vec<Acc>, usize) {
-    out.resize(wall_pairs.len(), WallForce::default());
-    let mut live = 0;
+    out.clear();
     let accs = wall_pairs
         .chunks_mut(BLOCK)
-        .zip(out.chunks_mut(BLOCK))
-        .map(|(pairs, outs)| {
+        .enumerate()
+        .map(|(b, pairs)| {
             let mut acc = Acc::default();
-            for (c2, o) in pairs.iter_mut().zip(outs.iter_mut()) {
-                *o = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc);
-                live += o.on as usize;
+            for (k, c2) in pairs.iter_mut().enumerate() {
+                if let Some(mut o) = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc) {
+                    o.pair = (b * BLOCK + k) as u32;
+                    out.push(o);
+                }
             }
             acc
         })
         .collect();
-    (accs, live)
+    (accs, out.len())
 }
 
-/// One particle–wall pair (skipped, `on` false, if the particle is out of reach with nothing
-/// to remember).
+/// One particle–wall pair (`None`: skipped, the particle is out of reach with nothing to
+/// remember).
 #[inline(always)]
 fn wall_force<const ADH: bool, const LIQ: bool>(
     c: &mut WallPair,
     (walls, shapes): (&[Wall], &[WallShape]),
     ctx: &PairCtx,
     acc: &mut Acc,
-) -> WallForce {
+) -> Option<WallForce> {
     let i = c.i as usize;
     let w = &walls[c.wall as usize];
     let ri = ctx.radius[i];
     let (gap, n) = shapes[c.wall as usize].gap(&ctx.pos[i], ri);
     if gap > 1e-6 * ri && !c.s.touching && c.s.bridge.is_none() {
-        return WallForce::default();
+        return None;
     }
     let vw = surface_velocity(w, &n);
     let v_rel = vw - ctx.vel[i] - (ctx.spin[i] * ri).cross(&n);
@@ -724,15 +719,15 @@ fn wall_force<const ADH: bool, const LIQ: bool>(
     };
     let pc = ctx.model.pair(ctx.material[i] as usize, w.material);
     let out = interact::<ADH, LIQ>(&k, pc, ctx.laws, &mut c.s, acc);
-    WallForce {
+    Some(WallForce {
         f: out.f,
         m: if ctx.model.rotation {
             -n.cross(&out.ft) * ri
         } else {
             Vec3::zeros()
         },
-        on: true,
-    }
+        pair: 0,
+    })
 }
 
 /// Splits the pairs into about `n` ranges of whole blocks of similar cost (pairs evaluated in
