@@ -785,11 +785,12 @@ struct PairCtx<'a> {
     periodic: [bool; 3],
 }
 
-/// The pair loop over one block, in sub-batches of [`lanes::SUB`] pairs and three passes:
-/// the geometry of every pair (far-apart pairs are dropped; steady Hertz contacts with the
-/// no-slip law are gathered into a [`lanes::Batch`]), the batch's contact law on arrays
-/// (vectorised), then, in pair order, the ledger terms and forces of the batch and the
-/// general kernel for every other pair. The arithmetic and its order are those of one pass
+/// The pair loop over one block, in sub-batches of [`lanes::SUB`] pairs and four passes:
+/// which pairs are evaluated (near, or with something to remember), decided without a
+/// branch per pair; their geometry (steady Hertz contacts with the no-slip law are gathered
+/// into a [`lanes::Batch`]); the batch's contact law on arrays (vectorised); then, in pair
+/// order, the ledger terms and forces of the batch and the general kernel for every other
+/// evaluated pair. The arithmetic and its order are those of one pass
 /// with the general kernel, and `emit` gets each force (with the pair's index in the block)
 /// in pair order.
 #[inline(always)]

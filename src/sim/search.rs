@@ -154,16 +154,6 @@ fn single_cell_pairs(
         members[fill[c as usize] as usize] = i as u32;
         fill[c as usize] += 1;
     }
-    // Position and radius of each particle in cell order, packed, so that the cell pairs
-    // below read neighbouring memory instead of gathering from the particle arrays.
-    let packed: Vec<[f64; 4]> = members
-        .par_iter()
-        .with_min_len(4096)
-        .map(|&i| {
-            let x = p.pos[i as usize];
-            [x.x, x.y, x.z, p.radius[i as usize]]
-        })
-        .collect();
     let slots_of = |c: usize| start[c] as usize..start[c + 1] as usize;
     // The 13 forward neighbours.
     let mut stencil = Vec::with_capacity(13);
@@ -196,11 +186,11 @@ fn single_cell_pairs(
             idb,
         }
     };
-    // The test of `close` (below), on the packed copies of slots sa and sb.
+    // Whether the particles in cell slots sa and sb are candidates (gap below TOL).
     let close_slots = |sa: usize, sb: usize| {
-        let (a, b) = (&packed[sa], &packed[sb]);
-        let d = scene.branch(&Vec3::new(a[0], a[1], a[2]), &Vec3::new(b[0], b[1], b[2]));
-        let reach = a[3] + b[3] + tol;
+        let (i, j) = (members[sa] as usize, members[sb] as usize);
+        let d = scene.branch(&p.pos[i], &p.pos[j]);
+        let reach = p.radius[i] + p.radius[j] + tol;
         d.norm_squared() < reach * reach
     };
     const BLOCK: usize = 256;
