@@ -281,6 +281,11 @@ pub struct Incidence {
     /// pairs' slots after the tasks), as flags and as a list.
     pub shared: Vec<bool>,
     pub shared_list: Vec<u32>,
+    /// The force slot of each pair that touches a shared particle (`u32::MAX`: none), the
+    /// slots of each task, and their number.
+    pub slot: Vec<u32>,
+    pub task_slots: Vec<std::ops::Range<usize>>,
+    pub slots: usize,
     /// Their sums (force, moment) in the current step.
     pub shared_sums: Vec<(Vec3, Vec3)>,
 }
@@ -326,7 +331,9 @@ impl Incidence {
     }
 
     /// Sets the tasks and marks the particles they do not own.
-    pub fn split(&mut self, ranges: Vec<PairRange>, threads: usize) {
+    /// Sets the tasks, marks the particles they do not own and gives each pair of a shared
+    /// particle a force slot (slots in pair order, so each task's are contiguous).
+    pub fn split(&mut self, hot: &[HotPair], ranges: Vec<PairRange>, threads: usize) {
         let np = self.first.len();
         self.shared.clear();
         self.shared.resize(np, false);
@@ -341,6 +348,27 @@ impl Incidence {
                 }
             }
         }
+        self.slot.clear();
+        self.slot.extend(hot.iter().scan(0u32, |n, h| {
+            Some(if self.shared[h.i as usize] || self.shared[h.j as usize] {
+                *n += 1;
+                *n - 1
+            } else {
+                u32::MAX
+            })
+        }));
+        self.task_slots.clear();
+        let mut next = 0;
+        for r in &ranges {
+            let end = next
+                + self.slot[r.pairs.clone()]
+                    .iter()
+                    .filter(|&&k| k != u32::MAX)
+                    .count();
+            self.task_slots.push(next..end);
+            next = end;
+        }
+        self.slots = next;
         self.ranges = ranges;
         self.threads = threads;
     }
@@ -358,6 +386,9 @@ impl Incidence {
         self.ranges.clear();
         self.shared.clear();
         self.shared_list.clear();
+        self.slot.clear();
+        self.task_slots.clear();
+        self.slots = 0;
     }
 
     /// The pairs of particle `p`, in pair order.
@@ -1014,7 +1045,7 @@ mod tests {
                 parts: parts[r]..parts[r + 1],
             })
             .collect();
-        inc.split(ranges.clone(), 3);
+        inc.split(&hot, ranges.clone(), 3);
         let mut owned = 0;
         for (r, rg) in ranges.iter().enumerate() {
             for q in rg.parts.clone() {
@@ -1024,6 +1055,26 @@ mod tests {
             }
         }
         assert_eq!(inc.shared_list.len(), np - owned);
+        // Slots: exactly the pairs of shared particles, numbered in pair order, each task's
+        // contiguous.
+        let mut next = 0;
+        for (k, h) in hot.iter().enumerate() {
+            if inc.shared[h.i as usize] || inc.shared[h.j as usize] {
+                assert_eq!(inc.slot[k], next, "pair {k}");
+                next += 1;
+            } else {
+                assert_eq!(inc.slot[k], u32::MAX, "pair {k}");
+            }
+        }
+        assert_eq!(inc.slots, next as usize);
+        for (r, s) in ranges.iter().zip(&inc.task_slots) {
+            let mine: Vec<u32> = inc.slot[r.pairs.clone()]
+                .iter()
+                .copied()
+                .filter(|&x| x != u32::MAX)
+                .collect();
+            assert_eq!(mine, (s.start as u32..s.end as u32).collect::<Vec<_>>());
+        }
         assert!(owned > np / 2 && owned < np, "{owned} of {np} owned");
     }
 

@@ -523,9 +523,10 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 // Once per rebuild: one task per thread (measured: more tasks make more
                 // particles shared), balanced on the contacts of this step.
                 *scatter = Incidence::build(hot, np);
-                scatter.split(pair_ranges(hot, np, threads, job_cost), threads);
+                let ranges = pair_ranges(hot, np, threads, job_cost);
+                scatter.split(hot, ranges, threads);
             }
-            out.resize(hot.len(), PairForce::default());
+            out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
             let job_out_slot = std::sync::Mutex::new(None);
             let mut sums = std::mem::take(&mut scatter.shared_sums);
@@ -541,26 +542,26 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 let (mut hot, mut pairs, mut blocks, mut out) =
                     (&mut hot[..], &mut pairs[..], &mut blocks[..], &mut out[..]);
                 let (mut force, mut moment) = (&mut force[..], &mut moment[..]);
-                for r in ranges {
+                for (r, slots) in ranges.iter().zip(&inc.task_slots) {
                     let (h, rest) = hot.split_at_mut(r.pairs.len());
                     hot = rest;
                     let (p, rest) = pairs.split_at_mut(r.pairs.len());
                     pairs = rest;
                     let (b, rest) = blocks.split_at_mut(r.pairs.len().div_ceil(BLOCK));
                     blocks = rest;
-                    let (o, rest) = out.split_at_mut(r.pairs.len());
+                    let (o, rest) = out.split_at_mut(slots.len());
                     out = rest;
                     let (f, rest) = force.split_at_mut(r.parts.len());
                     force = rest;
                     let (m, rest) = moment.split_at_mut(r.parts.len());
                     moment = rest;
-                    tasks.push((tasks.len(), r.clone(), h, p, b, o, f, m));
+                    tasks.push((tasks.len(), r.clone(), slots.start, h, p, b, o, f, m));
                 }
             }
             let task_acc: Vec<Vec<Acc>> = tasks
                 .into_par_iter()
                 .with_max_len(1)
-                .map(|(t, r, hots, pairs, blocks, outs, force, moment)| {
+                .map(|(t, r, slot0, hots, pairs, blocks, outs, force, moment)| {
                     if t + 1 == n_tasks {
                         let job = job.lock().ok().and_then(|mut j| j.take());
                         if let (Some(job), Ok(mut slot)) = (job, job_out_slot.lock()) {
@@ -573,12 +574,13 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     force.fill(Vec3::zeros());
                     moment.fill(Vec3::zeros());
                     let mut accs = Vec::with_capacity(blocks.len());
-                    for (((hots, pairs), block), outs) in hots
+                    for (b, ((hots, pairs), block)) in hots
                         .chunks_mut(BLOCK)
                         .zip(pairs.chunks_mut(BLOCK))
                         .zip(blocks.iter_mut())
-                        .zip(outs.chunks_mut(BLOCK))
+                        .enumerate()
                     {
+                        let base = r.pairs.start + b * BLOCK;
                         let mut a = Acc::default();
                         block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |k, h, o| {
                             let (i, j) = (h.i as usize, h.j as usize);
@@ -596,7 +598,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                                 }
                             }
                             if !(oi && oj) {
-                                outs[k] = o;
+                                outs[inc.slot[base + k] as usize - slot0] = o;
                             }
                         });
                         accs.push(a);
@@ -620,10 +622,11 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     let q = q as usize;
                     let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
                     for &k in inc.of(q) {
-                        let (h, o) = (&hot[k as usize], &out[k as usize]);
+                        let h = &hot[k as usize];
                         if !h.evaluated {
                             continue;
                         }
+                        let o = &out[inc.slot[k as usize] as usize];
                         // Force −f on the pair's first particle (A), +f on B.
                         if h.i as usize == q {
                             f -= o.f;
