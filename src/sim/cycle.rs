@@ -849,37 +849,8 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
                         c.material[h.i as usize] as usize,
                         c.material[h.j as usize] as usize,
                     );
-                    if s.touching
-                        && s.ext.is_none()
-                        && s.bridge.is_none()
-                        && kin.gap < 0.0
-                        && pc.zeta > 0.0
-                        && pc.mu > 0.0
-                    {
-                        let l = batch.len;
-                        batch.nx[l] = kin.n.x;
-                        batch.ny[l] = kin.n.y;
-                        batch.nz[l] = kin.n.z;
-                        batch.vx[l] = kin.v_rel.x;
-                        batch.vy[l] = kin.v_rel.y;
-                        batch.vz[l] = kin.v_rel.z;
-                        batch.gap[l] = kin.gap;
-                        batch.r_star[l] = kin.r_star;
-                        batch.m_star[l] = kin.m_star;
-                        batch.e_star[l] = pc.e_star;
-                        batch.g_star[l] = pc.g_star;
-                        batch.mu[l] = pc.mu;
-                        batch.zeta[l] = pc.zeta;
-                        batch.damp[l] = s.damp_force;
-                        batch.tfx[l] = s.tforce.x;
-                        batch.tfy[l] = s.tforce.y;
-                        batch.tfz[l] = s.tforce.z;
-                        batch.tdx[l] = s.tdamp.x;
-                        batch.tdy[l] = s.tdamp.y;
-                        batch.tdz[l] = s.tdamp.z;
-                        batch.tang_energy[l] = s.tang_energy;
-                        lane[q] = l as u8;
-                        batch.len += 1;
+                    if lanes::Batch::takes(&kin, pc, s) {
+                        lane[q] = batch.push(&kin, pc, s) as u8;
                     }
                 }
                 kins[q] = kin;
@@ -894,22 +865,12 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
             let s = &mut block[h.slot as usize];
             let f = if lane[q] != u8::MAX {
                 let l = lane[q] as usize;
-                let b = &batch;
-                s.a = b.a[l];
-                s.normal_force = b.normal[l];
-                s.overlap = -kins[q].gap;
-                s.damp_force = b.damp[l];
-                s.tforce = Vec3::new(b.tfx[l], b.tfy[l], b.tfz[l]);
-                s.tang_energy = b.tang_energy[l];
-                s.tdamp = Vec3::zeros();
-                acc.damping_contact += b.e_damp_n[l];
-                acc.friction += b.e_friction[l];
-                acc.damping_contact += b.e_damp_t[l];
+                let (f, m) = batch.store(l, s);
+                acc.damping_contact += batch.e_damp_n[l];
+                acc.friction += batch.e_friction[l];
+                acc.damping_contact += batch.e_damp_t[l];
                 h.live = true;
-                PairForce {
-                    f: Vec3::new(b.fx[l], b.fy[l], b.fz[l]),
-                    m: Vec3::new(b.mx[l], b.my[l], b.mz[l]),
-                }
+                PairForce { f, m }
             } else {
                 let kin = &kins[q];
                 let (i, j) = (h.i as usize, h.j as usize);

@@ -10,6 +10,11 @@
 //! in the same order, so the results are bitwise those of [`super::interact`]; the energy
 //! ledger's terms are returned per contact so the caller can add them in pair order.
 
+use super::contacts::ContactState;
+use super::interact::Kin;
+use super::params::PairConst;
+use super::scene::Vec3;
+
 /// Contacts per batch.
 pub const SUB: usize = 32;
 
@@ -96,6 +101,66 @@ impl Batch {
             e_friction: z,
             e_damp_t: z,
         }
+    }
+}
+
+impl Batch {
+    /// The pair's contact is steady (it can take the batch): a Hertz contact without a bridge,
+    /// touching in the last step and overlapping now, with a dashpot and friction.
+    #[inline(always)]
+    pub fn takes(kin: &Kin, pc: &PairConst, s: &ContactState) -> bool {
+        s.touching
+            && s.ext.is_none()
+            && s.bridge.is_none()
+            && kin.gap < 0.0
+            && pc.zeta > 0.0
+            && pc.mu > 0.0
+    }
+
+    /// Appends a contact; returns its lane.
+    #[inline(always)]
+    pub fn push(&mut self, kin: &Kin, pc: &PairConst, s: &ContactState) -> usize {
+        let l = self.len;
+        self.nx[l] = kin.n.x;
+        self.ny[l] = kin.n.y;
+        self.nz[l] = kin.n.z;
+        self.vx[l] = kin.v_rel.x;
+        self.vy[l] = kin.v_rel.y;
+        self.vz[l] = kin.v_rel.z;
+        self.gap[l] = kin.gap;
+        self.r_star[l] = kin.r_star;
+        self.m_star[l] = kin.m_star;
+        self.e_star[l] = pc.e_star;
+        self.g_star[l] = pc.g_star;
+        self.mu[l] = pc.mu;
+        self.zeta[l] = pc.zeta;
+        self.damp[l] = s.damp_force;
+        self.tfx[l] = s.tforce.x;
+        self.tfy[l] = s.tforce.y;
+        self.tfz[l] = s.tforce.z;
+        self.tdx[l] = s.tdamp.x;
+        self.tdy[l] = s.tdamp.y;
+        self.tdz[l] = s.tdamp.z;
+        self.tang_energy[l] = s.tang_energy;
+        self.len += 1;
+        l
+    }
+
+    /// Writes lane `l`'s new state into the contact's; returns its force on B and moment per
+    /// unit radius.
+    #[inline(always)]
+    pub fn store(&self, l: usize, s: &mut ContactState) -> (Vec3, Vec3) {
+        s.a = self.a[l];
+        s.normal_force = self.normal[l];
+        s.overlap = -self.gap[l];
+        s.damp_force = self.damp[l];
+        s.tforce = Vec3::new(self.tfx[l], self.tfy[l], self.tfz[l]);
+        s.tang_energy = self.tang_energy[l];
+        s.tdamp = Vec3::zeros();
+        (
+            Vec3::new(self.fx[l], self.fy[l], self.fz[l]),
+            Vec3::new(self.mx[l], self.my[l], self.mz[l]),
+        )
     }
 }
 
@@ -293,32 +358,12 @@ mod tests {
                     ext: None,
                     bridge: None,
                 };
-                b.nx[l] = n.x;
-                b.ny[l] = n.y;
-                b.nz[l] = n.z;
-                b.vx[l] = v_rel.x;
-                b.vy[l] = v_rel.y;
-                b.vz[l] = v_rel.z;
-                b.gap[l] = kin.gap;
-                b.r_star[l] = kin.r_star;
-                b.m_star[l] = kin.m_star;
-                b.e_star[l] = pc.e_star;
-                b.g_star[l] = pc.g_star;
-                b.mu[l] = pc.mu;
-                b.zeta[l] = pc.zeta;
-                b.damp[l] = s.damp_force;
-                b.tfx[l] = tf.x;
-                b.tfy[l] = tf.y;
-                b.tfz[l] = tf.z;
-                b.tdx[l] = s.tdamp.x;
-                b.tdy[l] = s.tdamp.y;
-                b.tdz[l] = s.tdamp.z;
-                b.tang_energy[l] = s.tang_energy;
+                assert!(Batch::takes(&kin, &pc, &s));
+                assert_eq!(b.push(&kin, &pc, &s), l);
                 kins.push(kin);
                 states.push(s);
                 pcs.push(pc);
             }
-            b.len = SUB;
             // The portable build of the kernel (two lanes on x86-64 without AVX2) gives the
             // same bits as the one the processor runs.
             let mut portable = b.clone();
