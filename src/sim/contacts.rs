@@ -252,7 +252,6 @@ pub type StepParts<'a> = (
     &'a mut Incidence,
     &'a mut [WallPair],
     &'a mut Vec<WallForce>,
-    &'a mut usize,
 );
 
 /// Force of an evaluated particle–wall pair (index `pair` in the wall pairs) in the current
@@ -373,6 +372,11 @@ impl Incidence {
         self.threads = threads;
     }
 
+    /// The lists and the split must be made (anew) for `np` particles and `threads` threads.
+    pub fn needs_split(&self, np: usize, threads: usize) -> bool {
+        self.is_empty() || self.first.len() != np || self.threads != threads
+    }
+
     /// Not built (or cleared).
     pub fn is_empty(&self) -> bool {
         self.start.is_empty()
@@ -415,8 +419,6 @@ pub struct ContactStore {
     /// Forces of the wall pairs evaluated in the current step, in pair order (derived; not
     /// saved; used with several threads).
     pub wall_out: Vec<WallForce>,
-    /// Wall pairs evaluated in the last step (derived: balances the threads' work).
-    pub wall_live: usize,
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.
     pub hot: Vec<HotPair>,
@@ -701,7 +703,6 @@ impl ContactStore {
             &mut self.scatter,
             &mut self.wall_pairs,
             &mut self.wall_out,
-            &mut self.wall_live,
         )
     }
 

@@ -374,9 +374,9 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             size: scene.size,
             periodic: scene.settings.periodic,
         };
-        let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out, wall_live) =
-            scene.contacts.step_parts();
+        let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
         let force = &mut scene.particles.force;
+        let scatter_np = force.len();
         let moment = &mut scene.particles.moment;
         let radius = &scene.particles.radius;
         // The same laws for particle–wall contacts; Rayleigh contact damping has its own
@@ -402,16 +402,24 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         } else {
             // The wall contacts (their forces into slots) are one more job of the pair loop,
             // weighted by the wall pairs evaluated in the last step.
-            let wall_cost = wall_pairs.len() + 7 * *wall_live;
+            // (Counted only when the split is made: live wall pairs weigh like contacts.)
+            let threads = rayon::current_num_threads();
+            let wall_cost = if scatter.needs_split(scatter_np, threads) {
+                let live = wall_pairs
+                    .iter()
+                    .filter(|c| c.s.touching || c.s.bridge.is_some());
+                wall_pairs.len() + 7 * live.count()
+            } else {
+                0
+            };
             let wall_job =
                 || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx);
-            let (pair_acc, (wall_acc, live)) = pair_forces::<ADH, LIQ, _>(
+            let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
                 (hot, pairs, blocks, out, scatter),
                 (force, moment, radius),
                 &ctx,
                 (wall_job, wall_cost),
             );
-            *wall_live = live;
             acc.add(&pair_acc);
             for a in &wall_acc {
                 acc.add(a);
@@ -519,7 +527,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
         } else {
             let np = force.len();
             let threads = rayon::current_num_threads();
-            if scatter.is_empty() || scatter.first.len() != np || scatter.threads != threads {
+            if scatter.needs_split(np, threads) {
                 // Once per rebuild: one task per thread (measured: more tasks make more
                 // particles shared), balanced on the contacts of this step.
                 *scatter = Incidence::build(hot, np);
@@ -662,14 +670,13 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
 }
 
 /// The particle–wall contacts: each evaluated pair's force and moment into `out`, in pair
-/// order; returns the energy increments per chunk of `BLOCK` pairs and the number of pairs
-/// evaluated.
+/// order; returns the energy increments per chunk of `BLOCK` pairs.
 fn wall_forces<const ADH: bool, const LIQ: bool>(
     wall_pairs: &mut [WallPair],
     out: &mut Vec<WallForce>,
     walls: (&[Wall], &[WallShape]),
     c: &PairCtx,
-) -> (Vec<Acc>, usize) {
+) -> Vec<Acc> {
     out.clear();
     let accs = wall_pairs
         .chunks_mut(BLOCK)
@@ -685,7 +692,7 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
             acc
         })
         .collect();
-    (accs, out.len())
+    accs
 }
 
 /// One particle–wall pair (`None`: skipped, the particle is out of reach with nothing to
