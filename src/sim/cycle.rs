@@ -376,7 +376,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         };
         let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
         let force = &mut scene.particles.force;
-        let scatter_np = force.len();
+        let np = force.len();
         let moment = &mut scene.particles.moment;
         let radius = &scene.particles.radius;
         // The same laws for particle–wall contacts; Rayleigh contact damping has its own
@@ -400,11 +400,10 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             );
             acc.add(&pair_acc);
         } else {
-            // The wall contacts (their forces into slots) are one more job of the pair loop,
-            // weighted by the wall pairs evaluated in the last step.
-            // (Counted only when the split is made: live wall pairs weigh like contacts.)
+            // The wall contacts (their forces into a list) are one more job of the pair loop,
+            // weighed when the split is made: live wall pairs like contacts.
             let threads = rayon::current_num_threads();
-            let wall_cost = if scatter.needs_split(scatter_np, threads) {
+            let wall_cost = if scatter.needs_split(np, threads) {
                 let live = wall_pairs
                     .iter()
                     .filter(|c| c.s.touching || c.s.bridge.is_some());
