@@ -361,36 +361,36 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     // pairs in the same order, and the energy partial sums are added per block in block
     // order (then the wall contacts' per chunk): the result does not depend on the number
     // of threads.
+    let ctx = PairCtx {
+        pos: &scene.particles.pos,
+        vel: &scene.particles.vel,
+        spin: &scene.particles.spin,
+        radius: &scene.particles.radius,
+        mass: &scene.particles.mass,
+        material: &scene.particles.material,
+        model,
+        laws: &laws_pp,
+        size: scene.size,
+        periodic: scene.settings.periodic,
+    };
+    // The same laws for particle–wall contacts; Rayleigh contact damping has its own
+    // particle–wall set.
+    let laws_pw = Laws {
+        beta: scene.damping_pw.beta,
+        ..laws_pp
+    };
+    let wall_ctx = PairCtx {
+        laws: &laws_pw,
+        ..ctx
+    };
     {
-        let ctx = PairCtx {
-            pos: &scene.particles.pos,
-            vel: &scene.particles.vel,
-            spin: &scene.particles.spin,
-            radius: &scene.particles.radius,
-            mass: &scene.particles.mass,
-            material: &scene.particles.material,
-            model,
-            laws: &laws_pp,
-            size: scene.size,
-            periodic: scene.settings.periodic,
-        };
         let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
         let force = &mut scene.particles.force;
         let np = force.len();
         let moment = &mut scene.particles.moment;
         let radius = &scene.particles.radius;
-        // The same laws for particle–wall contacts; Rayleigh contact damping has its own
-        // particle–wall set.
-        let laws_pw = Laws {
-            beta: scene.damping_pw.beta,
-            ..laws_pp
-        };
         let walls = &scene.walls;
         let shapes = &shapes;
-        let wall_ctx = PairCtx {
-            laws: &laws_pw,
-            ..ctx
-        };
         if one_thread {
             let (pair_acc, ()) = pair_forces::<ADH, LIQ, _>(
                 (hot, pairs, blocks, out, scatter),
@@ -432,7 +432,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     for w in scene.walls.iter_mut() {
         w.force = [0.0; 3];
     }
-    let p = &mut scene.particles;
+    let (p_force, p_moment) = (&mut scene.particles.force, &mut scene.particles.moment);
     let apply =
         |p_force: &mut [Vec3], p_moment: &mut [Vec3], w: &mut Wall, i: usize, o: &WallForce| {
             p_force[i] -= o.f;
@@ -444,28 +444,13 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             }
         };
     if one_thread {
-        let laws_pw = Laws {
-            beta: scene.damping_pw.beta,
-            ..laws_pp
-        };
-        let ctx = PairCtx {
-            pos: &p.pos,
-            vel: &p.vel,
-            spin: &p.spin,
-            radius: &p.radius,
-            mass: &p.mass,
-            material: &p.material,
-            model,
-            laws: &laws_pw,
-            size: scene.size,
-            periodic: scene.settings.periodic,
-        };
         for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
             let mut a = Acc::default();
             for c in chunk.iter_mut() {
-                if let Some(o) = wall_force::<ADH, LIQ>(c, (&scene.walls, &shapes), &ctx, &mut a) {
+                let walls = (&scene.walls[..], &shapes[..]);
+                if let Some(o) = wall_force::<ADH, LIQ>(c, walls, &wall_ctx, &mut a) {
                     let w = &mut scene.walls[c.wall as usize];
-                    apply(&mut p.force, &mut p.moment, w, c.i as usize, &o);
+                    apply(p_force, p_moment, w, c.i as usize, &o);
                 }
             }
             acc.add(&a);
@@ -474,7 +459,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         for o in &scene.contacts.wall_out {
             let c = &scene.contacts.wall_pairs[o.pair as usize];
             let w = &mut scene.walls[c.wall as usize];
-            apply(&mut p.force, &mut p.moment, w, c.i as usize, o);
+            apply(p_force, p_moment, w, c.i as usize, o);
         }
     }
     acc
