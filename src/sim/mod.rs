@@ -8,6 +8,7 @@ pub mod generate;
 pub mod history;
 pub mod interact;
 pub mod lanes;
+pub mod leapfrog;
 pub mod liquid;
 pub mod params;
 pub mod reference;

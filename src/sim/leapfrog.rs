@@ -1,0 +1,338 @@
+//! The leap-frog update of plain particles, Lian (5.9)–(5.14), on component arrays.
+//!
+//! A particle is plain when it has no aggregate gravity, no fixed degree of freedom, no 2-D
+//! constraint and the scene has no mass damping (α = 0): then every velocity and position
+//! component is updated by the same few operations, independently of the others, and the
+//! update runs as one loop over the x, y, z components of a run of particles (a `Vec<Vec3>`
+//! is laid out as x0 y0 z0 x1 …), which the compiler vectorises. The arithmetic of each
+//! component is exactly that of the general update in `cycle::move_all` (the same operations
+//! in the same order, no fused multiply-add), and the work of gravity is summed per particle
+//! in particle order as there, so both give bitwise the same state and ledger
+//! (`tests` below and `tests/threads.rs`).
+
+use super::scene::Vec3;
+
+/// Particles per run of the component loops: their scratch arrays stay in L1.
+const RUN: usize = 128;
+
+/// What the update of a run of plain particles needs besides the particle arrays.
+#[derive(Clone, Copy, Debug)]
+pub struct Plain {
+    /// Gravity g.
+    pub g: [f64; 3],
+    /// The body-force multiplier of the scene (`fmm`).
+    pub fmm: f64,
+    /// Velocity factor (1 − α Δt/2)/(1 + α Δt/2) (1 with α = 0).
+    pub damp: f64,
+    pub dt: f64,
+    pub rotation: bool,
+    /// Lower and upper bounds of the work-space per axis (±∞ along periodic axes).
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+}
+
+/// Sums of a run: the work of gravity, the largest displacement component since the last
+/// rebuild, whether every position and velocity is finite, whether some particle is beyond
+/// an open side.
+#[derive(Clone, Copy, Debug)]
+pub struct RunSums {
+    pub w_grav: f64,
+    pub max_disp: f64,
+    pub finite: bool,
+    pub outside: bool,
+}
+
+/// The particle arrays of a run, sliced alike (`step_v` = Δt/m, `step_w` = Δt/I, each
+/// already divided by 1 + α Δt/2).
+pub struct Run<'a> {
+    pub mass: &'a [f64],
+    pub step_v: &'a [f64],
+    pub step_w: &'a [f64],
+    pub force: &'a [Vec3],
+    pub moment: &'a [Vec3],
+    pub vel: &'a mut [Vec3],
+    pub pos: &'a mut [Vec3],
+    pub disp: &'a mut [Vec3],
+    pub spin: &'a mut [Vec3],
+    pub rot: &'a mut [Vec3],
+}
+
+/// Updates plain particles; `w_grav` of the result continues the sum `w_grav0` particle by
+/// particle (the caller's running sum of its chunk).
+pub fn update(c: &Plain, r: Run<'_>, w_grav0: f64) -> RunSums {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above); the same arithmetic in
+            // wider registers (no FMA is enabled, so no operation is fused). Measured: the
+            // S1 50k bed's integration 2.9 s → see doc/performance.md.
+            return unsafe { update_avx2(c, r, w_grav0) };
+        }
+    }
+    update_impl(c, r, w_grav0)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn update_avx2(c: &Plain, r: Run<'_>, w_grav0: f64) -> RunSums {
+    update_impl(c, r, w_grav0)
+}
+
+#[inline(always)]
+fn update_impl(c: &Plain, r: Run<'_>, w_grav0: f64) -> RunSums {
+    let n = r.mass.len();
+    let mut sums = RunSums {
+        w_grav: w_grav0,
+        max_disp: 0.0,
+        finite: true,
+        outside: false,
+    };
+    let force: &[f64] = bytemuck::cast_slice(r.force);
+    let moment: &[f64] = bytemuck::cast_slice(r.moment);
+    let vel: &mut [f64] = bytemuck::cast_slice_mut(r.vel);
+    let pos: &mut [f64] = bytemuck::cast_slice_mut(r.pos);
+    let disp: &mut [f64] = bytemuck::cast_slice_mut(r.disp);
+    let spin: &mut [f64] = bytemuck::cast_slice_mut(r.spin);
+    let rot: &mut [f64] = bytemuck::cast_slice_mut(r.rot);
+    // Per-component factors of a run: body force m g fmm, Δt/m; bounds of the work-space.
+    let mut fb = [0.0; 3 * RUN];
+    let mut sv = [0.0; 3 * RUN];
+    let mut sw = [0.0; 3 * RUN];
+    let mut lo = [0.0; 3 * RUN];
+    let mut hi = [0.0; 3 * RUN];
+    for l in 0..RUN {
+        for k in 0..3 {
+            lo[3 * l + k] = c.lo[k];
+            hi[3 * l + k] = c.hi[k];
+        }
+    }
+    let mut work = [0.0; 3 * RUN];
+    let mut start = 0;
+    while start < n {
+        let m = (n - start).min(RUN);
+        let (a, b) = (3 * start, 3 * (start + m));
+        for l in 0..m {
+            let s = r.mass[start + l] * c.fmm;
+            for k in 0..3 {
+                fb[3 * l + k] = c.g[k] * s;
+                sv[3 * l + k] = r.step_v[start + l];
+                sw[3 * l + k] = r.step_w[start + l];
+            }
+        }
+        // Translation, component by component: v = v_old·damp + (F + m g fmm)·Δt/m,
+        // x += v Δt (and the displacement since the last rebuild).
+        let (f, v, x, d) = (
+            &force[a..b],
+            &mut vel[a..b],
+            &mut pos[a..b],
+            &mut disp[a..b],
+        );
+        let q = 3 * m;
+        for (((((v, x), d), (f, fbq)), svq), w) in v
+            .iter_mut()
+            .zip(x.iter_mut())
+            .zip(d.iter_mut())
+            .zip(f.iter().zip(&fb[..q]))
+            .zip(&sv[..q])
+            .zip(&mut work[..q])
+        {
+            let v_old = *v;
+            let vn = v_old * c.damp + (f + fbq) * svq;
+            *v = vn;
+            *w = fbq * ((vn + v_old) * 0.5);
+            let dx = vn * c.dt;
+            *x += dx;
+            *d += dx;
+        }
+        // The run's largest displacement component, finiteness (x·0 + v·0 is 0 for finite
+        // values, NaN otherwise), escape through an open side: four lanes, then the rest.
+        let mut dmax = [0.0f64; 4];
+        let mut zero = [0.0f64; 4];
+        let mut out = [false; 4];
+        let full = q / 4 * 4;
+        for (((d, x), v), (lo, hi)) in d[..full]
+            .chunks_exact(4)
+            .zip(x[..full].chunks_exact(4))
+            .zip(v[..full].chunks_exact(4))
+            .zip(lo[..full].chunks_exact(4).zip(hi[..full].chunks_exact(4)))
+        {
+            for k in 0..4 {
+                let ad = d[k].abs();
+                dmax[k] = if ad > dmax[k] { ad } else { dmax[k] };
+                zero[k] += x[k] * 0.0 + v[k] * 0.0;
+                out[k] |= (x[k] < lo[k]) | (x[k] > hi[k]);
+            }
+        }
+        for k in full..q {
+            let ad = d[k].abs();
+            dmax[0] = if ad > dmax[0] { ad } else { dmax[0] };
+            zero[0] += x[k] * 0.0 + v[k] * 0.0;
+            out[0] |= (x[k] < lo[k]) | (x[k] > hi[k]);
+        }
+        // The work of gravity m g·v̄ Δt, particle by particle (the dot product summed as
+        // nalgebra's: (x + y) + z).
+        for l in 0..m {
+            let w = &work[3 * l..3 * l + 3];
+            sums.w_grav += (w[0] + w[1] + w[2]) * c.dt;
+        }
+        if c.rotation {
+            let (mo, w, th) = (&moment[a..b], &mut spin[a..b], &mut rot[a..b]);
+            for q in 0..3 * m {
+                let wn = w[q] * c.damp + mo[q] * sw[q];
+                w[q] = wn;
+                th[q] += wn * c.dt;
+            }
+        }
+        for lane in 0..4 {
+            sums.max_disp = sums.max_disp.max(dmax[lane]);
+            sums.finite &= zero[lane] == 0.0;
+            sums.outside |= out[lane];
+        }
+        start += m;
+    }
+    sums
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The component update against the same formulas written per particle with nalgebra
+    /// (the general path of `cycle::move_all`): bitwise equal state and work of gravity.
+    #[test]
+    fn matches_the_vector_update_bit_for_bit() {
+        let n = 301; // more than two runs, not a multiple of 4
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut v3 = |scale: f64| -> Vec<Vec3> {
+            (0..n)
+                .map(|_| Vec3::new(rnd() * scale, rnd() * scale, rnd() * scale))
+                .collect()
+        };
+        let force = v3(1e-2);
+        let moment = v3(1e-6);
+        let vel0 = v3(0.3);
+        let pos0 = v3(0.02);
+        let disp0 = v3(1e-4);
+        let spin0 = v3(10.0);
+        let rot0 = v3(1.0);
+        let mass: Vec<f64> = (0..n)
+            .map(|i| 1e-5 * (1.0 + (i % 7) as f64 * 0.1))
+            .collect();
+        let step_v: Vec<f64> = mass.iter().map(|m| 1.7e-5 / m).collect();
+        let step_w: Vec<f64> = mass.iter().map(|m| 1.7e-5 / (0.4 * m * 1e-6)).collect();
+        let c = Plain {
+            g: [0.1, -0.2, -9.81],
+            fmm: 1.0,
+            damp: 1.0,
+            dt: 1.7e-5,
+            rotation: true,
+            lo: [0.0, f64::NEG_INFINITY, 0.0],
+            hi: [0.04, f64::INFINITY, 0.05],
+        };
+        let (mut vel, mut pos, mut disp, mut spin, mut rot) = (
+            vel0.clone(),
+            pos0.clone(),
+            disp0.clone(),
+            spin0.clone(),
+            rot0.clone(),
+        );
+        let got = update(
+            &c,
+            Run {
+                mass: &mass,
+                step_v: &step_v,
+                step_w: &step_w,
+                force: &force,
+                moment: &moment,
+                vel: &mut vel,
+                pos: &mut pos,
+                disp: &mut disp,
+                spin: &mut spin,
+                rot: &mut rot,
+            },
+            0.25,
+        );
+        let g = Vec3::from(c.g);
+        let mut w_grav = 0.25;
+        let mut max_disp = 0.0f64;
+        let mut outside = false;
+        for i in 0..n {
+            let fb = g * (mass[i] * c.fmm);
+            let v = vel0[i] * c.damp + (force[i] + fb) * step_v[i];
+            let vbar = (v + vel0[i]) * 0.5;
+            w_grav += fb.dot(&vbar) * c.dt;
+            let dx = v * c.dt;
+            let x = pos0[i] + dx;
+            let d = disp0[i] + dx;
+            let w = spin0[i] * c.damp + moment[i] * step_w[i];
+            let th = rot0[i] + w * c.dt;
+            assert_eq!(
+                (vel[i], pos[i], disp[i], spin[i], rot[i]),
+                (v, x, d, w, th),
+                "particle {i}"
+            );
+            max_disp = max_disp.max(d.amax());
+            outside |= (0..3).any(|k| x[k] < c.lo[k] || x[k] > c.hi[k]);
+        }
+        assert_eq!(got.w_grav.to_bits(), w_grav.to_bits());
+        assert_eq!(got.max_disp.to_bits(), max_disp.to_bits());
+        assert!(got.finite);
+        assert_eq!(got.outside, outside);
+        assert!(outside, "the random positions leave the box on some side");
+    }
+
+    #[test]
+    fn reports_a_non_finite_velocity_and_an_escape() {
+        let n = 9;
+        let c = Plain {
+            g: [0.0, 0.0, -9.81],
+            fmm: 1.0,
+            damp: 1.0,
+            dt: 1e-3,
+            rotation: false,
+            lo: [0.0; 3],
+            hi: [1.0; 3],
+        };
+        let run = |bad_force: bool, pos_x: f64| {
+            let mut force = vec![Vec3::zeros(); n];
+            if bad_force {
+                force[5].y = f64::INFINITY;
+            }
+            let mut pos = vec![Vec3::new(0.5, 0.5, 0.5); n];
+            pos[8].x = pos_x;
+            let ones = vec![1.0; n];
+            let mut z = vec![vec![Vec3::zeros(); n]; 4];
+            let [vel, disp, spin, rot] = &mut z[..] else {
+                unreachable!()
+            };
+            update(
+                &c,
+                Run {
+                    mass: &ones,
+                    step_v: &ones,
+                    step_w: &ones,
+                    force: &force,
+                    moment: &force,
+                    vel,
+                    pos: &mut pos,
+                    disp,
+                    spin,
+                    rot,
+                },
+                0.0,
+            )
+        };
+        let s = run(true, 0.5);
+        assert!(!s.finite);
+        let s = run(false, -1e-3);
+        assert!(s.finite && s.outside, "x < 0 is outside");
+        let s = run(false, 0.5);
+        assert!(s.finite && !s.outside);
+    }
+}
