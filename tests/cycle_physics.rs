@@ -198,6 +198,38 @@ fn ledger_closes_with_friction_and_damping() {
     );
 }
 
+/// The single-cell search without periodic axes tests each particle against runs of
+/// consecutive cells; grids one, two and three cells wide (where the runs are clipped at
+/// both sides) and particles beyond the open sides (clamped into the edge cells) must give
+/// exactly the brute-force pairs.
+#[test]
+fn search_runs_match_brute_force_on_narrow_grids() {
+    for (w, d) in [(0.006, 0.6), (0.012, 0.3), (0.016, 0.2)] {
+        let mut sc = scene(&format!(
+            "start {w} {w} {d} 1000 1000 0\nset open all\nrad 0.002 1\nrad 0.0026 2\nymd 1e7 1\npra 0.3 1\n\
+             density 1000 1\nrge 150 1 1 0\nrge 100 2 1 0\n"
+        ));
+        // A few particles outside the open sides.
+        for (k, i) in [(0, 3), (1, 7), (2, 11), (0, 20)] {
+            sc.particles.pos[i][k] = if i % 2 == 0 {
+                -0.004
+            } else {
+                sc.size[k] + 0.003
+            };
+        }
+        for tol in [0.0, 1e-4, 1e-3] {
+            let (pairs, _, info) = search::candidates(&sc, tol);
+            assert_eq!(info.entries, sc.particles.len(), "single-cell search");
+            assert!(info.n[0] <= 3, "{:?}", info.n);
+            let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
+            got.sort_unstable();
+            let want = search::brute_force_pairs(&sc, tol);
+            assert!(tol < 1e-3 || want.len() > 20, "{}", want.len());
+            assert_eq!(got, want, "box {w} x {w} x {d}, tol {tol}");
+        }
+    }
+}
+
 #[test]
 fn search_matches_brute_force() {
     // Polydisperse (size ratio 10: multi-entry search) and near-monodisperse (ratio 1.4 and 1:

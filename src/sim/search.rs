@@ -3,7 +3,10 @@
 //! Two ways to fill the boxes, both giving exactly the pairs with gap < TOL (the merge sorts
 //! them, so the choice never changes a result):
 //! - near-monodisperse scenes (R_max ≤ 1.5 × median): one box per particle, boxes at least
-//!   2 R_max + TOL wide, each box compared with itself and its 13 forward neighbours;
+//!   2 R_max + TOL wide, each box compared with itself and its 13 forward neighbours
+//!   (without periodic axes these are five runs of consecutive boxes, so each particle is
+//!   tested against five contiguous runs of slot-ordered x, y, z, R arrays, without a branch
+//!   per test);
 //! - otherwise TRUBAL's: each particle is entered into every box touched by its cube of side
 //!   2(R + TOL/2), so a polydisperse assembly stays linear (big particles have many entries,
 //!   small boxes stay small); a pair found in several boxes is reported only by the box
@@ -193,12 +196,34 @@ fn single_cell_pairs(
         let reach = p.radius[i] + p.radius[j] + tol;
         d.norm_squared() < reach * reach
     };
+    // Without periodic axes, the 13 forward neighbours of a cell are five runs of consecutive
+    // slots (the cell after it in its row; three cells of the next row; three rows of three
+    // in the next layer), so each particle is tested against five contiguous runs of the
+    // slot-ordered coordinates below, without a branch per test.
+    let runs_ok = !periodic.iter().any(|&q| q);
+    let slot_xyzr: Option<[Vec<f64>; 4]> = runs_ok.then(|| {
+        let of = |k: usize| -> Vec<f64> {
+            members
+                .par_iter()
+                .with_min_len(4096)
+                .map(|&i| {
+                    if k < 3 {
+                        p.pos[i as usize][k]
+                    } else {
+                        p.radius[i as usize]
+                    }
+                })
+                .collect()
+        };
+        [of(0), of(1), of(2), of(3)]
+    });
     const BLOCK: usize = 256;
     let per_block: Vec<Vec<PairKey>> = (0..ncell.div_ceil(BLOCK))
         .into_par_iter()
         .with_max_len(1)
         .map(|blk| {
             let mut pairs = Vec::new();
+            let mut hits: Vec<u32> = Vec::new();
             for c in blk * BLOCK..((blk + 1) * BLOCK).min(ncell) {
                 let here = slots_of(c);
                 if here.is_empty() {
@@ -207,6 +232,49 @@ fn single_cell_pairs(
                 let cz = c / (n[0] * n[1]);
                 let cy = (c / n[0]) % n[1];
                 let cx = c % n[0];
+                if let Some([sx, sy, sz, sr]) = &slot_xyzr {
+                    // The runs of slots of the forward neighbours (clipped at the sides).
+                    let (x0, x1) = (cx.saturating_sub(1), (cx + 1).min(n[0] - 1));
+                    let row = |y: usize, z: usize| {
+                        let f = x0 + n[0] * (y + n[1] * z);
+                        start[f] as usize..start[f + x1 - x0 + 1] as usize
+                    };
+                    let mut runs = [0..0, 0..0, 0..0, 0..0, 0..0];
+                    runs[0] = here.end..start[c + 1 + usize::from(cx + 1 < n[0])] as usize;
+                    if cy + 1 < n[1] {
+                        runs[1] = row(cy + 1, cz);
+                    }
+                    if cz + 1 < n[2] {
+                        for (r, dy) in [(2, -1i64), (3, 0), (4, 1)] {
+                            let y = cy as i64 + dy;
+                            if y >= 0 && y < n[1] as i64 {
+                                runs[r] = row(y as usize, cz + 1);
+                            }
+                        }
+                    }
+                    let most = here.len() + runs.iter().map(|r| r.len()).sum::<usize>();
+                    if hits.len() < most {
+                        hits.resize(most, 0);
+                    }
+                    for sa in here.clone() {
+                        let (xa, ya, za, ra) = (sx[sa], sy[sa], sz[sa], sr[sa] + tol);
+                        let mut nh = 0;
+                        // Same cell (later slots), then the runs; the test is that of
+                        // `close_slots` (d = x_b − x_a, |d|² as (dx² + dy²) + dz²).
+                        for run in std::iter::once(sa + 1..here.end).chain(runs.iter().cloned()) {
+                            for sb in run {
+                                let (dx, dy, dz) = (sx[sb] - xa, sy[sb] - ya, sz[sb] - za);
+                                let reach = ra + sr[sb];
+                                hits[nh] = sb as u32;
+                                nh += usize::from(dx * dx + dy * dy + dz * dz < reach * reach);
+                            }
+                        }
+                        for &sb in &hits[..nh] {
+                            pairs.push(key(members[sa] as usize, members[sb as usize] as usize));
+                        }
+                    }
+                    continue;
+                }
                 for sa in here.clone() {
                     for sb in sa + 1..here.end {
                         if close_slots(sa, sb) {
