@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 
 use super::contacts::{
-    BLOCK, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange, WallForce,
+    self, BLOCK, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange, WallForce,
     WallPair,
 };
 use super::interact::{Acc, Kin, Laws, interact};
@@ -918,6 +918,7 @@ fn pair_kin(
     if h.slot == NO_STATE {
         h.slot = block.len() as u32;
         *slot = h.slot;
+        contacts::grow_block(block);
         block.push(ContactState::default());
     }
     let (ri, rj) = (c.radius[i], c.radius[j]);
