@@ -1103,6 +1103,36 @@ mod tests {
         assert!(std::mem::size_of::<HotPair>() <= 16);
     }
 
+    /// A block grows by its headroom, not by doubling: 300 states appended one by one to an
+    /// empty block never leave more than 1/16 + 4 of them unused (a doubling `Vec` would
+    /// have left 212 free slots at 300).
+    #[test]
+    fn state_blocks_grow_by_their_headroom() {
+        let mut b: Vec<ContactState> = Vec::new();
+        for n in 1..=300 {
+            grow_block(&mut b);
+            b.push(ContactState::default());
+            assert!(b.capacity() <= n + headroom(n), "{} states, capacity {}", n, b.capacity());
+        }
+        // The merge sizes a block for its states plus the headroom.
+        let mut store = ContactStore::default();
+        let keys: Vec<PairKey> = (0..600u32)
+            .map(|k| PairKey {
+                i: k,
+                j: k + 1,
+                ida: k + 1,
+                idb: k + 2,
+            })
+            .collect();
+        store.merge(keys.clone(), Vec::new());
+        for k in 0..300 {
+            store.state_mut(2 * k);
+        }
+        store.merge(keys, Vec::new());
+        assert_eq!(store.blocks[0].len(), 300);
+        assert!(store.blocks[0].capacity() <= 300 + headroom(300));
+    }
+
     #[test]
     fn keys_sort_by_ids() {
         // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort.
