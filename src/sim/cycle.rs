@@ -892,9 +892,11 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
 fn pair_reach(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
     let mut d = c.pos[j] - c.pos[i];
-    for k in 0..3 {
-        if c.periodic[k] {
-            d[k] -= c.size[k] * (d[k] / c.size[k]).round();
+    if c.periodic != [false; 3] {
+        for k in 0..3 {
+            if c.periodic[k] {
+                d[k] -= c.size[k] * (d[k] / c.size[k]).round();
+            }
         }
     }
     let (ri, rj) = (c.radius[i], c.radius[j]);
