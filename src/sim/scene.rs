@@ -401,10 +401,14 @@ impl Scene {
     #[inline]
     pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
         let mut d = b - a;
-        for k in 0..3 {
-            if self.settings.periodic[k] {
-                let l = self.size[k];
-                d[k] -= l * (d[k] / l).round();
+        // (One test for the usual scene without periodic axes: measured in the pair loop,
+        // a test per component there cost 7 % of the S1 run.)
+        if self.settings.periodic != [false; 3] {
+            for k in 0..3 {
+                if self.settings.periodic[k] {
+                    let l = self.size[k];
+                    d[k] -= l * (d[k] / l).round();
+                }
             }
         }
         d
