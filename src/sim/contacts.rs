@@ -267,7 +267,8 @@ pub struct WallForce {
 /// several threads splits the work (derived from the hot pairs at each rebuild).
 #[derive(Clone, Debug, Default)]
 pub struct Incidence {
-    /// The pairs of particle `p` are `pairs[start[p]..start[p + 1]]`.
+    /// The pairs of the `s`-th shared particle (`shared_list[s]`) are
+    /// `pairs[start[s]..start[s + 1]]` (made by `split`: only shared particles need them).
     pub start: Vec<u32>,
     pub pairs: Vec<u32>,
     /// The first and the last pair of each particle (`u32::MAX` and 0 if it has none).
@@ -298,31 +299,18 @@ pub struct PairRange {
 }
 
 impl Incidence {
-    /// Counting sort of the pairs' two particles: one pass to count, one to place.
+    /// The first and last pair of each particle, in one pass (the pair lists of the shared
+    /// particles follow in `split`).
     pub fn build(hot: &[HotPair], np: usize) -> Incidence {
-        let mut start = vec![0u32; np + 1];
-        for h in hot {
-            start[h.i as usize + 1] += 1;
-            start[h.j as usize + 1] += 1;
-        }
-        for p in 0..np {
-            start[p + 1] += start[p];
-        }
-        let mut fill = start.clone();
-        let mut pairs = vec![0u32; 2 * hot.len()];
         let mut first = vec![u32::MAX; np];
         let mut last = vec![0u32; np];
         for (k, h) in hot.iter().enumerate() {
             for p in [h.i as usize, h.j as usize] {
-                pairs[fill[p] as usize] = k as u32;
-                fill[p] += 1;
                 first[p] = first[p].min(k as u32);
                 last[p] = k as u32;
             }
         }
         Incidence {
-            start,
-            pairs,
             first,
             last,
             ..Default::default()
@@ -347,15 +335,46 @@ impl Incidence {
                 }
             }
         }
+        // The pair lists of the shared particles: a counting sort over them alone.
+        let mut index = vec![u32::MAX; np];
+        for (s, &q) in self.shared_list.iter().enumerate() {
+            index[q as usize] = s as u32;
+        }
+        self.start.clear();
+        self.start.resize(self.shared_list.len() + 1, 0);
+        for h in hot {
+            for p in [h.i as usize, h.j as usize] {
+                if index[p] != u32::MAX {
+                    self.start[index[p] as usize + 1] += 1;
+                }
+            }
+        }
+        for s in 0..self.shared_list.len() {
+            self.start[s + 1] += self.start[s];
+        }
+        let mut fill = self.start.clone();
+        self.pairs.clear();
+        self.pairs
+            .resize(*self.start.last().unwrap_or(&0) as usize, 0);
         self.slot.clear();
-        self.slot.extend(hot.iter().scan(0u32, |n, h| {
-            Some(if self.shared[h.i as usize] || self.shared[h.j as usize] {
-                *n += 1;
-                *n - 1
+        let mut n = 0u32;
+        for (k, h) in hot.iter().enumerate() {
+            let mut touches = false;
+            for p in [h.i as usize, h.j as usize] {
+                let s = index[p];
+                if s != u32::MAX {
+                    self.pairs[fill[s as usize] as usize] = k as u32;
+                    fill[s as usize] += 1;
+                    touches = true;
+                }
+            }
+            self.slot.push(if touches {
+                n += 1;
+                n - 1
             } else {
                 u32::MAX
-            })
-        }));
+            });
+        }
         self.task_slots.clear();
         let mut next = 0;
         for r in &ranges {
@@ -395,9 +414,9 @@ impl Incidence {
         self.slots = 0;
     }
 
-    /// The pairs of particle `p`, in pair order.
-    pub fn of(&self, p: usize) -> &[u32] {
-        &self.pairs[self.start[p] as usize..self.start[p + 1] as usize]
+    /// The pairs of the `s`-th shared particle, in pair order.
+    pub fn of_shared(&self, s: usize) -> &[u32] {
+        &self.pairs[self.start[s] as usize..self.start[s + 1] as usize]
     }
 }
 
@@ -1040,11 +1059,13 @@ mod tests {
         // Mostly in index order, as in a bed sorted by ids that follow the indices.
         hot.sort_by_key(|h| (h.i.min(h.j) / 8, h.i, h.j));
         let mut inc = Incidence::build(&hot, np);
-        for q in 0..np {
-            let mine: Vec<u32> = (0..hot.len() as u32)
+        let mine = |q: usize| -> Vec<u32> {
+            (0..hot.len() as u32)
                 .filter(|&k| hot[k as usize].i as usize == q || hot[k as usize].j as usize == q)
-                .collect();
-            assert_eq!(inc.of(q), &mine[..], "particle {q}");
+                .collect()
+        };
+        for q in 0..np {
+            let mine = mine(q);
             assert_eq!(inc.first[q], mine.first().copied().unwrap_or(u32::MAX));
             assert_eq!(inc.last[q], mine.last().copied().unwrap_or(0));
         }
@@ -1065,12 +1086,20 @@ mod tests {
         let mut owned = 0;
         for (r, rg) in ranges.iter().enumerate() {
             for q in rg.parts.clone() {
-                let inside = inc.of(q).iter().all(|&k| rg.pairs.contains(&(k as usize)));
+                let inside = mine(q).iter().all(|&k| rg.pairs.contains(&(k as usize)));
                 assert_eq!(inc.shared[q], !inside, "particle {q} of task {r}");
                 owned += inside as usize;
             }
         }
         assert_eq!(inc.shared_list.len(), np - owned);
+        // Each shared particle's list: all its pairs, in pair order.
+        for (s, &q) in inc.shared_list.iter().enumerate() {
+            assert_eq!(
+                inc.of_shared(s),
+                &mine(q as usize)[..],
+                "shared particle {q}"
+            );
+        }
         // Slots: exactly the pairs of shared particles, numbered in pair order, each task's
         // contiguous.
         let mut next = 0;
@@ -1112,7 +1141,12 @@ mod tests {
         for n in 1..=300 {
             grow_block(&mut b);
             b.push(ContactState::default());
-            assert!(b.capacity() <= n + headroom(n), "{} states, capacity {}", n, b.capacity());
+            assert!(
+                b.capacity() <= n + headroom(n),
+                "{} states, capacity {}",
+                n,
+                b.capacity()
+            );
         }
         // The merge sizes a block for its states plus the headroom.
         let mut store = ContactStore::default();

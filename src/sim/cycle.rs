@@ -611,10 +611,11 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
             let (hot, out) = (&*hot, &*out);
             inc.shared_list
                 .par_iter()
-                .map(|&q| {
+                .enumerate()
+                .map(|(s, &q)| {
                     let q = q as usize;
                     let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
-                    for &k in inc.of(q) {
+                    for &k in inc.of_shared(s) {
                         let h = &hot[k as usize];
                         if !h.evaluated {
                             continue;
