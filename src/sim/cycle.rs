@@ -893,6 +893,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
 fn pair_reach(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
     let mut d = c.pos[j] - c.pos[i];
+    // (One test when no axis is periodic: a test per component cost 7 % of the S1 run.)
     if c.periodic != [false; 3] {
         for k in 0..3 {
             if c.periodic[k] {
