@@ -492,13 +492,14 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
             job_out = job();
             force.fill(Vec3::zeros());
             moment.fill(Vec3::zeros());
+            let mut sc = Scratch::new();
             for ((hots, pairs), block) in hot
                 .chunks_mut(BLOCK)
                 .zip(pairs.chunks_mut(BLOCK))
                 .zip(blocks.iter_mut())
             {
                 let mut a = Acc::default();
-                block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |_, h, o| {
+                block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, &mut sc, |_, h, o| {
                     let (i, j) = (h.i as usize, h.j as usize);
                     force[i] -= o.f;
                     force[j] += o.f;
@@ -567,6 +568,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     force.fill(Vec3::zeros());
                     moment.fill(Vec3::zeros());
                     let mut accs = Vec::with_capacity(blocks.len());
+                    let mut sc = Scratch::new();
                     for (b, ((hots, pairs), block)) in hots
                         .chunks_mut(BLOCK)
                         .zip(pairs.chunks_mut(BLOCK))
@@ -575,25 +577,33 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     {
                         let base = r.pairs.start + b * BLOCK;
                         let mut a = Acc::default();
-                        block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, |k, h, o| {
-                            let (i, j) = (h.i as usize, h.j as usize);
-                            let (oi, oj) = (owned(i), owned(j));
-                            if oi {
-                                force[i - lo] -= o.f;
-                                if rotation {
-                                    moment[i - lo] += o.m;
+                        block_forces::<ADH, LIQ>(
+                            hots,
+                            pairs,
+                            block,
+                            &ctx,
+                            &mut a,
+                            &mut sc,
+                            |k, h, o| {
+                                let (i, j) = (h.i as usize, h.j as usize);
+                                let (oi, oj) = (owned(i), owned(j));
+                                if oi {
+                                    force[i - lo] -= o.f;
+                                    if rotation {
+                                        moment[i - lo] += o.m;
+                                    }
                                 }
-                            }
-                            if oj {
-                                force[j - lo] += o.f;
-                                if rotation {
-                                    moment[j - lo] += o.m;
+                                if oj {
+                                    force[j - lo] += o.f;
+                                    if rotation {
+                                        moment[j - lo] += o.m;
+                                    }
                                 }
-                            }
-                            if !(oi && oj) {
-                                outs[inc.slot[base + k] as usize - slot0] = o;
-                            }
-                        });
+                                if !(oi && oj) {
+                                    outs[inc.slot[base + k] as usize - slot0] = o;
+                                }
+                            },
+                        );
                         accs.push(a);
                     }
                     accs
@@ -796,6 +806,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
     block: &mut Vec<ContactState>,
     c: &PairCtx,
     acc: &mut Acc,
+    sc: &mut Scratch,
     mut emit: impl FnMut(usize, &HotPair, PairForce),
 ) {
     use lanes::SUB;
@@ -807,13 +818,14 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         && laws.rotation
         && c.model.rotation
         && laws.dt > 0.0;
-    let mut batch = lanes::Batch::new();
-    let mut kins = [Kin::ZERO; SUB];
-    let mut idx = [0u32; SUB];
-    let mut ds = [Vec3::zeros(); SUB];
-    let mut d2s = [0.0; SUB];
-    // Lane of each evaluated pair in the batch (u8::MAX: general kernel).
-    let mut lane = [u8::MAX; SUB];
+    let Scratch {
+        batch,
+        kins,
+        idx,
+        ds,
+        d2s,
+        lane,
+    } = sc;
     let mut start = 0;
     while start < hots.len() {
         let end = (start + SUB).min(hots.len());
@@ -850,7 +862,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
             }
         }
         if batch.len > 0 {
-            lanes::hertz_noslip(&mut batch, laws.dt);
+            lanes::hertz_noslip(batch, laws.dt);
         }
         for q in 0..m {
             let k = idx[q] as usize;
@@ -882,6 +894,32 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
             emit(k, h, f);
         }
         start = end;
+    }
+}
+
+/// Work arrays of the pair loop's sub-batches, made once per task and step and reused by
+/// every block (every entry is written before it is read; made per block, their 12 KB of
+/// initial zeros cost a noticeable part of the step).
+struct Scratch {
+    batch: lanes::Batch,
+    kins: [Kin; lanes::SUB],
+    idx: [u32; lanes::SUB],
+    ds: [Vec3; lanes::SUB],
+    d2s: [f64; lanes::SUB],
+    /// Lane of each evaluated pair in the batch (u8::MAX: general kernel).
+    lane: [u8; lanes::SUB],
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        Scratch {
+            batch: lanes::Batch::new(),
+            kins: [Kin::ZERO; lanes::SUB],
+            idx: [0; lanes::SUB],
+            ds: [Vec3::zeros(); lanes::SUB],
+            d2s: [0.0; lanes::SUB],
+            lane: [u8::MAX; lanes::SUB],
+        }
     }
 }
 
