@@ -257,14 +257,15 @@ fn single_cell_pairs(
                         hits.resize(most, 0);
                     }
                     for sa in here.clone() {
-                        let (xa, ya, za, ra) = (sx[sa], sy[sa], sz[sa], sr[sa] + tol);
+                        let (xa, ya, za, ra) = (sx[sa], sy[sa], sz[sa], sr[sa]);
                         let mut nh = 0;
                         // Same cell (later slots), then the runs; the test is that of
-                        // `close_slots` (d = x_b − x_a, |d|² as (dx² + dy²) + dz²).
+                        // `close_slots` (d = x_b − x_a, |d|² as (dx² + dy²) + dz²,
+                        // reach (R_a + R_b) + TOL, summed in that order).
                         for run in std::iter::once(sa + 1..here.end).chain(runs.iter().cloned()) {
                             for sb in run {
                                 let (dx, dy, dz) = (sx[sb] - xa, sy[sb] - ya, sz[sb] - za);
-                                let reach = ra + sr[sb];
+                                let reach = ra + sr[sb] + tol;
                                 hits[nh] = sb as u32;
                                 nh += usize::from(dx * dx + dy * dy + dz * dz < reach * reach);
                             }
