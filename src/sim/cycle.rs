@@ -1124,7 +1124,6 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                         spin: &mut *spin,
                         rot: &mut *rot,
                     },
-                    0.0,
                 );
                 if !s.finite {
                     bad = (0..n)
