@@ -271,9 +271,6 @@ pub struct Incidence {
     /// `pairs[start[s]..start[s + 1]]` (made by `split`: only shared particles need them).
     pub start: Vec<u32>,
     pub pairs: Vec<u32>,
-    /// The first and the last pair of each particle (`u32::MAX` and 0 if it has none).
-    pub first: Vec<u32>,
-    pub last: Vec<u32>,
     /// The tasks (for `threads` threads): ranges of whole blocks and particle intervals.
     pub ranges: Vec<PairRange>,
     pub threads: usize,
@@ -288,6 +285,46 @@ pub struct Incidence {
     pub slots: usize,
     /// Their sums (force, moment) in the current step.
     pub shared_sums: Vec<(Vec3, Vec3)>,
+    /// What the tasks took since the split, for the cut of the next one (kept by `clear`).
+    pub balance: Balance,
+}
+
+/// Wall-clock times of the multi-thread force loop since the last split, for the cut of
+/// the next one: per task, where its pairs end (as a fraction of the pair list), the pair
+/// cost it was given ([`cycle::pair_ranges`](super::cycle)) and the seconds its pairs took;
+/// and the seconds of the extra job of the last task (the wall contacts). A task whose pairs
+/// took longer per unit of cost (denser contacts, other data in its caches) gets fewer at
+/// the next split, and the job is weighed by the time it took. Timing chooses only where
+/// the pair list is cut; every particle's sum and every energy partial sum is the same for
+/// any cut.
+#[derive(Clone, Debug, Default)]
+pub struct Balance {
+    pub tasks: Vec<(f64, usize, f64)>,
+    pub job_secs: f64,
+}
+
+impl Balance {
+    /// The relative time per unit of pair cost of the pairs at fraction `x` of the list
+    /// (1 on average; clamped to 1/2 … 2 against a disturbed measurement), and the job's
+    /// cost in pair-cost units; `None` before any measurement.
+    pub fn rates(&self) -> Option<(Vec<(f64, f64)>, f64)> {
+        let cost: usize = self.tasks.iter().map(|t| t.1).sum();
+        let secs: f64 = self.tasks.iter().map(|t| t.2).sum();
+        let ok = cost > 0 && secs > 0.0 && secs.is_finite() && self.job_secs.is_finite();
+        if !ok {
+            return None;
+        }
+        let mean = secs / cost as f64;
+        let rates = self
+            .tasks
+            .iter()
+            .map(|&(end, c, t)| {
+                let r = if c > 0 { t / c as f64 / mean } else { 1.0 };
+                (end, r.clamp(0.5, 2.0))
+            })
+            .collect();
+        Some((rates, self.job_secs / mean))
+    }
 }
 
 /// A task of the multi-thread force loop: a range of whole blocks of pairs and an interval of
@@ -299,101 +336,93 @@ pub struct PairRange {
 }
 
 impl Incidence {
-    /// The first and last pair of each particle, in one pass (the pair lists of the shared
-    /// particles follow in `split`).
-    pub fn build(hot: &[HotPair], np: usize) -> Incidence {
-        let mut first = vec![u32::MAX; np];
-        let mut last = vec![0u32; np];
-        for (k, h) in hot.iter().enumerate() {
-            for p in [h.i as usize, h.j as usize] {
-                first[p] = first[p].min(k as u32);
-                last[p] = k as u32;
-            }
-        }
-        Incidence {
-            first,
-            last,
-            ..Default::default()
-        }
-    }
-
-    /// Sets the tasks and marks the particles they do not own.
-    /// Sets the tasks, marks the particles they do not own and gives each pair of a shared
-    /// particle a force slot (slots in pair order, so each task's are contiguous).
-    pub fn split(&mut self, hot: &[HotPair], ranges: Vec<PairRange>, threads: usize) {
-        let np = self.first.len();
+    /// Sets the tasks, marks the particles they do not own (those with a pair outside the
+    /// task of their interval) and gives each pair of a shared particle a force slot (slots
+    /// in pair order, so each task's are contiguous); then the pair lists of the shared
+    /// particles. The tasks' pairs are scanned in parallel; what is serial is over the few
+    /// pairs of shared particles.
+    pub fn split(&mut self, hot: &[HotPair], np: usize, ranges: Vec<PairRange>, threads: usize) {
+        // The particles each task's pairs touch outside its interval.
+        let foreign: Vec<Vec<u32>> = ranges
+            .par_iter()
+            .map(|r| {
+                let mut v = Vec::new();
+                for h in &hot[r.pairs.clone()] {
+                    for p in [h.i, h.j] {
+                        if !r.parts.contains(&(p as usize)) {
+                            v.push(p);
+                        }
+                    }
+                }
+                v
+            })
+            .collect();
         self.shared.clear();
         self.shared.resize(np, false);
+        for &p in foreign.iter().flatten() {
+            self.shared[p as usize] = true;
+        }
+        drop(foreign);
         self.shared_list.clear();
-        for r in &ranges {
-            for q in r.parts.clone() {
-                let own = self.first[q] as usize >= r.pairs.start
-                    && (self.last[q] as usize) < r.pairs.end;
-                if !own {
-                    self.shared[q] = true;
-                    self.shared_list.push(q as u32);
-                }
+        let shared = &self.shared;
+        self.shared_list
+            .extend((0..np as u32).filter(|&q| shared[q as usize]));
+        // The pairs that touch a shared particle, per task in pair order: their slots.
+        let touching: Vec<Vec<u32>> = ranges
+            .par_iter()
+            .map(|r| {
+                r.pairs
+                    .clone()
+                    .filter(|&k| shared[hot[k].i as usize] || shared[hot[k].j as usize])
+                    .map(|k| k as u32)
+                    .collect()
+            })
+            .collect();
+        self.slot.clear();
+        self.slot.resize(hot.len(), u32::MAX);
+        self.task_slots.clear();
+        let mut next = 0;
+        for t in &touching {
+            for (n, &k) in t.iter().enumerate() {
+                self.slot[k as usize] = (next + n) as u32;
             }
+            self.task_slots.push(next..next + t.len());
+            next += t.len();
         }
-        // The pair lists of the shared particles: a counting sort over them alone.
-        let mut index = vec![u32::MAX; np];
-        for (s, &q) in self.shared_list.iter().enumerate() {
-            index[q as usize] = s as u32;
-        }
+        self.slots = next;
+        // The pair lists of the shared particles: a counting sort over those pairs alone
+        // (`shared_list` is sorted: a particle's place in it by bisection).
+        let list = &self.shared_list;
+        let place = |p: u32| list.binary_search(&p).ok();
         self.start.clear();
-        self.start.resize(self.shared_list.len() + 1, 0);
-        for h in hot {
-            for p in [h.i as usize, h.j as usize] {
-                if index[p] != u32::MAX {
-                    self.start[index[p] as usize + 1] += 1;
-                }
+        self.start.resize(list.len() + 1, 0);
+        for &k in touching.iter().flatten() {
+            let h = &hot[k as usize];
+            for s in [place(h.i), place(h.j)].into_iter().flatten() {
+                self.start[s + 1] += 1;
             }
         }
-        for s in 0..self.shared_list.len() {
+        for s in 0..list.len() {
             self.start[s + 1] += self.start[s];
         }
         let mut fill = self.start.clone();
         self.pairs.clear();
         self.pairs
             .resize(*self.start.last().unwrap_or(&0) as usize, 0);
-        self.slot.clear();
-        let mut n = 0u32;
-        for (k, h) in hot.iter().enumerate() {
-            let mut touches = false;
-            for p in [h.i as usize, h.j as usize] {
-                let s = index[p];
-                if s != u32::MAX {
-                    self.pairs[fill[s as usize] as usize] = k as u32;
-                    fill[s as usize] += 1;
-                    touches = true;
-                }
+        for &k in touching.iter().flatten() {
+            let h = &hot[k as usize];
+            for s in [place(h.i), place(h.j)].into_iter().flatten() {
+                self.pairs[fill[s] as usize] = k;
+                fill[s] += 1;
             }
-            self.slot.push(if touches {
-                n += 1;
-                n - 1
-            } else {
-                u32::MAX
-            });
         }
-        self.task_slots.clear();
-        let mut next = 0;
-        for r in &ranges {
-            let end = next
-                + self.slot[r.pairs.clone()]
-                    .iter()
-                    .filter(|&&k| k != u32::MAX)
-                    .count();
-            self.task_slots.push(next..end);
-            next = end;
-        }
-        self.slots = next;
         self.ranges = ranges;
         self.threads = threads;
     }
 
     /// The lists and the split must be made (anew) for `np` particles and `threads` threads.
     pub fn needs_split(&self, np: usize, threads: usize) -> bool {
-        self.is_empty() || self.first.len() != np || self.threads != threads
+        self.is_empty() || self.shared.len() != np || self.threads != threads
     }
 
     /// Not built (or cleared).
@@ -404,8 +433,6 @@ impl Incidence {
     pub fn clear(&mut self) {
         self.start.clear();
         self.pairs.clear();
-        self.first.clear();
-        self.last.clear();
         self.ranges.clear();
         self.shared.clear();
         self.shared_list.clear();
@@ -895,21 +922,30 @@ impl ContactStore {
         self.scatter.clear();
     }
 
-    /// Builds the compact [`HotPair`] list from the pairs.
+    /// Builds the compact [`HotPair`] list from the pairs (blocks in parallel: once per
+    /// rebuild, one random read of a state per pair that has one).
     pub fn build_hot(&mut self) {
-        let hot: Vec<HotPair> = (0..self.pairs.len())
-            .map(|k| {
-                let s = self.state(k);
-                let p = &self.pairs[k];
-                HotPair {
-                    i: p.i,
-                    j: p.j,
-                    slot: p.slot,
-                    live: s.touching || s.bridge.is_some(),
-                    evaluated: false,
+        let mut hot = std::mem::take(&mut self.hot);
+        hot.clear();
+        hot.resize(self.pairs.len(), HotPair::default());
+        hot.par_chunks_mut(BLOCK)
+            .zip(self.pairs.par_chunks(BLOCK))
+            .zip(self.blocks.par_iter())
+            .for_each(|((hot, pairs), states)| {
+                for (h, p) in hot.iter_mut().zip(pairs) {
+                    let live = p.slot != NO_STATE && {
+                        let s = &states[p.slot as usize];
+                        s.touching || s.bridge.is_some()
+                    };
+                    *h = HotPair {
+                        i: p.i,
+                        j: p.j,
+                        slot: p.slot,
+                        live,
+                        evaluated: false,
+                    };
                 }
-            })
-            .collect();
+            });
         self.hot = hot;
     }
 
@@ -1058,17 +1094,12 @@ mod tests {
         }
         // Mostly in index order, as in a bed sorted by ids that follow the indices.
         hot.sort_by_key(|h| (h.i.min(h.j) / 8, h.i, h.j));
-        let mut inc = Incidence::build(&hot, np);
+        let mut inc = Incidence::default();
         let mine = |q: usize| -> Vec<u32> {
             (0..hot.len() as u32)
                 .filter(|&k| hot[k as usize].i as usize == q || hot[k as usize].j as usize == q)
                 .collect()
         };
-        for q in 0..np {
-            let mine = mine(q);
-            assert_eq!(inc.first[q], mine.first().copied().unwrap_or(u32::MAX));
-            assert_eq!(inc.last[q], mine.last().copied().unwrap_or(0));
-        }
         let cut = [0, 1024, 2048, hot.len()];
         let parts = [
             0,
@@ -1082,7 +1113,7 @@ mod tests {
                 parts: parts[r]..parts[r + 1],
             })
             .collect();
-        inc.split(&hot, ranges.clone(), 3);
+        inc.split(&hot, np, ranges.clone(), 3);
         let mut owned = 0;
         for (r, rg) in ranges.iter().enumerate() {
             for q in rg.parts.clone() {

@@ -11,8 +11,8 @@
 use rayon::prelude::*;
 
 use super::contacts::{
-    self, BLOCK, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange, WallForce,
-    WallPair,
+    self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
+    WallForce, WallPair,
 };
 use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
@@ -510,15 +510,36 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 });
                 acc.add(&a);
             }
+            if rotation {
+                moment
+                    .par_chunks_mut(CHUNK)
+                    .zip(radius.par_chunks(CHUNK))
+                    .for_each(|(m, r)| {
+                        for (m, r) in m.iter_mut().zip(r) {
+                            *m *= *r;
+                        }
+                    });
+            }
         } else {
             let np = force.len();
             let threads = rayon::current_num_threads();
             if scatter.needs_split(np, threads) {
                 // Once per rebuild: one task per thread (measured: more tasks make more
-                // particles shared), balanced on the contacts of this step.
-                *scatter = Incidence::build(hot, np);
-                let ranges = pair_ranges(hot, np, threads, job_cost);
-                scatter.split(hot, ranges, threads);
+                // particles shared), balanced on the contacts of this step and on what
+                // the tasks took since the last split.
+                let (rates, job_cost) = scatter
+                    .balance
+                    .rates()
+                    .unwrap_or_else(|| (Vec::new(), job_cost as f64));
+                let (ranges, costs) = pair_ranges(hot, np, threads, job_cost, &rates);
+                let n = hot.len().max(1) as f64;
+                scatter.balance = Balance {
+                    tasks: (ranges.iter().zip(costs))
+                        .map(|(r, c)| (r.pairs.end as f64 / n, c, 0.0))
+                        .collect(),
+                    job_secs: 0.0,
+                };
+                scatter.split(hot, np, ranges, threads);
             }
             out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
@@ -552,15 +573,18 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     tasks.push((tasks.len(), r.clone(), slots.start, h, p, b, o, f, m));
                 }
             }
-            let task_acc: Vec<Vec<Acc>> = tasks
+            let task_acc: Vec<(Vec<Acc>, f64, f64)> = tasks
                 .into_par_iter()
                 .with_max_len(1)
                 .map(|(t, r, slot0, hots, pairs, blocks, outs, force, moment)| {
+                    let t0 = std::time::Instant::now();
+                    let mut job_secs = 0.0;
                     if t + 1 == n_tasks {
                         let job = job.lock().ok().and_then(|mut j| j.take());
                         if let (Some(job), Ok(mut slot)) = (job, job_out_slot.lock()) {
                             *slot = Some(job());
                         }
+                        job_secs = t0.elapsed().as_secs_f64();
                     }
                     // A particle this task's pairs touch is its own unless shared.
                     let owned = |q: usize| !inc.shared[q];
@@ -606,11 +630,22 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                         );
                         accs.push(a);
                     }
-                    accs
+                    // The moments (per unit radius) of the interval times the radius; the
+                    // shared particles' are set below.
+                    if rotation {
+                        for (m, r) in moment.iter_mut().zip(&radius[r.parts.clone()]) {
+                            *m *= *r;
+                        }
+                    }
+                    (accs, t0.elapsed().as_secs_f64() - job_secs, job_secs)
                 })
                 .collect();
-            for a in task_acc.iter().flatten() {
-                acc.add(a);
+            let mut job_secs = 0.0;
+            for (accs, _, j) in &task_acc {
+                for a in accs {
+                    acc.add(a);
+                }
+                job_secs += j;
             }
             job_out = job_out_slot
                 .into_inner()
@@ -646,19 +681,13 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 .collect_into_vec(&mut sums);
             for (&q, &(f, m)) in inc.shared_list.iter().zip(&sums) {
                 force[q as usize] = f;
-                moment[q as usize] = m;
+                moment[q as usize] = if rotation { m * radius[q as usize] } else { m };
             }
             scatter.shared_sums = sums;
-        }
-        if rotation {
-            moment
-                .par_chunks_mut(CHUNK)
-                .zip(radius.par_chunks(CHUNK))
-                .for_each(|(m, r)| {
-                    for (m, r) in m.iter_mut().zip(r) {
-                        *m *= *r;
-                    }
-                });
+            for (t, (_, p, _)) in scatter.balance.tasks.iter_mut().zip(&task_acc) {
+                t.2 += p;
+            }
+            scatter.balance.job_secs += job_secs;
         }
     }
 
@@ -737,23 +766,41 @@ fn wall_force<const ADH: bool, const LIQ: bool>(
 }
 
 /// Splits the pairs into about `n` ranges of whole blocks of similar cost (pairs evaluated in
-/// the last step count 8, the others 1; the last range also has `extra`), each with the
-/// particle interval that starts at its first pair's first particle. Where the split falls
-/// changes which particles are summed in the pair loop and which from the slots, not the
-/// result.
-fn pair_ranges(hot: &[HotPair], np: usize, n: usize, extra: usize) -> Vec<PairRange> {
+/// the last step count 8, the others 1, times the relative rate measured at their place in
+/// the list, `rates` as from [`Balance::rates`]; the last range also has `extra`), each with
+/// the particle interval that starts at its first pair's first particle; and each range's
+/// pair cost (unweighted). Where the split falls changes which particles are summed in the
+/// pair loop and which from the slots, not the result.
+fn pair_ranges(
+    hot: &[HotPair],
+    np: usize,
+    n: usize,
+    extra: f64,
+    rates: &[(f64, f64)],
+) -> (Vec<PairRange>, Vec<usize>) {
     let cost: Vec<usize> = hot
-        .chunks(BLOCK)
+        .par_chunks(BLOCK)
         .map(|c| c.len() + 7 * c.iter().filter(|h| h.live).count())
         .collect();
-    let total: usize = cost.iter().sum::<usize>() + extra;
+    let nb = cost.len().max(1) as f64;
+    let rate = |b: usize| {
+        let x = (b as f64 + 0.5) / nb;
+        rates.iter().find(|r| x < r.0).map_or(1.0, |r| r.1)
+    };
+    let weight: Vec<f64> = cost
+        .iter()
+        .enumerate()
+        .map(|(b, &c)| c as f64 * rate(b))
+        .collect();
+    let total = weight.iter().sum::<f64>() + extra.max(0.0);
     let n = n.clamp(1, cost.len().max(1));
     let mut ranges = Vec::with_capacity(n);
-    let (mut b0, mut acc, mut p0) = (0, 0, 0);
-    for (b, c) in cost.iter().enumerate() {
-        acc += c;
+    let mut costs = Vec::with_capacity(n);
+    let (mut b0, mut acc, mut p0) = (0, 0.0, 0);
+    for (b, w) in weight.iter().enumerate() {
+        acc += w;
         let last = b + 1 == cost.len();
-        if last || acc * n >= total * (ranges.len() + 1) {
+        if last || acc * n as f64 >= total * (ranges.len() + 1) as f64 {
             let end = ((b + 1) * BLOCK).min(hot.len());
             let p1 = if last {
                 np
@@ -764,6 +811,7 @@ fn pair_ranges(hot: &[HotPair], np: usize, n: usize, extra: usize) -> Vec<PairRa
                 pairs: b0 * BLOCK..end,
                 parts: p0..p1,
             });
+            costs.push(cost[b0..=b].iter().sum());
             (b0, p0) = (b + 1, p1);
         }
     }
@@ -772,8 +820,9 @@ fn pair_ranges(hot: &[HotPair], np: usize, n: usize, extra: usize) -> Vec<PairRa
             pairs: 0..0,
             parts: 0..np,
         });
+        costs.push(0);
     }
-    ranges
+    (ranges, costs)
 }
 
 /// What the pair loop reads of the particles and the scene.
@@ -1366,5 +1415,79 @@ fn remove_lost(scene: &mut Scene) {
                 None => false,
             });
         scene.contacts.clear_derived();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `blocks` blocks of pairs over `np` particles, pair k's first particle k·np/len.
+    fn hot_list(blocks: usize, np: usize) -> Vec<HotPair> {
+        let n = blocks * BLOCK;
+        (0..n)
+            .map(|k| HotPair {
+                i: (k * np / n) as u32,
+                j: ((k * np / n + 1) % np) as u32,
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    fn check_cover(ranges: &[PairRange], n: usize, np: usize) {
+        assert_eq!(ranges[0].pairs.start, 0);
+        assert_eq!(ranges[0].parts.start, 0);
+        for w in ranges.windows(2) {
+            assert_eq!(w[0].pairs.end, w[1].pairs.start);
+            assert_eq!(w[0].parts.end, w[1].parts.start);
+            assert_eq!(w[0].pairs.end % BLOCK, 0, "whole blocks");
+        }
+        assert_eq!(ranges.last().map(|r| r.pairs.end), Some(n));
+        assert_eq!(ranges.last().map(|r| r.parts.end), Some(np));
+    }
+
+    /// Uniform cost: two ranges of 20 blocks each. Pairs measured twice as slow per unit in
+    /// the first half of the list: the first range gets 15 blocks (time 2x for the cut x
+    /// blocks in, against 2(20 − x) + 20 for the rest). A job of 20 blocks' cost in the last
+    /// range moves the cut to 30 blocks.
+    #[test]
+    fn the_cut_follows_the_measured_rates_and_the_job() {
+        let np = 4000;
+        let hot = hot_list(40, np);
+        let (r, costs) = pair_ranges(&hot, np, 2, 0.0, &[]);
+        check_cover(&r, hot.len(), np);
+        assert_eq!(r[0].pairs.end, 20 * BLOCK);
+        assert_eq!(costs, vec![20 * BLOCK, 20 * BLOCK]);
+        assert_eq!(r[1].parts.start, hot[20 * BLOCK].i as usize);
+
+        let (r, costs) = pair_ranges(&hot, np, 2, 0.0, &[(0.5, 2.0), (1.0, 1.0)]);
+        check_cover(&r, hot.len(), np);
+        assert_eq!(r[0].pairs.end, 15 * BLOCK);
+        assert_eq!(costs, vec![15 * BLOCK, 25 * BLOCK]);
+
+        let (r, _) = pair_ranges(&hot, np, 2, (20 * BLOCK) as f64, &[]);
+        check_cover(&r, hot.len(), np);
+        assert_eq!(r[0].pairs.end, 30 * BLOCK);
+    }
+
+    /// Rates relative to the mean time per unit of cost, clamped; the job in cost units.
+    #[test]
+    fn balance_rates_are_relative_to_the_mean() {
+        assert!(Balance::default().rates().is_none());
+        let b = Balance {
+            tasks: vec![(0.5, 100, 2.0), (1.0, 100, 1.0)],
+            job_secs: 0.3,
+        };
+        let (rates, job) = b.rates().unwrap();
+        // Mean 3 s / 200 = 0.015 s per unit.
+        assert!((rates[0].1 - 2.0 / 1.5).abs() < 1e-12);
+        assert!((rates[1].1 - 1.0 / 1.5).abs() < 1e-12);
+        assert!((job - 20.0).abs() < 1e-9);
+        let skewed = Balance {
+            tasks: vec![(0.05, 10, 10.0), (1.0, 190, 0.01)],
+            job_secs: 0.0,
+        };
+        let (rates, _) = skewed.rates().unwrap();
+        assert_eq!((rates[0].1, rates[1].1), (2.0, 0.5));
     }
 }
