@@ -193,7 +193,7 @@ fn pristine(s: &ContactState) -> bool {
 }
 
 /// A candidate pair found by the search (no state yet).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct PairKey {
     pub ida: u32,
     pub idb: u32,
@@ -608,103 +608,10 @@ impl<'de> Deserialize<'de> for ContactStore {
     }
 }
 
-/// Sorts candidate keys, given as the search's blocks in order, by their ids (ida, idb). With
-/// one thread the blocks are joined and radix-sorted. With several the keys are parted by
-/// ranges of `ida` of about equal counts (bounds from a histogram of the high bits), one part
-/// per thread, each part gathered from the blocks and sorted on its own thread, and the parts
-/// joined in order. The id pairs are unique, so the result is the one sorted order whatever
-/// the number of parts.
-fn sort_keys(mut blocks: Vec<Vec<PairKey>>) -> Vec<PairKey> {
-    let threads = rayon::current_num_threads();
-    let total: usize = blocks.iter().map(Vec::len).sum();
-    if threads == 1 || total < 1 << 14 {
-        let mut keys = if blocks.len() == 1 {
-            blocks.pop().unwrap_or_default()
-        } else {
-            let mut keys = Vec::with_capacity(total);
-            for b in &blocks {
-                keys.extend_from_slice(b);
-            }
-            keys
-        };
-        drop(blocks);
-        radix_sort_keys(&mut keys);
-        return keys;
-    }
-    const H: u32 = 11;
-    let max_a = blocks
-        .par_iter()
-        .map(|b| b.iter().map(|k| k.ida).max().unwrap_or(0))
-        .max()
-        .unwrap_or(0);
-    let shift = (32 - max_a.leading_zeros()).saturating_sub(H);
-    let hist = blocks
-        .par_iter()
-        .fold(
-            || vec![0usize; 1 << H],
-            |mut h, b| {
-                for k in b {
-                    h[(k.ida >> shift) as usize] += 1;
-                }
-                h
-            },
-        )
-        .reduce(
-            || vec![0usize; 1 << H],
-            |mut a, b| {
-                for (x, y) in a.iter_mut().zip(b) {
-                    *x += y;
-                }
-                a
-            },
-        );
-    // Part p holds the keys with bounds[p] <= ida < bounds[p + 1] (counts[p] of them).
-    let mut bounds = vec![0u64];
-    let mut counts = Vec::with_capacity(threads);
-    let (mut acc, mut counted) = (0, 0);
-    for (b, &c) in hist.iter().enumerate() {
-        acc += c;
-        if bounds.len() < threads && acc * threads >= total * bounds.len() {
-            bounds.push(((b + 1) as u64) << shift);
-            counts.push(acc - counted);
-            counted = acc;
-        }
-    }
-    bounds.push(u64::MAX);
-    counts.push(total - counted);
-    let mut parts: Vec<Vec<PairKey>> = bounds
-        .par_windows(2)
-        .zip(counts.par_iter())
-        .enumerate()
-        .map(|(p, (w, &n))| {
-            // Gathered without a branch per key (the ids are not in key order): each key is
-            // written, and the end moves on only for keys of this part. The first part has
-            // room for all, so that the others are appended to it.
-            let room = if p == 0 { total } else { n };
-            let mut v = vec![PairKey::default(); room.max(n + 1)];
-            let mut end = 0;
-            for k in blocks.iter().flatten() {
-                v[end.min(n)] = *k;
-                end += usize::from((w[0]..w[1]).contains(&(k.ida as u64)));
-            }
-            v.truncate(n);
-            radix_sort_keys(&mut v);
-            v
-        })
-        .collect();
-    drop(blocks);
-    let mut rest = parts.split_off(1);
-    let mut keys = parts.pop().unwrap_or_default();
-    for p in &mut rest {
-        keys.append(p);
-    }
-    keys
-}
-
 /// Sorts candidate keys by their ids (ida, idb): a least-significant-digit radix sort on
 /// the id pair packed into one integer (11-bit digits, as many passes as the ids need). The
 /// id pairs are unique, so this is the one order a comparison sort would give too.
-fn radix_sort_keys(keys: &mut Vec<PairKey>) {
+fn sort_keys(keys: &mut Vec<PairKey>) {
     const D: u32 = 11;
     let max_id = keys.iter().map(|k| k.idb).max().unwrap_or(0);
     let bits = 32 - max_id.leading_zeros();
@@ -924,15 +831,9 @@ impl ContactStore {
     /// Replaces the pair lists by new candidates (sorted by ids), carrying over the state of
     /// pairs present in both. Pairs that disappear lose their history (they were farther apart
     /// than TOL and carried no bond). The states are laid out anew in pair order.
-    pub fn merge(&mut self, new_pairs: Vec<PairKey>, new_walls: Vec<WallKey>) {
-        self.merge_blocks(vec![new_pairs], new_walls);
-    }
-
-    /// [`merge`](Self::merge) with the new pairs in blocks (as the search makes them, in
-    /// order).
-    pub fn merge_blocks(&mut self, new_blocks: Vec<Vec<PairKey>>, mut new_walls: Vec<WallKey>) {
+    pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
-        let new_pairs = sort_keys(new_blocks);
+        sort_keys(&mut new_pairs);
         // The hot list goes first: a rebuild holds the old and the new lists at once.
         self.hot = Vec::new();
         self.scatter.clear();
@@ -941,16 +842,16 @@ impl ContactStore {
         // Each block of new pairs finds its first old pair by bisection and walks on from
         // there (blocks in parallel; the same pairs and states as one walk), writing its pairs
         // in place and its states into a block of the exact size.
-        let mut pairs: Vec<Pair> = new_pairs
-            .par_iter()
-            .map(|k| Pair {
-                i: k.i,
-                j: k.j,
-                ida: k.ida,
-                idb: k.idb,
-                slot: NO_STATE,
-            })
-            .collect();
+        let mut pairs = vec![
+            Pair {
+                i: 0,
+                j: 0,
+                ida: 0,
+                idb: 0,
+                slot: NO_STATE
+            };
+            new_pairs.len()
+        ];
         let blocks: Vec<Vec<ContactState>> = new_pairs
             .par_chunks(BLOCK)
             .zip(pairs.par_chunks_mut(BLOCK))
@@ -964,22 +865,31 @@ impl ContactStore {
                 let mut states = Vec::with_capacity(n + headroom(n));
                 let mut matched = old_states(&old_pairs, start);
                 for (key, p) in keys.iter().zip(out.iter_mut()) {
-                    if let Some((k_old, s_old)) = matched(key) {
-                        states.push(old_blocks[k_old / BLOCK][s_old as usize].clone());
-                        p.slot = (states.len() - 1) as u32;
-                    }
+                    let slot = match matched(key) {
+                        Some((k_old, s_old)) => {
+                            states.push(old_blocks[k_old / BLOCK][s_old as usize].clone());
+                            (states.len() - 1) as u32
+                        }
+                        None => NO_STATE,
+                    };
+                    *p = Pair {
+                        i: key.i,
+                        j: key.j,
+                        ida: key.ida,
+                        idb: key.idb,
+                        slot,
+                    };
                 }
                 states
             })
             .collect();
-        // (The old states are freed in parallel: each has a tangential history to drop.)
-        old_blocks.into_par_iter().for_each(drop);
+        drop(old_blocks);
         drop(old_pairs);
         drop(new_pairs);
         self.pairs = pairs;
         self.blocks = blocks;
 
-        new_walls.par_sort_unstable();
+        new_walls.sort_unstable();
         self.wall_pairs = carry(
             new_walls,
             std::mem::take(&mut self.wall_pairs),
@@ -1290,22 +1200,10 @@ mod tests {
 
     #[test]
     fn keys_sort_by_ids() {
-        // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort,
-        // serial and parted over 2 or 3 threads (from 2^14 keys).
+        // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort.
         let mut rng = crate::sim::rng::Rng::new(7);
-        for (max, n, threads) in [
-            (1u32, 5000u32, 1),
-            (5, 5000, 1),
-            (3000, 5000, 1),
-            (1 << 20, 5000, 1),
-            (u32::MAX, 5000, 1),
-            (3000, 40_000, 2),
-            (60_000, 40_000, 2),
-            (60_000, 40_000, 3),
-            (1 << 20, 40_000, 3),
-            (u32::MAX, 40_000, 2),
-        ] {
-            let mut keys: Vec<PairKey> = (0..n)
+        for max in [1u32, 5, 3000, 1 << 20, u32::MAX] {
+            let mut keys: Vec<PairKey> = (0..5000u32)
                 .map(|k| {
                     let a = (rng.next_u64() % (max as u64 + 1)) as u32;
                     let b = (rng.next_u64() % (max as u64 + 1)) as u32;
@@ -1322,14 +1220,8 @@ mod tests {
             let mut want = keys.clone();
             want.sort_unstable();
             keys.reverse();
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            // In blocks of 1000, as the search gives them.
-            let blocks: Vec<Vec<PairKey>> = keys.chunks(1000).map(|c| c.to_vec()).collect();
-            let keys = pool.install(|| sort_keys(blocks));
-            assert_eq!(keys, want, "ids up to {max}, {n} keys, {threads} threads");
+            sort_keys(&mut keys);
+            assert_eq!(keys, want, "ids up to {max}");
         }
     }
 

@@ -85,19 +85,9 @@ fn wrap(c: i64, n: usize) -> usize {
 
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
 pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridInfo) {
-    let (blocks, walls, info) = candidate_blocks(scene, tol);
-    (blocks.concat(), walls, info)
-}
-
-/// [`candidates`], the pairs in the blocks the search made them in (in order; the merge
-/// sorts them, so that the blocks are not first joined into one list).
-pub fn candidate_blocks(scene: &Scene, tol: f64) -> (Vec<Vec<PairKey>>, Vec<WallKey>, GridInfo) {
     let (pairs, info) = match single_cell_grid(scene, tol) {
         Some((n, cell)) => single_cell_pairs(scene, tol, n, cell),
-        None => {
-            let (pairs, info) = multi_entry_pairs(scene, tol);
-            (vec![pairs], info)
-        }
+        None => multi_entry_pairs(scene, tol),
     };
     (pairs, wall_candidates(scene, tol), info)
 }
@@ -130,7 +120,7 @@ fn single_cell_pairs(
     tol: f64,
     n: [usize; 3],
     cell: [f64; 3],
-) -> (Vec<Vec<PairKey>>, GridInfo) {
+) -> (Vec<PairKey>, GridInfo) {
     let p = &scene.particles;
     let np = p.len();
     let periodic = scene.settings.periodic;
@@ -154,7 +144,19 @@ fn single_cell_pairs(
         .with_min_len(4096)
         .map(|i| flat(coord(i)) as u32)
         .collect();
-    let (start, members) = counting_sort(&cell_of, ncell);
+    let mut start = vec![0u32; ncell + 1];
+    for &c in &cell_of {
+        start[c as usize + 1] += 1;
+    }
+    for c in 0..ncell {
+        start[c + 1] += start[c];
+    }
+    let mut fill = start.clone();
+    let mut members = vec![0u32; np];
+    for (i, &c) in cell_of.iter().enumerate() {
+        members[fill[c as usize] as usize] = i as u32;
+        fill[c as usize] += 1;
+    }
     let slots_of = |c: usize| start[c] as usize..start[c + 1] as usize;
     // The 13 forward neighbours.
     let mut stencil = Vec::with_capacity(13);
@@ -326,6 +328,10 @@ fn single_cell_pairs(
             pairs
         })
         .collect();
+    let mut pairs = Vec::with_capacity(per_block.iter().map(Vec::len).sum());
+    for v in per_block {
+        pairs.extend(v);
+    }
     let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
     let info = GridInfo {
         n,
@@ -334,76 +340,7 @@ fn single_cell_pairs(
         max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
         empty_boxes: counts.filter(|&m| m == 0).count(),
     };
-    (per_block, info)
-}
-
-/// The particles ordered by cell, in index order within a cell (a stable counting sort):
-/// cell c's are `members[start[c]..start[c + 1]]`. With several threads the particles are
-/// counted and placed in one contiguous part per thread, each part's particles of a cell
-/// after those of the parts before it: the same arrays as one pass.
-fn counting_sort(cell_of: &[u32], ncell: usize) -> (Vec<u32>, Vec<u32>) {
-    let np = cell_of.len();
-    let parts = rayon::current_num_threads().min(np >> 14).max(1);
-    if parts == 1 {
-        let mut start = vec![0u32; ncell + 1];
-        for &c in cell_of {
-            start[c as usize + 1] += 1;
-        }
-        for c in 0..ncell {
-            start[c + 1] += start[c];
-        }
-        let mut fill = start.clone();
-        let mut members = vec![0u32; np];
-        for (i, &c) in cell_of.iter().enumerate() {
-            members[fill[c as usize] as usize] = i as u32;
-            fill[c as usize] += 1;
-        }
-        return (start, members);
-    }
-    let chunk = np.div_ceil(parts);
-    let counts: Vec<Vec<u32>> = cell_of
-        .par_chunks(chunk)
-        .map(|part| {
-            let mut n = vec![0u32; ncell];
-            for &c in part {
-                n[c as usize] += 1;
-            }
-            n
-        })
-        .collect();
-    let mut start = vec![0u32; ncell + 1];
-    for c in 0..ncell {
-        let here: u32 = counts.iter().map(|n| n[c]).sum();
-        start[c + 1] = start[c] + here;
-    }
-    // Where each part's particles of each cell begin: after the cell's start and the counts
-    // of the parts before it.
-    let mut fills = counts;
-    let mut acc = start[..ncell].to_vec();
-    for f in fills.iter_mut() {
-        for (a, n) in acc.iter_mut().zip(f.iter_mut()) {
-            let here = *n;
-            *n = *a;
-            *a += here;
-        }
-    }
-    // Each part places its particles; the slots of different parts are distinct, so the
-    // (relaxed, uncontended) atomic stores are plain stores that need no order.
-    use std::sync::atomic::{AtomicU32, Ordering};
-    let members: Vec<AtomicU32> = (0..np).map(|_| AtomicU32::new(0)).collect();
-    cell_of
-        .par_chunks(chunk)
-        .zip(fills.par_iter_mut())
-        .enumerate()
-        .for_each(|(t, (part, fill))| {
-            for (k, &c) in part.iter().enumerate() {
-                let s = &mut fill[c as usize];
-                members[*s as usize].store((t * chunk + k) as u32, Ordering::Relaxed);
-                *s += 1;
-            }
-        });
-    let members = members.into_iter().map(AtomicU32::into_inner).collect();
-    (start, members)
+    (pairs, info)
 }
 
 /// Multi-entry search (TRUBAL's): each particle is entered in every box its cube of side
@@ -583,37 +520,4 @@ pub fn brute_force_pairs(scene: &Scene, tol: f64) -> Vec<(u32, u32)> {
     }
     v.sort_unstable();
     v
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The counting sort gives the particles by cell, in index order within a cell, with one
-    /// thread and parted over two or three (from 2^14 particles on).
-    #[test]
-    fn counting_sort_is_stable_for_any_thread_count() {
-        let mut rng = crate::sim::rng::Rng::new(11);
-        for (np, ncell) in [(1000, 50), (40_000, 7000), (50_001, 3)] {
-            let cell_of: Vec<u32> = (0..np)
-                .map(|_| (rng.next_u64() % ncell as u64) as u32)
-                .collect();
-            let mut want: Vec<u32> = (0..np as u32).collect();
-            want.sort_by_key(|&i| (cell_of[i as usize], i));
-            for threads in [1, 2, 3] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                let (start, members) = pool.install(|| counting_sort(&cell_of, ncell));
-                assert_eq!(members, want, "{np} particles, {threads} threads");
-                assert_eq!(start.len(), ncell + 1);
-                for c in 0..ncell {
-                    let here = &members[start[c] as usize..start[c + 1] as usize];
-                    assert!(here.iter().all(|&i| cell_of[i as usize] as usize == c));
-                }
-                assert_eq!(start[ncell] as usize, np);
-            }
-        }
-    }
 }
