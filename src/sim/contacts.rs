@@ -241,6 +241,9 @@ pub struct HotPair {
     /// The pair was evaluated in this step (its `out` slot holds its force); pairs skipped as
     /// far apart carry no force and their `out` slot is stale.
     pub evaluated: bool,
+    /// Set by [`Incidence::split`]: bit 0 if the first particle is shared between tasks,
+    /// bit 1 if the second is (the multi-thread loop's ownership test, without a lookup).
+    pub shared: u8,
 }
 
 /// What the force loop works on (see [`ContactStore::step_parts`]).
@@ -341,7 +344,13 @@ impl Incidence {
     /// in pair order, so each task's are contiguous); then the pair lists of the shared
     /// particles. The tasks' pairs are scanned in parallel; what is serial is over the few
     /// pairs of shared particles.
-    pub fn split(&mut self, hot: &[HotPair], np: usize, ranges: Vec<PairRange>, threads: usize) {
+    pub fn split(
+        &mut self,
+        hot: &mut [HotPair],
+        np: usize,
+        ranges: Vec<PairRange>,
+        threads: usize,
+    ) {
         // The particles each task's pairs touch outside its interval.
         let foreign: Vec<Vec<u32>> = ranges
             .par_iter()
@@ -367,13 +376,17 @@ impl Incidence {
         let shared = &self.shared;
         self.shared_list
             .extend((0..np as u32).filter(|&q| shared[q as usize]));
+        hot.par_iter_mut().for_each(|h| {
+            h.shared = u8::from(shared[h.i as usize]) | (u8::from(shared[h.j as usize]) << 1);
+        });
+        let hot = &*hot;
         // The pairs that touch a shared particle, per task in pair order: their slots.
         let touching: Vec<Vec<u32>> = ranges
             .par_iter()
             .map(|r| {
                 r.pairs
                     .clone()
-                    .filter(|&k| shared[hot[k].i as usize] || shared[hot[k].j as usize])
+                    .filter(|&k| hot[k].shared != 0)
                     .map(|k| k as u32)
                     .collect()
             })
@@ -943,6 +956,7 @@ impl ContactStore {
                         slot: p.slot,
                         live,
                         evaluated: false,
+                        shared: 0,
                     };
                 }
             });
@@ -1095,9 +1109,10 @@ mod tests {
         // Mostly in index order, as in a bed sorted by ids that follow the indices.
         hot.sort_by_key(|h| (h.i.min(h.j) / 8, h.i, h.j));
         let mut inc = Incidence::default();
+        let all = hot.clone();
         let mine = |q: usize| -> Vec<u32> {
-            (0..hot.len() as u32)
-                .filter(|&k| hot[k as usize].i as usize == q || hot[k as usize].j as usize == q)
+            (0..all.len() as u32)
+                .filter(|&k| all[k as usize].i as usize == q || all[k as usize].j as usize == q)
                 .collect()
         };
         let cut = [0, 1024, 2048, hot.len()];
@@ -1113,7 +1128,13 @@ mod tests {
                 parts: parts[r]..parts[r + 1],
             })
             .collect();
-        inc.split(&hot, np, ranges.clone(), 3);
+        inc.split(&mut hot, np, ranges.clone(), 3);
+        // Each pair carries its particles' shared flags.
+        for h in &hot {
+            let want =
+                u8::from(inc.shared[h.i as usize]) | (u8::from(inc.shared[h.j as usize]) << 1);
+            assert_eq!(h.shared, want);
+        }
         let mut owned = 0;
         for (r, rg) in ranges.iter().enumerate() {
             for q in rg.parts.clone() {

@@ -539,7 +539,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                         .collect(),
                     job_secs: 0.0,
                 };
-                scatter.split(hot, np, ranges, threads);
+                scatter.split(&mut *hot, np, ranges, threads);
             }
             out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
@@ -586,8 +586,6 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                         }
                         job_secs = t0.elapsed().as_secs_f64();
                     }
-                    // A particle this task's pairs touch is its own unless shared.
-                    let owned = |q: usize| !inc.shared[q];
                     let lo = r.parts.start;
                     force.fill(Vec3::zeros());
                     moment.fill(Vec3::zeros());
@@ -610,7 +608,9 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                             &mut sc,
                             |k, h, o| {
                                 let (i, j) = (h.i as usize, h.j as usize);
-                                let (oi, oj) = (owned(i), owned(j));
+                                // A particle this task's pairs touch is its own unless
+                                // shared.
+                                let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
                                 if oi {
                                     force[i - lo] -= o.f;
                                     if rotation {
