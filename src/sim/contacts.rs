@@ -307,6 +307,11 @@ pub struct Balance {
 }
 
 impl Balance {
+    /// Some task time has been measured since the last split.
+    pub fn measured(&self) -> bool {
+        self.tasks.iter().any(|t| t.2 > 0.0)
+    }
+
     /// The relative time per unit of pair cost of the pairs at fraction `x` of the list
     /// (1 on average; clamped to 1/2 … 2 against a disturbed measurement), and the job's
     /// cost in pair-cost units; `None` before any measurement.

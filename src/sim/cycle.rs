@@ -402,9 +402,10 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             acc.add(&pair_acc);
         } else {
             // The wall contacts (their forces into a list) are one more job of the pair loop,
-            // weighed when the split is made: live wall pairs like contacts.
+            // weighed when the split is made by the time they took since the last one, or
+            // before any measurement, live wall pairs like contacts.
             let threads = rayon::current_num_threads();
-            let wall_cost = if scatter.needs_split(np, threads) {
+            let wall_cost = if scatter.needs_split(np, threads) && !scatter.balance.measured() {
                 let live = wall_pairs
                     .iter()
                     .filter(|c| c.s.touching || c.s.bridge.is_some());
@@ -1474,10 +1475,12 @@ mod tests {
     #[test]
     fn balance_rates_are_relative_to_the_mean() {
         assert!(Balance::default().rates().is_none());
+        assert!(!Balance::default().measured());
         let b = Balance {
             tasks: vec![(0.5, 100, 2.0), (1.0, 100, 1.0)],
             job_secs: 0.3,
         };
+        assert!(b.measured());
         let (rates, job) = b.rates().unwrap();
         // Mean 3 s / 200 = 0.015 s per unit.
         assert!((rates[0].1 - 2.0 / 1.5).abs() < 1e-12);
