@@ -42,15 +42,21 @@ fn one_and_two_threads_give_the_same_bits() {
 }
 
 /// A settling bed built by RGEnerate (Morton numbering, single-cell search), with walls,
-/// friction and restitution damping, dry and moist: the whole saved state after 3000 steps is
-/// the same, byte for byte, with 1 and 2 threads.
+/// friction and restitution damping, dry, moist and with a moving spherical indenter: the
+/// whole saved state after 3000 steps is the same, byte for byte, with 1 and 2 threads.
 #[test]
 fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
     let dir = std::env::temp_dir().join(format!("trubal_threads_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (name, extra) in [("dry", ""), ("moist", "liquid 0.1 0.025 0 0.01\n")] {
+    for (name, extra) in [
+        ("dry", ""),
+        ("moist", "liquid 0.1 0.025 0 0.01\n"),
+        // A spherical indenter that moves down through the settling particles (the
+        // update adds the wall forces of each chunk's particles with several threads).
+        ("indenter", "dwall ob 0.01 0.01 0.09 0.005 v 0 0 -1.2\n"),
+    ] {
         let deck = format!(
-            "start 0.02 0.02 0.08 3000 3000 5\nset open all\nrad 1e-3 1\ndensity 2500 1\nymd 1e7 1\npra 0.3 1\n\
+            "start 0.02 0.02 0.08 3000 3000 6\nset open all\nrad 1e-3 1\ndensity 2500 1\nymd 1e7 1\npra 0.3 1\n\
              friction 0.5 1\ndamping restitution 0.5\ngravity 0 0 -9.81\nfraction 0.2\n\
              dwall p 1 0 0 0\ndwall p -1 0 0 -0.02\ndwall p 0 1 0 0\ndwall p 0 -1 0 -0.02\n\
              dwall p 0 0 1 0\nrgenerate 1500 1 1 0\nset tangential noslip\n{extra}cycle 3000\n\

@@ -254,7 +254,7 @@ pub type StepParts<'a> = (
     &'a mut Vec<PairForce>,
     &'a mut Incidence,
     &'a mut [WallPair],
-    &'a mut Vec<WallForce>,
+    &'a mut WallOut,
 );
 
 /// Force of an evaluated particle–wall pair (index `pair` in the wall pairs) in the current
@@ -264,6 +264,35 @@ pub struct WallForce {
     pub f: Vec3,
     pub m: Vec3,
     pub pair: u32,
+    /// The pair's particle.
+    pub i: u32,
+}
+
+/// The wall contacts' output of the current step with several threads (derived; not
+/// saved): made by the wall job alongside the pair loop, applied to the particles by the
+/// particle update, chunk by chunk (`cycle::move_all`).
+#[derive(Clone, Debug, Default)]
+pub struct WallOut {
+    /// The evaluated wall pairs' forces, in pair order.
+    pub forces: Vec<WallForce>,
+    /// Indices into `forces` grouped by the update's chunk of their particle (in pair order
+    /// within a chunk, so each particle gets its wall forces in pair order): chunk `c` has
+    /// `order[start[c]..start[c + 1]]`.
+    pub order: Vec<u32>,
+    pub start: Vec<u32>,
+    /// The force on each wall: the sum of its pairs' forces in pair order.
+    pub on_wall: Vec<[f64; 3]>,
+}
+
+impl WallOut {
+    /// The entries of chunk `c`.
+    pub fn of_chunk(&self, c: usize) -> impl Iterator<Item = &WallForce> + '_ {
+        let r = match (self.start.get(c), self.start.get(c + 1)) {
+            (Some(&a), Some(&b)) => a as usize..b as usize,
+            _ => 0..0,
+        };
+        self.order[r].iter().map(|&e| &self.forces[e as usize])
+    }
 }
 
 /// For each particle, the pairs that touch it, in pair order, and how the force loop with
@@ -286,8 +315,6 @@ pub struct Incidence {
     pub slot: Vec<u32>,
     pub task_slots: Vec<std::ops::Range<usize>>,
     pub slots: usize,
-    /// Their sums (force, moment) in the current step.
-    pub shared_sums: Vec<(Vec3, Vec3)>,
     /// What the tasks took since the split, for the cut of the next one (kept by `clear`).
     pub balance: Balance,
 }
@@ -480,9 +507,13 @@ impl Incidence {
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
-    /// Forces of the wall pairs evaluated in the current step, in pair order (derived; not
-    /// saved; used with several threads).
-    pub wall_out: Vec<WallForce>,
+    /// Forces of the wall pairs evaluated in the current step (derived; not saved; used
+    /// with several threads).
+    pub wall_out: WallOut,
+    /// With several threads the force step leaves the shared particles' sums (from the
+    /// pairs' slots) and the wall forces to the particle update, which adds them chunk by
+    /// chunk before it moves the particles (`cycle::move_all`; derived, not saved).
+    pub deferred: bool,
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.
     pub hot: Vec<HotPair>,
@@ -930,7 +961,8 @@ impl ContactStore {
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
         self.out.clear();
-        self.wall_out.clear();
+        self.wall_out = WallOut::default();
+        self.deferred = false;
         self.clear_hot();
     }
 

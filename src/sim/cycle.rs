@@ -11,8 +11,8 @@
 use rayon::prelude::*;
 
 use super::contacts::{
-    self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
-    WallForce, WallPair,
+    self, BLOCK, Balance, ContactState, ContactStore, HotPair, Incidence, NO_STATE, Pair,
+    PairForce, PairRange, WallForce, WallOut, WallPair,
 };
 use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
@@ -414,7 +414,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
                 0
             };
             let wall_job =
-                || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx);
+                || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
             let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
                 (hot, pairs, blocks, out, scatter),
                 (force, moment, radius),
@@ -430,41 +430,104 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
 
     // ---- particle–wall contacts -------------------------------------------------------
     // Applied in pair order after the particle–particle sums; the energy increments are
-    // summed per chunk of `BLOCK` wall pairs, as `wall_forces` does.
-    for w in scene.walls.iter_mut() {
-        w.force = [0.0; 3];
-    }
-    let (p_force, p_moment) = (&mut scene.particles.force, &mut scene.particles.moment);
-    let apply =
-        |p_force: &mut [Vec3], p_moment: &mut [Vec3], w: &mut Wall, i: usize, o: &WallForce| {
-            p_force[i] -= o.f;
-            for kk in 0..3 {
-                w.force[kk] += o.f[kk];
-            }
-            if model.rotation {
-                p_moment[i] += o.m;
-            }
-        };
+    // summed per chunk of `BLOCK` wall pairs, as `wall_forces` does. With several threads
+    // the wall job has made the walls' forces; the particles get theirs in the update
+    // (`move_all`), with the shared particles' sums.
     if one_thread {
+        for w in scene.walls.iter_mut() {
+            w.force = [0.0; 3];
+        }
+        let (p_force, p_moment) = (&mut scene.particles.force, &mut scene.particles.moment);
         for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
             let mut a = Acc::default();
             for c in chunk.iter_mut() {
                 let walls = (&scene.walls[..], &shapes[..]);
                 if let Some(o) = wall_force::<ADH, LIQ>(c, walls, &wall_ctx, &mut a) {
                     let w = &mut scene.walls[c.wall as usize];
-                    apply(p_force, p_moment, w, c.i as usize, &o);
+                    let i = c.i as usize;
+                    p_force[i] -= o.f;
+                    for kk in 0..3 {
+                        w.force[kk] += o.f[kk];
+                    }
+                    if model.rotation {
+                        p_moment[i] += o.m;
+                    }
                 }
             }
             acc.add(&a);
         }
     } else {
-        for o in &scene.contacts.wall_out {
-            let c = &scene.contacts.wall_pairs[o.pair as usize];
-            let w = &mut scene.walls[c.wall as usize];
-            apply(p_force, p_moment, w, c.i as usize, o);
+        for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
+            w.force = *f;
         }
+        scene.contacts.deferred = true;
     }
     acc
+}
+
+/// What the force step left to the update with several threads (see
+/// [`ContactStore::deferred`]), for the particles of chunk `c` (`force`, `moment`: the
+/// chunk's): the shared particles' sums from their pairs' slots, in pair order, then each
+/// particle's wall forces in pair order — the same sums, in the same order, as with one
+/// thread.
+fn finish_chunk(
+    contacts: &ContactStore,
+    c: usize,
+    (force, moment): (&mut [Vec3], &mut [Vec3]),
+    radius: &[f64],
+    rotation: bool,
+) {
+    let lo = c * CHUNK;
+    let hi = lo + force.len();
+    let inc = &contacts.scatter;
+    let (hot, out) = (&contacts.hot, &contacts.out);
+    let list = &inc.shared_list;
+    let first = list.partition_point(|&q| (q as usize) < lo);
+    let last = list.partition_point(|&q| (q as usize) < hi);
+    for (s, &q) in list.iter().enumerate().take(last).skip(first) {
+        let q = q as usize;
+        let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+        for &k in inc.of_shared(s) {
+            let h = &hot[k as usize];
+            if !h.evaluated {
+                continue;
+            }
+            let o = &out[inc.slot[k as usize] as usize];
+            // Force −f on the pair's first particle (A), +f on B.
+            if h.i as usize == q {
+                f -= o.f;
+            } else {
+                f += o.f;
+            }
+            if rotation {
+                m += o.m;
+            }
+        }
+        force[q - lo] = f;
+        moment[q - lo] = if rotation { m * radius[q] } else { m };
+    }
+    for o in contacts.wall_out.of_chunk(c) {
+        let i = o.i as usize - lo;
+        force[i] -= o.f;
+        if rotation {
+            moment[i] += o.m;
+        }
+    }
+}
+
+/// The deferred part of the force step without the update (after `prime`).
+fn finish_deferred(scene: &mut Scene, rotation: bool) {
+    if !std::mem::take(&mut scene.contacts.deferred) {
+        return;
+    }
+    let contacts = &scene.contacts;
+    let p = &mut scene.particles;
+    let radius = &p.radius;
+    p.force
+        .par_chunks_mut(CHUNK)
+        .zip(p.moment.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (f, m))| finish_chunk(contacts, c, (f, m), radius, rotation));
 }
 
 /// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two
@@ -545,7 +608,6 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
             out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
             let job_out_slot = std::sync::Mutex::new(None);
-            let mut sums = std::mem::take(&mut scatter.shared_sums);
             let inc = &*scatter;
             let ranges = &inc.ranges;
             let n_tasks = ranges.len();
@@ -653,38 +715,8 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 .ok()
                 .flatten()
                 .expect("the last task ran the job");
-            // The particles no task owned: their pairs' slots, in pair order.
-            let (hot, out) = (&*hot, &*out);
-            inc.shared_list
-                .par_iter()
-                .enumerate()
-                .map(|(s, &q)| {
-                    let q = q as usize;
-                    let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
-                    for &k in inc.of_shared(s) {
-                        let h = &hot[k as usize];
-                        if !h.evaluated {
-                            continue;
-                        }
-                        let o = &out[inc.slot[k as usize] as usize];
-                        // Force −f on the pair's first particle (A), +f on B.
-                        if h.i as usize == q {
-                            f -= o.f;
-                        } else {
-                            f += o.f;
-                        }
-                        if rotation {
-                            m += o.m;
-                        }
-                    }
-                    (f, m)
-                })
-                .collect_into_vec(&mut sums);
-            for (&q, &(f, m)) in inc.shared_list.iter().zip(&sums) {
-                force[q as usize] = f;
-                moment[q as usize] = if rotation { m * radius[q as usize] } else { m };
-            }
-            scatter.shared_sums = sums;
+            // The particles no task owned are summed from their pairs' slots by the
+            // update (`finish_chunk`).
             for (t, (_, p, _)) in scatter.balance.tasks.iter_mut().zip(&task_acc) {
                 t.2 += p;
             }
@@ -696,14 +728,19 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
 }
 
 /// The particle–wall contacts: each evaluated pair's force and moment into `out`, in pair
-/// order; returns the energy increments per chunk of `BLOCK` pairs.
+/// order, with the force on each wall (summed in pair order) and the entries grouped by the
+/// update's chunk of their particle (`np` particles); returns the energy increments per
+/// chunk of `BLOCK` pairs.
 fn wall_forces<const ADH: bool, const LIQ: bool>(
     wall_pairs: &mut [WallPair],
-    out: &mut Vec<WallForce>,
+    out: &mut WallOut,
     walls: (&[Wall], &[WallShape]),
     c: &PairCtx,
+    np: usize,
 ) -> Vec<Acc> {
-    out.clear();
+    out.forces.clear();
+    out.on_wall.clear();
+    out.on_wall.resize(walls.0.len(), [0.0; 3]);
     let accs = wall_pairs
         .chunks_mut(BLOCK)
         .enumerate()
@@ -712,12 +749,34 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
             for (k, c2) in pairs.iter_mut().enumerate() {
                 if let Some(mut o) = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc) {
                     o.pair = (b * BLOCK + k) as u32;
-                    out.push(o);
+                    let w = &mut out.on_wall[c2.wall as usize];
+                    for (wk, fk) in w.iter_mut().zip(o.f.iter()) {
+                        *wk += fk;
+                    }
+                    out.forces.push(o);
                 }
             }
             acc
         })
         .collect();
+    // A counting sort of the entries by chunk (stable: pair order within a chunk).
+    let nchunks = np.div_ceil(CHUNK);
+    out.start.clear();
+    out.start.resize(nchunks + 2, 0);
+    for o in &out.forces {
+        out.start[o.i as usize / CHUNK + 2] += 1;
+    }
+    for c in 2..out.start.len() {
+        out.start[c] += out.start[c - 1];
+    }
+    out.order.clear();
+    out.order.resize(out.forces.len(), 0);
+    for (e, o) in out.forces.iter().enumerate() {
+        let at = &mut out.start[o.i as usize / CHUNK + 1];
+        out.order[*at as usize] = e as u32;
+        *at += 1;
+    }
+    out.start.pop();
     accs
 }
 
@@ -763,6 +822,7 @@ fn wall_force<const ADH: bool, const LIQ: bool>(
             Vec3::zeros()
         },
         pair: 0,
+        i: c.i,
     })
 }
 
@@ -1041,6 +1101,7 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
     let before = super::energy::stored(scene).total();
     rebuild(scene, tol);
     let _ = forces(scene, model, 0.0);
+    finish_deferred(scene, model.rotation);
     let after = super::energy::stored(scene).total();
     scene.ledger.commands += after - before;
 }
@@ -1061,7 +1122,13 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         wall_work -= f.dot(&Vec3::from(w.vel)) * dt;
     }
     // Radial force and radial work of spherical walls.
-    for c in scene.contacts.wall_pairs.iter() {
+    let round = |w: &Wall| matches!(w.geom, WallGeom::Sphere { .. } | WallGeom::Obstacle { .. });
+    let wall_pairs: &[WallPair] = if scene.walls.iter().any(round) {
+        &scene.contacts.wall_pairs
+    } else {
+        &[]
+    };
+    for c in wall_pairs {
         let w = &mut scene.walls[c.wall as usize];
         if let WallGeom::Sphere { .. } | WallGeom::Obstacle { .. } = w.geom {
             let fn_ = c.s.normal_force
@@ -1111,9 +1178,10 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         }
         c
     });
+    let deferred = std::mem::take(&mut scene.contacts.deferred);
+    let contacts = &scene.contacts;
     let p = &mut scene.particles;
-    let (mass, agg, force, fixed, radius, moment) =
-        (&p.mass, &p.agg, &p.force, &p.fixed, &p.radius, &p.moment);
+    let (mass, agg, fixed, radius) = (&p.mass, &p.agg, &p.fixed, &p.radius);
     // Parallel over fixed chunks of particles; the partial sums are added in chunk order,
     // so the ledger does not depend on the number of threads.
     let parts: Vec<(f64, f64, f64, Option<usize>, bool)> = p
@@ -1123,115 +1191,132 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         .zip(p.disp.par_chunks_mut(CHUNK))
         .zip(p.spin.par_chunks_mut(CHUNK))
         .zip(p.rot.par_chunks_mut(CHUNK))
+        .zip(p.force.par_chunks_mut(CHUNK))
+        .zip(p.moment.par_chunks_mut(CHUNK))
         .enumerate()
-        .map(|(chunk, ((((vel, pos), disp), spin), rot))| {
-            let mut w_grav = 0.0;
-            let mut d_mass = 0.0;
-            let mut max_disp = 0.0f64;
-            let mut bad: Option<usize> = None;
-            let mut outside = false;
-            // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
-            // the compiler vectorises (the divisions then do not stall the update below).
-            let lo = chunk * CHUNK;
-            let mut step_v = [0.0; CHUNK];
-            let mut step_w = [0.0; CHUNK];
-            step_factors(
-                &mass[lo..lo + vel.len()],
-                &radius[lo..lo + vel.len()],
-                dt,
-                inv,
-                &mut step_v,
-                &mut step_w,
-            );
-            let hi = lo + vel.len();
-            // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
-            // mass damping): the component update, bitwise the same as the loop below.
-            let plain_chunk = plain.is_some()
-                && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
-                    fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
-                });
-            if let (Some(c), true) = (&plain, plain_chunk) {
-                let n = vel.len();
-                let s = leapfrog::update(
-                    c,
-                    leapfrog::Run {
-                        mass: &mass[lo..hi],
-                        step_v: &step_v[..n],
-                        step_w: &step_w[..n],
-                        force: &force[lo..hi],
-                        moment: &moment[lo..hi],
-                        vel: &mut *vel,
-                        pos: &mut *pos,
-                        disp: &mut *disp,
-                        spin: &mut *spin,
-                        rot: &mut *rot,
-                    },
-                );
-                if !s.finite {
-                    bad = (0..n)
-                        .find(|&l| !all_finite(&pos[l], &vel[l]))
-                        .map(|l| lo + l);
+        .map(
+            |(chunk, ((((((vel, pos), disp), spin), rot), force), moment))| {
+                // First what the force step left (several threads): this chunk's shared
+                // particles and wall forces.
+                if deferred {
+                    finish_chunk(
+                        contacts,
+                        chunk,
+                        (&mut *force, &mut *moment),
+                        radius,
+                        rotation,
+                    );
                 }
-                return (s.w_grav, 0.0, s.max_disp, bad, s.outside);
-            }
-            for l in 0..vel.len() {
-                let i = chunk * CHUNK + l;
-                let m = mass[i];
-                let mut body = g;
-                let a = agg[i] as usize;
-                if a > 0 && cg[a - 1] > 0.0 {
-                    if let Some(c) = centres[a - 1] {
-                        let e = c - pos[l];
-                        let len = e.norm();
-                        if len > 0.0 {
-                            body += e * (cg[a - 1] / len);
+                let (force, moment) = (&*force, &*moment);
+                let mut w_grav = 0.0;
+                let mut d_mass = 0.0;
+                let mut max_disp = 0.0f64;
+                let mut bad: Option<usize> = None;
+                let mut outside = false;
+                // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
+                // the compiler vectorises (the divisions then do not stall the update below).
+                let lo = chunk * CHUNK;
+                let mut step_v = [0.0; CHUNK];
+                let mut step_w = [0.0; CHUNK];
+                step_factors(
+                    &mass[lo..lo + vel.len()],
+                    &radius[lo..lo + vel.len()],
+                    dt,
+                    inv,
+                    &mut step_v,
+                    &mut step_w,
+                );
+                let hi = lo + vel.len();
+                // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
+                // mass damping): the component update, bitwise the same as the loop below.
+                let plain_chunk = plain.is_some()
+                    && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
+                        fx & 0x3f == 0
+                            && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
+                    });
+                if let (Some(c), true) = (&plain, plain_chunk) {
+                    let n = vel.len();
+                    let s = leapfrog::update(
+                        c,
+                        leapfrog::Run {
+                            mass: &mass[lo..hi],
+                            step_v: &step_v[..n],
+                            step_w: &step_w[..n],
+                            force,
+                            moment,
+                            vel: &mut *vel,
+                            pos: &mut *pos,
+                            disp: &mut *disp,
+                            spin: &mut *spin,
+                            rot: &mut *rot,
+                        },
+                    );
+                    if !s.finite {
+                        bad = (0..n)
+                            .find(|&l| !all_finite(&pos[l], &vel[l]))
+                            .map(|l| lo + l);
+                    }
+                    return (s.w_grav, 0.0, s.max_disp, bad, s.outside);
+                }
+                for l in 0..vel.len() {
+                    let i = chunk * CHUNK + l;
+                    let m = mass[i];
+                    let mut body = g;
+                    let a = agg[i] as usize;
+                    if a > 0 && cg[a - 1] > 0.0 {
+                        if let Some(c) = centres[a - 1] {
+                            let e = c - pos[l];
+                            let len = e.norm();
+                            if len > 0.0 {
+                                body += e * (cg[a - 1] / len);
+                            }
                         }
                     }
-                }
-                let fb = body * (m * fmm);
-                let f = force[i] + fb;
-                let v_old = vel[l];
-                let mut v = v_old * damp + f * step_v[l];
-                let fx = fixed[i];
-                keep_fixed(&mut v, &v_old, fx);
-                if two_d {
-                    v.z = 0.0;
-                }
-                let vbar = (v + v_old) * 0.5;
-                w_grav += fb.dot(&vbar) * dt;
-                if alpha != 0.0 {
-                    // (With α = 0 the term is +0 and adding it changes nothing.)
-                    d_mass += alpha * m * vbar.norm_squared() * dt;
-                }
-                vel[l] = v;
-                let dx = v * dt;
-                pos[l] += dx;
-                disp[l] += dx;
-                let x = pos[l];
-                outside |= outside_open_side(&x, &size, &periodic);
-                max_disp = max_disp.max(disp[l].amax());
-                if rotation {
-                    let inertia = 0.4 * m * radius[i] * radius[i];
-                    let w_old = spin[l];
-                    let mut w = w_old * damp + moment[i] * step_w[l];
-                    keep_fixed(&mut w, &w_old, fx >> 3);
+                    let fb = body * (m * fmm);
+                    let f = force[l] + fb;
+                    let v_old = vel[l];
+                    let mut v = v_old * damp + f * step_v[l];
+                    let fx = fixed[i];
+                    keep_fixed(&mut v, &v_old, fx);
                     if two_d {
-                        w.x = 0.0;
-                        w.y = 0.0;
+                        v.z = 0.0;
                     }
+                    let vbar = (v + v_old) * 0.5;
+                    w_grav += fb.dot(&vbar) * dt;
                     if alpha != 0.0 {
-                        let wbar = (w + w_old) * 0.5;
-                        d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                        // (With α = 0 the term is +0 and adding it changes nothing.)
+                        d_mass += alpha * m * vbar.norm_squared() * dt;
                     }
-                    spin[l] = w;
-                    rot[l] += w * dt;
+                    vel[l] = v;
+                    let dx = v * dt;
+                    pos[l] += dx;
+                    disp[l] += dx;
+                    let x = pos[l];
+                    outside |= outside_open_side(&x, &size, &periodic);
+                    max_disp = max_disp.max(disp[l].amax());
+                    if rotation {
+                        let inertia = 0.4 * m * radius[i] * radius[i];
+                        let w_old = spin[l];
+                        let mut w = w_old * damp + moment[l] * step_w[l];
+                        keep_fixed(&mut w, &w_old, fx >> 3);
+                        if two_d {
+                            w.x = 0.0;
+                            w.y = 0.0;
+                        }
+                        if alpha != 0.0 {
+                            let wbar = (w + w_old) * 0.5;
+                            d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                        }
+                        spin[l] = w;
+                        rot[l] += w * dt;
+                    }
+                    if !all_finite(&pos[l], &v) && bad.is_none() {
+                        bad = Some(i);
+                    }
                 }
-                if !all_finite(&pos[l], &v) && bad.is_none() {
-                    bad = Some(i);
-                }
-            }
-            (w_grav, d_mass, max_disp, bad, outside)
-        })
+                (w_grav, d_mass, max_disp, bad, outside)
+            },
+        )
         .collect();
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
