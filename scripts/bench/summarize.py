@@ -28,6 +28,12 @@ peer configuration, on the loop time of the undisturbed runs and on the CPU
 time of all runs (< 1: trubal is slower), and the cost of the liquid bridges:
 loop(moist) / loop(dry) per code (CPU-time based as well).
 
+Paired ratios: the same ratio taken within each repetition (the runs of one
+repetition follow each other within a minute, so a change of the machine's
+load between repetitions cancels), median and range over the repetitions in
+which both runs were undisturbed; likewise trubal's thread scaling, loop(t1) /
+loop(tN) per repetition.
+
 usage: summarize.py results.tsv
 """
 import statistics
@@ -97,8 +103,29 @@ def summarize(rows):
     return out
 
 
+def per_rep(rows):
+    """Loop time of each undisturbed run, by (scene, code, N, par, steps) and repetition
+    (the last undisturbed attempt of a repetition)."""
+    out = {}
+    for r in rows:
+        if "FAILED" in r["extra"] or "EXCLUDED" in r["extra"]:
+            continue
+        if share(r) < 0.9 * 100.0 * cores(r["par"]):
+            continue
+        key = (r["scene"], r["code"], r["N"], r["par"], r["steps"])
+        out.setdefault(key, {})[r["rep"]] = f(r["loop_s"])
+    return out
+
+
+def paired(a, b):
+    """Median, min and max of a[rep] / b[rep] over the repetitions both have; None if none."""
+    x = sorted(a[k] / b[k] for k in a if k in b and b[k] > 0)
+    return (statistics.median(x), x[0], x[-1], len(x)) if x else None
+
+
 def main():
     rows = load(sys.argv[1])
+    reps = per_rep(rows)
     s = summarize(rows)
     print("%-7s %-8s %7s %6s %6s %4s %8s %8s %17s %10s %10s %7s %8s %5s %5s %4s %8s %10s" % (
         "scene", "code", "N", "par", "steps", "runs", "wall_s", "loop_s", "loop_min-max",
@@ -131,6 +158,25 @@ def main():
             print("  %-5s N=%-6s steps=%-6s trubal vs %-8s %-4s  loop %.3f%s   cpu %.3f (peer %.2fx faster)" % (
                 scene, n, steps, c2, p2, v["psps_loop"] / w["psps_loop"], mark,
                 v["psps_cpu"] / w["psps_cpu"], w["psps_cpu"] / v["psps_cpu"]))
+
+    print("\npaired ratios, per repetition (median [min-max] over n repetitions with both runs undisturbed)")
+    for (scene, code, n, par, steps), a in reps.items():
+        if code != "trubal":
+            continue
+        for (sc2, c2, n2, p2, st2), b in reps.items():
+            if sc2 != scene or c2 == "trubal" or st2 != steps or n2 != n:
+                continue
+            # psps ratio = loop(peer) / loop(trubal) (same N and steps)
+            r = paired(b, a)
+            if r:
+                print("  %-5s N=%-6s steps=%-6s trubal %-3s vs %-8s %-4s  %.3f [%.3f-%.3f] n=%d" % (
+                    scene, n, steps, par, c2, p2, r[0], r[1], r[2], r[3]))
+        if par != "t1":
+            one = reps.get((scene, code, n, "t1", steps))
+            r = paired(one, a) if one else None
+            if r:
+                print("  %-5s N=%-6s steps=%-6s trubal %s vs t1 (thread scaling)      %.3f [%.3f-%.3f] n=%d" % (
+                    scene, n, steps, par, r[0], r[1], r[2], r[3]))
 
     print("\ncost of liquid bridges = loop(moist) / loop(dry), same particles and steps")
     for (scene, code, n, par, steps), v in s.items():

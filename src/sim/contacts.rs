@@ -907,19 +907,26 @@ impl ContactStore {
             .map(|(keys, out)| {
                 let first = (keys[0].ida, keys[0].idb);
                 let start = old_pairs.partition_point(|o| (o.ida, o.idb) < first);
-                let n = keys
-                    .iter()
-                    .filter_map(old_states(&old_pairs, start))
-                    .count();
-                let mut states = Vec::with_capacity(n + headroom(n));
+                // One walk: each key's old pair with a state (u32::MAX: none), then the
+                // states copied in pair order into a block of the exact size.
                 let mut matched = old_states(&old_pairs, start);
-                for (key, p) in keys.iter().zip(out.iter_mut()) {
-                    let slot = match matched(key) {
-                        Some((k_old, s_old)) => {
-                            states.push(old_blocks[k_old / BLOCK][s_old as usize].clone());
-                            (states.len() - 1) as u32
-                        }
-                        None => NO_STATE,
+                let mut old_of = [u32::MAX; BLOCK];
+                let mut n = 0;
+                for (key, m) in keys.iter().zip(old_of.iter_mut()) {
+                    if let Some((k_old, _)) = matched(key) {
+                        *m = k_old as u32;
+                        n += 1;
+                    }
+                }
+                let mut states = Vec::with_capacity(n + headroom(n));
+                for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
+                    let slot = if m == u32::MAX {
+                        NO_STATE
+                    } else {
+                        let k_old = m as usize;
+                        let s_old = old_pairs[k_old].slot as usize;
+                        states.push(old_blocks[k_old / BLOCK][s_old].clone());
+                        (states.len() - 1) as u32
                     };
                     *p = Pair {
                         i: key.i,
