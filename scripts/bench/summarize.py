@@ -155,8 +155,8 @@ def main():
             if scene == "s1" and n2 != n:
                 continue
             mark = " (disturbed)" if v["disturbed"] or w["disturbed"] else ""
-            print("  %-5s N=%-6s steps=%-6s trubal vs %-8s %-4s  loop %.3f%s   cpu %.3f (peer %.2fx faster)" % (
-                scene, n, steps, c2, p2, v["psps_loop"] / w["psps_loop"], mark,
+            print("  %-5s N=%-6s steps=%-6s trubal %-3s vs %-8s %-4s  loop %.3f%s   cpu %.3f (peer %.2fx faster)" % (
+                scene, n, steps, par, c2, p2, v["psps_loop"] / w["psps_loop"], mark,
                 v["psps_cpu"] / w["psps_cpu"], w["psps_cpu"] / v["psps_cpu"]))
 
     print("\npaired ratios, per repetition (median [min-max] over n repetitions with both runs undisturbed)")
