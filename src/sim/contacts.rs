@@ -257,14 +257,12 @@ pub type StepParts<'a> = (
     &'a mut WallOut,
 );
 
-/// Force of an evaluated particle–wall pair (index `pair` in the wall pairs) in the current
-/// step: on the wall (`f`; the particle gets −f) and the moment on the particle.
+/// Force of an evaluated particle–wall pair in the current step: on the wall (`f`; the
+/// particle `i` gets −f) and the moment on the particle.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallForce {
     pub f: Vec3,
     pub m: Vec3,
-    pub pair: u32,
-    /// The pair's particle.
     pub i: u32,
 }
 

@@ -743,12 +743,10 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
     out.on_wall.resize(walls.0.len(), [0.0; 3]);
     let accs = wall_pairs
         .chunks_mut(BLOCK)
-        .enumerate()
-        .map(|(b, pairs)| {
+        .map(|pairs| {
             let mut acc = Acc::default();
-            for (k, c2) in pairs.iter_mut().enumerate() {
-                if let Some(mut o) = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc) {
-                    o.pair = (b * BLOCK + k) as u32;
+            for c2 in pairs.iter_mut() {
+                if let Some(o) = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc) {
                     let w = &mut out.on_wall[c2.wall as usize];
                     for (wk, fk) in w.iter_mut().zip(o.f.iter()) {
                         *wk += fk;
@@ -821,7 +819,6 @@ fn wall_force<const ADH: bool, const LIQ: bool>(
         } else {
             Vec3::zeros()
         },
-        pair: 0,
         i: c.i,
     })
 }
