@@ -655,10 +655,111 @@ impl<'de> Deserialize<'de> for ContactStore {
     }
 }
 
-/// Sorts candidate keys by their ids (ida, idb): a least-significant-digit radix sort on
-/// the id pair packed into one integer (11-bit digits, as many passes as the ids need). The
-/// id pairs are unique, so this is the one order a comparison sort would give too.
+/// Sorts candidate keys by their ids (ida, idb). The id pairs are unique, so any correct sort
+/// gives this one order (whatever the number of threads).
+///
+/// Ids are usually dense (at most a few times the number of keys): then one counting sort by
+/// the lower id `ida` puts each particle's forward partners together, and each such bucket
+/// (a handful of keys) is sorted by `idb` in place. The buckets are cut into one range of
+/// ids per thread; each thread reads all keys and counts and places those of its range, so
+/// the passes run in parallel without sharing a write. Sparse ids take the radix sort.
 fn sort_keys(keys: &mut Vec<PairKey>) {
+    sort_keys_in(keys, rayon::current_num_threads());
+}
+
+/// [`sort_keys`] with the buckets cut into `parts` ranges.
+fn sort_keys_in(keys: &mut Vec<PairKey>, parts: usize) {
+    let n = keys.len();
+    let max_ida = keys.iter().map(|k| k.ida).max().unwrap_or(0) as usize;
+    if n == 0 || max_ida > 4 * n + 4096 {
+        radix_sort_keys(keys);
+        return;
+    }
+    let nb = max_ida + 1;
+    let parts = parts.clamp(1, 64).min(nb);
+    // Part t holds the buckets (ids) lo[t] .. lo[t + 1].
+    let lo: Vec<usize> = (0..=parts).map(|t| t * nb / parts).collect();
+    // Counts of each part's buckets (each part scans all keys).
+    let keys_ro: &[PairKey] = keys;
+    let counts: Vec<Vec<u32>> = (0..parts)
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|t| {
+            let (a, b) = (lo[t], lo[t + 1]);
+            let mut c = vec![0u32; b - a];
+            for k in keys_ro {
+                let d = (k.ida as usize).wrapping_sub(a);
+                if d < b - a {
+                    c[d] += 1;
+                }
+            }
+            c
+        })
+        .collect();
+    // Where each part's keys go: its buckets' starts, relative to the part's first key.
+    let sizes: Vec<usize> = counts
+        .iter()
+        .map(|c| c.iter().map(|&x| x as usize).sum())
+        .collect();
+    let mut out = vec![
+        PairKey {
+            ida: 0,
+            idb: 0,
+            i: 0,
+            j: 0
+        };
+        n
+    ];
+    let mut pieces: Vec<&mut [PairKey]> = Vec::with_capacity(parts);
+    let mut rest: &mut [PairKey] = &mut out;
+    for &m in &sizes {
+        let (piece, tail) = rest.split_at_mut(m);
+        pieces.push(piece);
+        rest = tail;
+    }
+    pieces
+        .into_par_iter()
+        .zip(counts)
+        .enumerate()
+        .with_max_len(1)
+        .for_each(|(t, (piece, count))| {
+            let a = lo[t];
+            let mut start = Vec::with_capacity(count.len() + 1);
+            let mut sum = 0u32;
+            start.push(0u32);
+            for &c in &count {
+                sum += c;
+                start.push(sum);
+            }
+            let mut fill = start.clone();
+            for k in keys_ro {
+                let d = (k.ida as usize).wrapping_sub(a);
+                if d < count.len() {
+                    piece[fill[d] as usize] = *k;
+                    fill[d] += 1;
+                }
+            }
+            // Each bucket by idb (insertion sort: buckets hold a few keys).
+            for w in start.windows(2) {
+                let bucket = &mut piece[w[0] as usize..w[1] as usize];
+                for x in 1..bucket.len() {
+                    let k = bucket[x];
+                    let mut y = x;
+                    while y > 0 && bucket[y - 1].idb > k.idb {
+                        bucket[y] = bucket[y - 1];
+                        y -= 1;
+                    }
+                    bucket[y] = k;
+                }
+            }
+        });
+    *keys = out;
+}
+
+/// Sorts candidate keys by their ids (ida, idb): a least-significant-digit radix sort on
+/// the id pair packed into one integer (11-bit digits, as many passes as the ids need), for
+/// sparse ids.
+fn radix_sort_keys(keys: &mut Vec<PairKey>) {
     const D: u32 = 11;
     let max_id = keys.iter().map(|k| k.idb).max().unwrap_or(0);
     let bits = 32 - max_id.leading_zeros();
@@ -682,6 +783,23 @@ fn sort_keys(keys: &mut Vec<PairKey>) {
         }
         std::mem::swap(keys, &mut buf);
         shift += D;
+    }
+}
+
+/// Moves a state out of its old block: the plain fields copied, the boxes taken (so nothing
+/// is allocated or freed), the old place left with empty boxes.
+fn take_state(s: &mut ContactState) -> ContactState {
+    ContactState {
+        touching: s.touching,
+        overlap: s.overlap,
+        normal_force: s.normal_force,
+        damp_force: s.damp_force,
+        tang_energy: s.tang_energy,
+        a: s.a,
+        tforce: s.tforce,
+        tdamp: s.tdamp,
+        ext: s.ext.take(),
+        bridge: s.bridge.take(),
     }
 }
 
@@ -885,7 +1003,14 @@ impl ContactStore {
         self.hot = Vec::new();
         self.scatter.clear();
         let old_pairs = std::mem::take(&mut self.pairs);
-        let old_blocks = std::mem::take(&mut self.blocks);
+        // The old states are moved, not cloned (a clone allocates the boxes of every
+        // Mindlin–Deresiewicz, JKR or bridge state). Each old state is taken by the one new
+        // pair of its ids, so the order in which blocks take them does not matter; a block's
+        // walk visits the old blocks in order and holds one lock at a time.
+        let old_blocks: Vec<std::sync::Mutex<Vec<ContactState>>> = std::mem::take(&mut self.blocks)
+            .into_iter()
+            .map(std::sync::Mutex::new)
+            .collect();
         // Each block of new pairs finds its first old pair by bisection and walks on from
         // there (blocks in parallel; the same pairs and states as one walk), writing its pairs
         // in place and its states into a block of the exact size.
@@ -917,13 +1042,26 @@ impl ContactStore {
                     }
                 }
                 let mut states = Vec::with_capacity(n + headroom(n));
+                let mut held: Option<(usize, std::sync::MutexGuard<'_, Vec<ContactState>>)> = None;
                 for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
                     let slot = if m == u32::MAX {
                         NO_STATE
                     } else {
                         let k_old = m as usize;
                         let s_old = old_pairs[k_old].slot as usize;
-                        states.push(old_blocks[k_old / BLOCK][s_old].clone());
+                        let b_old = k_old / BLOCK;
+                        if held.as_ref().is_none_or(|h| h.0 != b_old) {
+                            // Release the old block before locking the next one. (A poisoned
+                            // lock means another block's walk panicked; its states are whole.)
+                            drop(held.take());
+                            let g = old_blocks[b_old]
+                                .lock()
+                                .unwrap_or_else(std::sync::PoisonError::into_inner);
+                            held = Some((b_old, g));
+                        }
+                        if let Some((_, g)) = held.as_mut() {
+                            states.push(take_state(&mut g[s_old]));
+                        }
                         (states.len() - 1) as u32
                     };
                     *p = Pair {
@@ -1265,7 +1403,9 @@ mod tests {
     fn keys_sort_by_ids() {
         // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort.
         let mut rng = crate::sim::rng::Rng::new(7);
-        for max in [1u32, 5, 3000, 1 << 20, u32::MAX] {
+        // (Up to 3000 the counting sort by the lower id runs, cut into 1, 2, 3 or 7 ranges
+        // of ids; beyond it the radix sort.)
+        for max in [1u32, 5, 300, 3000, 1 << 20, u32::MAX] {
             let mut keys: Vec<PairKey> = (0..5000u32)
                 .map(|k| {
                     let a = (rng.next_u64() % (max as u64 + 1)) as u32;
@@ -1283,6 +1423,11 @@ mod tests {
             let mut want = keys.clone();
             want.sort_unstable();
             keys.reverse();
+            for parts in [1, 2, 3, 7] {
+                let mut k = keys.clone();
+                sort_keys_in(&mut k, parts);
+                assert_eq!(k, want, "ids up to {max}, {parts} parts");
+            }
             sort_keys(&mut keys);
             assert_eq!(keys, want, "ids up to {max}");
         }
