@@ -389,23 +389,17 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         let force = &mut scene.particles.force;
         let np = force.len();
         let moment = &mut scene.particles.moment;
-        let radius = &scene.particles.radius;
         let walls = &scene.walls;
         let shapes = &shapes;
-        if one_thread {
-            let (pair_acc, ()) = pair_forces::<ADH, LIQ, _>(
-                (hot, pairs, blocks, out, scatter),
-                (force, moment, radius),
-                &ctx,
-                (|| (), 0),
-            );
-            acc.add(&pair_acc);
-        } else {
+        {
             // The wall contacts (their forces into a list) are one more job of the pair loop,
             // weighed when the split is made by the time they took since the last one, or
             // before any measurement, live wall pairs like contacts.
             let threads = rayon::current_num_threads();
-            let wall_cost = if scatter.needs_split(np, threads) && !scatter.balance.measured() {
+            let wall_cost = if !one_thread
+                && scatter.needs_split(np, threads)
+                && !scatter.balance.measured()
+            {
                 let live = wall_pairs
                     .iter()
                     .filter(|c| c.s.touching || c.s.bridge.is_some());
@@ -417,7 +411,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
                 || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
             let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
                 (hot, pairs, blocks, out, scatter),
-                (force, moment, radius),
+                (force, moment),
                 &ctx,
                 (wall_job, wall_cost),
             );
@@ -429,47 +423,23 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
-    // Applied in pair order after the particle–particle sums; the energy increments are
-    // summed per chunk of `BLOCK` wall pairs, as `wall_forces` does. With several threads
-    // the wall job has made the walls' forces; the particles get theirs in the update
-    // (`move_all`), with the shared particles' sums.
-    if one_thread {
-        for w in scene.walls.iter_mut() {
-            w.force = [0.0; 3];
-        }
-        let (p_force, p_moment) = (&mut scene.particles.force, &mut scene.particles.moment);
-        for chunk in scene.contacts.wall_pairs.chunks_mut(BLOCK) {
-            let mut a = Acc::default();
-            for c in chunk.iter_mut() {
-                let walls = (&scene.walls[..], &shapes[..]);
-                if let Some(o) = wall_force::<ADH, LIQ>(c, walls, &wall_ctx, &mut a) {
-                    let w = &mut scene.walls[c.wall as usize];
-                    let i = c.i as usize;
-                    p_force[i] -= o.f;
-                    for kk in 0..3 {
-                        w.force[kk] += o.f[kk];
-                    }
-                    if model.rotation {
-                        p_moment[i] += o.m;
-                    }
-                }
-            }
-            acc.add(&a);
-        }
-    } else {
-        for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
-            w.force = *f;
-        }
-        scene.contacts.deferred = true;
+    // The wall job has made the walls' forces (summed in pair order) and the energy
+    // increments (per chunk of `BLOCK` wall pairs). The particles get theirs in the update
+    // (`move_all`, chunk by chunk), after their moments are scaled by the radius and, with
+    // several threads, after the shared particles' sums.
+    for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
+        w.force = *f;
     }
+    scene.contacts.deferred = true;
     acc
 }
 
-/// What the force step left to the update with several threads (see
-/// [`ContactStore::deferred`]), for the particles of chunk `c` (`force`, `moment`: the
-/// chunk's): the shared particles' sums from their pairs' slots, in pair order, then each
-/// particle's wall forces in pair order — the same sums, in the same order, as with one
-/// thread.
+/// What the force step left to the update (see [`ContactStore::deferred`]), for the
+/// particles of chunk `c` (`force`, `moment`: the chunk's): with several threads the shared
+/// particles' sums from their pairs' slots, in pair order; the moments (summed per unit
+/// radius) times the radius; then each particle's wall forces in pair order. The same sums
+/// in the same order for any number of threads, done where the update reads the chunk
+/// anyway (a pass of its own over the moments cost about as much as the rotation update).
 fn finish_chunk(
     contacts: &ContactStore,
     c: usize,
@@ -504,7 +474,12 @@ fn finish_chunk(
             }
         }
         force[q - lo] = f;
-        moment[q - lo] = if rotation { m * radius[q] } else { m };
+        moment[q - lo] = m;
+    }
+    if rotation {
+        for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
+            *m *= *r;
+        }
     }
     for o in contacts.wall_out.of_chunk(c) {
         let i = o.i as usize - lo;
@@ -531,7 +506,8 @@ fn finish_deferred(scene: &mut Scene, rotation: bool) {
 }
 
 /// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two
-/// particles in pair order, then the moments (per unit radius) are scaled by the radius.
+/// particles in pair order; the moments are summed per unit radius (the update scales them,
+/// `finish_chunk`).
 /// Returns the energy increments, summed per block in block order. `job` (the wall contacts,
 /// of about `job_cost` pair costs, see [`pair_ranges`]) runs alongside: with several threads
 /// in the last task, before its pairs.
@@ -543,7 +519,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
         &mut Vec<PairForce>,
         &mut Incidence,
     ),
-    (force, moment, radius): (&mut Vec<Vec3>, &mut Vec<Vec3>, &[f64]),
+    (force, moment): (&mut Vec<Vec3>, &mut Vec<Vec3>),
     ctx: &PairCtx,
     (job, job_cost): (impl FnOnce() -> J + Send, usize),
 ) -> (Acc, J) {
@@ -573,16 +549,6 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     }
                 });
                 acc.add(&a);
-            }
-            if rotation {
-                moment
-                    .par_chunks_mut(CHUNK)
-                    .zip(radius.par_chunks(CHUNK))
-                    .for_each(|(m, r)| {
-                        for (m, r) in m.iter_mut().zip(r) {
-                            *m *= *r;
-                        }
-                    });
             }
         } else {
             let np = force.len();
@@ -692,13 +658,6 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                             },
                         );
                         accs.push(a);
-                    }
-                    // The moments (per unit radius) of the interval times the radius; the
-                    // shared particles' are set below.
-                    if rotation {
-                        for (m, r) in moment.iter_mut().zip(&radius[r.parts.clone()]) {
-                            *m *= *r;
-                        }
                     }
                     (accs, t0.elapsed().as_secs_f64() - job_secs, job_secs)
                 })
