@@ -11,8 +11,8 @@
 use rayon::prelude::*;
 
 use super::contacts::{
-    self, BLOCK, Balance, ContactState, ContactStore, HotPair, Incidence, NO_STATE, Pair,
-    PairForce, PairRange, WallForce, WallOut, WallPair,
+    self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
+    WallForce, WallOut, WallPair,
 };
 use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
@@ -396,17 +396,15 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             // weighed when the split is made by the time they took since the last one, or
             // before any measurement, live wall pairs like contacts.
             let threads = rayon::current_num_threads();
-            let wall_cost = if !one_thread
-                && scatter.needs_split(np, threads)
-                && !scatter.balance.measured()
-            {
-                let live = wall_pairs
-                    .iter()
-                    .filter(|c| c.s.touching || c.s.bridge.is_some());
-                wall_pairs.len() + 7 * live.count()
-            } else {
-                0
-            };
+            let wall_cost =
+                if !one_thread && scatter.needs_split(np, threads) && !scatter.balance.measured() {
+                    let live = wall_pairs
+                        .iter()
+                        .filter(|c| c.s.touching || c.s.bridge.is_some());
+                    wall_pairs.len() + 7 * live.count()
+                } else {
+                    0
+                };
             let wall_job =
                 || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
             let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
@@ -441,7 +439,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
 /// in the same order for any number of threads, done where the update reads the chunk
 /// anyway (a pass of its own over the moments cost about as much as the rotation update).
 fn finish_chunk(
-    contacts: &ContactStore,
+    left: Left<'_>,
     c: usize,
     (force, moment): (&mut [Vec3], &mut [Vec3]),
     radius: &[f64],
@@ -449,39 +447,39 @@ fn finish_chunk(
 ) {
     let lo = c * CHUNK;
     let hi = lo + force.len();
-    let inc = &contacts.scatter;
-    let (hot, out) = (&contacts.hot, &contacts.out);
-    let list = &inc.shared_list;
-    let first = list.partition_point(|&q| (q as usize) < lo);
-    let last = list.partition_point(|&q| (q as usize) < hi);
-    for (s, &q) in list.iter().enumerate().take(last).skip(first) {
-        let q = q as usize;
-        let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
-        for &k in inc.of_shared(s) {
-            let h = &hot[k as usize];
-            if !h.evaluated {
-                continue;
+    if let Some((inc, hot, out)) = left.scatter {
+        let list = &inc.shared_list;
+        let first = list.partition_point(|&q| (q as usize) < lo);
+        let last = list.partition_point(|&q| (q as usize) < hi);
+        for (s, &q) in list.iter().enumerate().take(last).skip(first) {
+            let q = q as usize;
+            let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+            for &k in inc.of_shared(s) {
+                let h = &hot[k as usize];
+                if !h.evaluated {
+                    continue;
+                }
+                let o = &out[inc.slot[k as usize] as usize];
+                // Force −f on the pair's first particle (A), +f on B.
+                if h.i as usize == q {
+                    f -= o.f;
+                } else {
+                    f += o.f;
+                }
+                if rotation {
+                    m += o.m;
+                }
             }
-            let o = &out[inc.slot[k as usize] as usize];
-            // Force −f on the pair's first particle (A), +f on B.
-            if h.i as usize == q {
-                f -= o.f;
-            } else {
-                f += o.f;
-            }
-            if rotation {
-                m += o.m;
-            }
+            force[q - lo] = f;
+            moment[q - lo] = m;
         }
-        force[q - lo] = f;
-        moment[q - lo] = m;
     }
     if rotation {
         for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
             *m *= *r;
         }
     }
-    for o in contacts.wall_out.of_chunk(c) {
+    for o in left.wall_out.of_chunk(c) {
         let i = o.i as usize - lo;
         force[i] -= o.f;
         if rotation {
@@ -496,13 +494,17 @@ fn finish_deferred(scene: &mut Scene, rotation: bool) {
         return;
     }
     let contacts = &scene.contacts;
+    let left = Left {
+        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        wall_out: &contacts.wall_out,
+    };
     let p = &mut scene.particles;
     let radius = &p.radius;
     p.force
         .par_chunks_mut(CHUNK)
         .zip(p.moment.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(c, (f, m))| finish_chunk(contacts, c, (f, m), radius, rotation));
+        .for_each(|(c, (f, m))| finish_chunk(left, c, (f, m), radius, rotation));
 }
 
 /// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two
@@ -1064,9 +1066,53 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
 
 /// Step 2 of a cycle: wall forces and motion, then the particle update.
 fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(), Blowup> {
-    let dt = model.dt;
-    let np = scene.particles.len();
-    // ---- walls: measured force, work input, motion ------------------------------------
+    let wall_work = move_walls(scene, model.dt);
+    let mv = Mover::of(scene, model);
+    let deferred = std::mem::take(&mut scene.contacts.deferred);
+    let contacts = &scene.contacts;
+    let left = deferred.then_some(Left {
+        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        wall_out: &contacts.wall_out,
+    });
+    let p = &mut scene.particles;
+    let fixed_arrays = (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]);
+    // Parallel over fixed chunks of particles; the partial sums are added in chunk order,
+    // so the ledger does not depend on the number of threads.
+    let parts: Vec<ChunkSums> = p
+        .vel
+        .par_chunks_mut(CHUNK)
+        .zip(p.pos.par_chunks_mut(CHUNK))
+        .zip(p.disp.par_chunks_mut(CHUNK))
+        .zip(p.spin.par_chunks_mut(CHUNK))
+        .zip(p.rot.par_chunks_mut(CHUNK))
+        .zip(p.force.par_chunks_mut(CHUNK))
+        .zip(p.moment.par_chunks_mut(CHUNK))
+        .enumerate()
+        .map(
+            |(chunk, ((((((vel, pos), disp), spin), rot), force), moment))| {
+                mv.chunk(
+                    chunk,
+                    ChunkArrays {
+                        vel,
+                        pos,
+                        disp,
+                        spin,
+                        rot,
+                        force,
+                        moment,
+                    },
+                    fixed_arrays,
+                    left,
+                )
+            },
+        )
+        .collect();
+    finish_move(scene, xres, acc, wall_work, &parts, model.dt)
+}
+
+/// The walls' measured forces and the work they put in; then their motion (servo,
+/// advance). Returns the work of the walls on the particles in this step.
+fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
     let mut wall_work = 0.0;
     for w in scene.walls.iter_mut() {
         let f = Vec3::from(w.force);
@@ -1106,180 +1152,261 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         walls::advance(w, dt);
     }
 
-    // ---- integration ------------------------------------------------------------------
-    let g = Vec3::from(scene.gravity);
-    let two_d = scene.settings.two_d;
-    let alpha = scene.damping_pp.alpha;
-    let damp = (1.0 - 0.5 * alpha * dt) / (1.0 + 0.5 * alpha * dt);
-    let inv = 1.0 / (1.0 + 0.5 * alpha * dt);
-    let cg = scene.cgravity;
-    let centres = scene.regions.map(|r| r.map(|r| Vec3::from(r.centre)));
-    let fmm = scene.fmm;
-    let rotation = model.rotation;
-    let (size, periodic) = (scene.size, scene.settings.periodic);
-    let plain = (!two_d && alpha == 0.0).then(|| {
-        let mut c = leapfrog::Plain {
-            g: scene.gravity,
-            fmm,
-            damp,
+    wall_work
+}
+
+/// One chunk's sums of the update: work of gravity, mass-damping loss, largest displacement
+/// component since the last rebuild, the first particle with a non-finite state, whether a
+/// particle is beyond an open side.
+type ChunkSums = (f64, f64, f64, Option<usize>, bool);
+
+/// A chunk's particle arrays.
+struct ChunkArrays<'a> {
+    vel: &'a mut [Vec3],
+    pos: &'a mut [Vec3],
+    disp: &'a mut [Vec3],
+    spin: &'a mut [Vec3],
+    rot: &'a mut [Vec3],
+    force: &'a mut [Vec3],
+    moment: &'a mut [Vec3],
+}
+
+/// What the force step left to the update (see [`finish_chunk`]): with several threads the
+/// shared particles' pairs and slots; the wall forces.
+#[derive(Clone, Copy)]
+struct Left<'a> {
+    scatter: Option<(&'a Incidence, &'a [HotPair], &'a [PairForce])>,
+    wall_out: &'a WallOut,
+}
+
+/// The constants of the particle update of a step, Lian (5.9)–(5.14).
+#[derive(Clone, Copy)]
+struct Mover {
+    dt: f64,
+    g: Vec3,
+    two_d: bool,
+    alpha: f64,
+    damp: f64,
+    inv: f64,
+    cg: [f64; 2],
+    centres: [Option<Vec3>; 2],
+    fmm: f64,
+    rotation: bool,
+    size: [f64; 3],
+    periodic: [bool; 3],
+    plain: Option<leapfrog::Plain>,
+}
+
+impl Mover {
+    fn of(scene: &Scene, model: &Model) -> Mover {
+        let dt = model.dt;
+        let g = Vec3::from(scene.gravity);
+        let two_d = scene.settings.two_d;
+        let alpha = scene.damping_pp.alpha;
+        let damp = (1.0 - 0.5 * alpha * dt) / (1.0 + 0.5 * alpha * dt);
+        let inv = 1.0 / (1.0 + 0.5 * alpha * dt);
+        let cg = scene.cgravity;
+        let centres = scene.regions.map(|r| r.map(|r| Vec3::from(r.centre)));
+        let fmm = scene.fmm;
+        let rotation = model.rotation;
+        let (size, periodic) = (scene.size, scene.settings.periodic);
+        let plain = (!two_d && alpha == 0.0).then(|| {
+            let mut c = leapfrog::Plain {
+                g: scene.gravity,
+                fmm,
+                damp,
+                dt,
+                rotation,
+                lo: [f64::NEG_INFINITY; 3],
+                hi: [f64::INFINITY; 3],
+            };
+            for k in 0..3 {
+                if !periodic[k] {
+                    (c.lo[k], c.hi[k]) = (0.0, size[k]);
+                }
+            }
+            c
+        });
+        Mover {
             dt,
+            g,
+            two_d,
+            alpha,
+            damp,
+            inv,
+            cg,
+            centres,
+            fmm,
             rotation,
-            lo: [f64::NEG_INFINITY; 3],
-            hi: [f64::INFINITY; 3],
-        };
-        for k in 0..3 {
-            if !periodic[k] {
-                (c.lo[k], c.hi[k]) = (0.0, size[k]);
+            size,
+            periodic,
+            plain,
+        }
+    }
+
+    /// Moves the particles of chunk `chunk` (after adding what the force step `left`).
+    fn chunk(
+        &self,
+        chunk: usize,
+        a: ChunkArrays<'_>,
+        (mass, agg, fixed, radius): (&[f64], &[u8], &[u8], &[f64]),
+        left: Option<Left<'_>>,
+    ) -> ChunkSums {
+        let Mover {
+            dt,
+            g,
+            two_d,
+            alpha,
+            damp,
+            inv,
+            cg,
+            centres,
+            fmm,
+            rotation,
+            size,
+            periodic,
+            plain,
+        } = *self;
+        let ChunkArrays {
+            vel,
+            pos,
+            disp,
+            spin,
+            rot,
+            force,
+            moment,
+        } = a;
+        // First what the force step left (several threads): this chunk's shared
+        // particles and wall forces.
+        if let Some(left) = left {
+            finish_chunk(left, chunk, (&mut *force, &mut *moment), radius, rotation);
+        }
+        let (force, moment) = (&*force, &*moment);
+        let mut w_grav = 0.0;
+        let mut d_mass = 0.0;
+        let mut max_disp = 0.0f64;
+        let mut bad: Option<usize> = None;
+        let mut outside = false;
+        // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
+        // the compiler vectorises (the divisions then do not stall the update below).
+        let lo = chunk * CHUNK;
+        let mut step_v = [0.0; CHUNK];
+        let mut step_w = [0.0; CHUNK];
+        step_factors(
+            &mass[lo..lo + vel.len()],
+            &radius[lo..lo + vel.len()],
+            dt,
+            inv,
+            &mut step_v,
+            &mut step_w,
+        );
+        let hi = lo + vel.len();
+        // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
+        // mass damping): the component update, bitwise the same as the loop below.
+        let plain_chunk = plain.is_some()
+            && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
+                fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
+            });
+        if let (Some(c), true) = (&plain, plain_chunk) {
+            let n = vel.len();
+            let s = leapfrog::update(
+                c,
+                leapfrog::Run {
+                    mass: &mass[lo..hi],
+                    step_v: &step_v[..n],
+                    step_w: &step_w[..n],
+                    force,
+                    moment,
+                    vel: &mut *vel,
+                    pos: &mut *pos,
+                    disp: &mut *disp,
+                    spin: &mut *spin,
+                    rot: &mut *rot,
+                },
+            );
+            if !s.finite {
+                bad = (0..n)
+                    .find(|&l| !all_finite(&pos[l], &vel[l]))
+                    .map(|l| lo + l);
+            }
+            return (s.w_grav, 0.0, s.max_disp, bad, s.outside);
+        }
+        for l in 0..vel.len() {
+            let i = chunk * CHUNK + l;
+            let m = mass[i];
+            let mut body = g;
+            let a = agg[i] as usize;
+            if a > 0 && cg[a - 1] > 0.0 {
+                if let Some(c) = centres[a - 1] {
+                    let e = c - pos[l];
+                    let len = e.norm();
+                    if len > 0.0 {
+                        body += e * (cg[a - 1] / len);
+                    }
+                }
+            }
+            let fb = body * (m * fmm);
+            let f = force[l] + fb;
+            let v_old = vel[l];
+            let mut v = v_old * damp + f * step_v[l];
+            let fx = fixed[i];
+            keep_fixed(&mut v, &v_old, fx);
+            if two_d {
+                v.z = 0.0;
+            }
+            let vbar = (v + v_old) * 0.5;
+            w_grav += fb.dot(&vbar) * dt;
+            if alpha != 0.0 {
+                // (With α = 0 the term is +0 and adding it changes nothing.)
+                d_mass += alpha * m * vbar.norm_squared() * dt;
+            }
+            vel[l] = v;
+            let dx = v * dt;
+            pos[l] += dx;
+            disp[l] += dx;
+            let x = pos[l];
+            outside |= outside_open_side(&x, &size, &periodic);
+            max_disp = max_disp.max(disp[l].amax());
+            if rotation {
+                let inertia = 0.4 * m * radius[i] * radius[i];
+                let w_old = spin[l];
+                let mut w = w_old * damp + moment[l] * step_w[l];
+                keep_fixed(&mut w, &w_old, fx >> 3);
+                if two_d {
+                    w.x = 0.0;
+                    w.y = 0.0;
+                }
+                if alpha != 0.0 {
+                    let wbar = (w + w_old) * 0.5;
+                    d_mass += alpha * inertia * wbar.norm_squared() * dt;
+                }
+                spin[l] = w;
+                rot[l] += w * dt;
+            }
+            if !all_finite(&pos[l], &v) && bad.is_none() {
+                bad = Some(i);
             }
         }
-        c
-    });
-    let deferred = std::mem::take(&mut scene.contacts.deferred);
-    let contacts = &scene.contacts;
-    let p = &mut scene.particles;
-    let (mass, agg, fixed, radius) = (&p.mass, &p.agg, &p.fixed, &p.radius);
-    // Parallel over fixed chunks of particles; the partial sums are added in chunk order,
-    // so the ledger does not depend on the number of threads.
-    let parts: Vec<(f64, f64, f64, Option<usize>, bool)> = p
-        .vel
-        .par_chunks_mut(CHUNK)
-        .zip(p.pos.par_chunks_mut(CHUNK))
-        .zip(p.disp.par_chunks_mut(CHUNK))
-        .zip(p.spin.par_chunks_mut(CHUNK))
-        .zip(p.rot.par_chunks_mut(CHUNK))
-        .zip(p.force.par_chunks_mut(CHUNK))
-        .zip(p.moment.par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(
-            |(chunk, ((((((vel, pos), disp), spin), rot), force), moment))| {
-                // First what the force step left (several threads): this chunk's shared
-                // particles and wall forces.
-                if deferred {
-                    finish_chunk(
-                        contacts,
-                        chunk,
-                        (&mut *force, &mut *moment),
-                        radius,
-                        rotation,
-                    );
-                }
-                let (force, moment) = (&*force, &*moment);
-                let mut w_grav = 0.0;
-                let mut d_mass = 0.0;
-                let mut max_disp = 0.0f64;
-                let mut bad: Option<usize> = None;
-                let mut outside = false;
-                // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
-                // the compiler vectorises (the divisions then do not stall the update below).
-                let lo = chunk * CHUNK;
-                let mut step_v = [0.0; CHUNK];
-                let mut step_w = [0.0; CHUNK];
-                step_factors(
-                    &mass[lo..lo + vel.len()],
-                    &radius[lo..lo + vel.len()],
-                    dt,
-                    inv,
-                    &mut step_v,
-                    &mut step_w,
-                );
-                let hi = lo + vel.len();
-                // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
-                // mass damping): the component update, bitwise the same as the loop below.
-                let plain_chunk = plain.is_some()
-                    && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
-                        fx & 0x3f == 0
-                            && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
-                    });
-                if let (Some(c), true) = (&plain, plain_chunk) {
-                    let n = vel.len();
-                    let s = leapfrog::update(
-                        c,
-                        leapfrog::Run {
-                            mass: &mass[lo..hi],
-                            step_v: &step_v[..n],
-                            step_w: &step_w[..n],
-                            force,
-                            moment,
-                            vel: &mut *vel,
-                            pos: &mut *pos,
-                            disp: &mut *disp,
-                            spin: &mut *spin,
-                            rot: &mut *rot,
-                        },
-                    );
-                    if !s.finite {
-                        bad = (0..n)
-                            .find(|&l| !all_finite(&pos[l], &vel[l]))
-                            .map(|l| lo + l);
-                    }
-                    return (s.w_grav, 0.0, s.max_disp, bad, s.outside);
-                }
-                for l in 0..vel.len() {
-                    let i = chunk * CHUNK + l;
-                    let m = mass[i];
-                    let mut body = g;
-                    let a = agg[i] as usize;
-                    if a > 0 && cg[a - 1] > 0.0 {
-                        if let Some(c) = centres[a - 1] {
-                            let e = c - pos[l];
-                            let len = e.norm();
-                            if len > 0.0 {
-                                body += e * (cg[a - 1] / len);
-                            }
-                        }
-                    }
-                    let fb = body * (m * fmm);
-                    let f = force[l] + fb;
-                    let v_old = vel[l];
-                    let mut v = v_old * damp + f * step_v[l];
-                    let fx = fixed[i];
-                    keep_fixed(&mut v, &v_old, fx);
-                    if two_d {
-                        v.z = 0.0;
-                    }
-                    let vbar = (v + v_old) * 0.5;
-                    w_grav += fb.dot(&vbar) * dt;
-                    if alpha != 0.0 {
-                        // (With α = 0 the term is +0 and adding it changes nothing.)
-                        d_mass += alpha * m * vbar.norm_squared() * dt;
-                    }
-                    vel[l] = v;
-                    let dx = v * dt;
-                    pos[l] += dx;
-                    disp[l] += dx;
-                    let x = pos[l];
-                    outside |= outside_open_side(&x, &size, &periodic);
-                    max_disp = max_disp.max(disp[l].amax());
-                    if rotation {
-                        let inertia = 0.4 * m * radius[i] * radius[i];
-                        let w_old = spin[l];
-                        let mut w = w_old * damp + moment[l] * step_w[l];
-                        keep_fixed(&mut w, &w_old, fx >> 3);
-                        if two_d {
-                            w.x = 0.0;
-                            w.y = 0.0;
-                        }
-                        if alpha != 0.0 {
-                            let wbar = (w + w_old) * 0.5;
-                            d_mass += alpha * inertia * wbar.norm_squared() * dt;
-                        }
-                        spin[l] = w;
-                        rot[l] += w * dt;
-                    }
-                    if !all_finite(&pos[l], &v) && bad.is_none() {
-                        bad = Some(i);
-                    }
-                }
-                (w_grav, d_mass, max_disp, bad, outside)
-            },
-        )
-        .collect();
+        (w_grav, d_mass, max_disp, bad, outside)
+    }
+}
+
+/// The end of a step: the chunks' sums (in chunk order), blow-up check, periodic wrap,
+/// the rebuild flag and the ledger.
+fn finish_move(
+    scene: &mut Scene,
+    xres: f64,
+    acc: Acc,
+    wall_work: f64,
+    parts: &[ChunkSums],
+    dt: f64,
+) -> Result<(), Blowup> {
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;
     let mut bad: Option<usize> = None;
     let mut outside = false;
-    for (wg, dm, md, b, o) in parts {
+    for &(wg, dm, md, b, o) in parts {
         outside |= o;
         w_grav += wg;
         d_mass += dm;
@@ -1287,6 +1414,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         bad = bad.or(b);
     }
     scene.maybe_outside = outside;
+    let p = &mut scene.particles;
     if let Some(i) = bad {
         return Err(Blowup {
             cycle: scene.cycle + 1,
@@ -1311,7 +1439,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         }
     }
     if scene.zero_always {
-        for i in 0..np {
+        for i in 0..p.len() {
             p.vel[i] = Vec3::zeros();
             p.spin[i] = Vec3::zeros();
         }
