@@ -942,7 +942,8 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
                 acc.damping_contact += batch.e_damp_n[l];
                 acc.friction += batch.e_friction[l];
                 acc.damping_contact += batch.e_damp_t[l];
-                h.live = true;
+                // (`h.live` stays true: the contact was touching, `Batch::takes`, and it
+                // still overlaps.)
                 PairForce { f, m }
             } else {
                 let kin = &kins[q];
