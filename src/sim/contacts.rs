@@ -238,9 +238,6 @@ pub struct HotPair {
     pub slot: u32,
     /// The pair had a solid contact or a bridge after its last evaluation.
     pub live: bool,
-    /// The pair was evaluated in this step (its `out` slot holds its force); pairs skipped as
-    /// far apart carry no force and their `out` slot is stale.
-    pub evaluated: bool,
     /// Set by [`Incidence::split`]: bit 0 if the first particle is shared between tasks,
     /// bit 1 if the second is (the multi-thread loop's ownership test, without a lookup).
     pub shared: u8,
@@ -1135,7 +1132,6 @@ impl ContactStore {
                         j: p.j,
                         slot: p.slot,
                         live,
-                        evaluated: false,
                         shared: 0,
                     };
                 }

@@ -456,9 +456,8 @@ fn finish_chunk(
             let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
             for &k in inc.of_shared(s) {
                 let h = &hot[k as usize];
-                if !h.evaluated {
-                    continue;
-                }
+                // (A pair not evaluated in this step left its slot at zero, which adds
+                // nothing: the sum starts at +0 and never becomes −0.)
                 let o = &out[inc.slot[k as usize] as usize];
                 // Force −f on the pair's first particle (A), +f on B.
                 if h.i as usize == q {
@@ -573,6 +572,8 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 };
                 scatter.split(&mut *hot, np, ranges, threads);
             }
+            // The slots of pairs not evaluated in this step stay zero.
+            out.clear();
             out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
             let job_out_slot = std::sync::Mutex::new(None);
@@ -901,9 +902,9 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         // as good as random along the list).
         let mut m = 0;
         for k in start..end {
-            let h = &mut hots[k];
-            let (d, dist2, ev) = pair_reach(h, c);
-            h.evaluated = ev;
+            // (Nothing is stored in the hot pair: its line stays clean and is not written
+            // back to memory.)
+            let (d, dist2, ev) = pair_reach(&hots[k], c);
             idx[m] = k as u32;
             ds[m] = d;
             d2s[m] = dist2;
@@ -950,7 +951,10 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
                 let (i, j) = (h.i as usize, h.j as usize);
                 let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
                 let out = interact::<ADH, LIQ>(kin, pc, laws, s, acc);
-                h.live = s.touching || s.bridge.is_some();
+                let live = s.touching || s.bridge.is_some();
+                if h.live != live {
+                    h.live = live;
+                }
                 PairForce {
                     f: out.f,
                     m: if c.model.rotation {
