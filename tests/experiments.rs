@@ -203,6 +203,33 @@ fn exactly_touching_lattice_pairs_all_get_bridges() {
 }
 
 #[test]
+fn dry_lattice_pairs_beyond_touching_are_not_evaluated() {
+    // The same lattice without liquid or adhesion: the pairs that round-off puts beyond 2R get
+    // no force from Hertz, so the pair loop does not evaluate them (no state, no refresh of
+    // their gap at every step); those at or within 2R are evaluated as before. With liquid
+    // (the test above) the round-off allowance stays, and all of them get bridges.
+    let mut r = Run::new(&lattice(250e-6));
+    r.lines("cycle 1");
+    let sc = r.scene();
+    let (mut beyond, mut evaluated) = (0, 0);
+    for c in sc.contacts.iter() {
+        let d = sc.branch(&sc.particles.pos[c.i as usize], &sc.particles.pos[c.j as usize]);
+        let (ri, rj) = (sc.particles.radius[c.i as usize], sc.particles.radius[c.j as usize]);
+        let near = d.norm() < 1.000001 * (ri + rj);
+        let gap_beyond = d.norm_squared() > (ri + rj) * (ri + rj);
+        if near && gap_beyond {
+            beyond += 1;
+            assert_eq!(c.s.overlap, 0.0, "a pair beyond touching was evaluated");
+        } else if near {
+            evaluated += 1;
+        }
+    }
+    // Both kinds occur in this lattice (873 near pairs in all).
+    assert!(beyond > 100 && evaluated > 100, "{beyond} beyond, {evaluated} at or within 2R");
+    assert_eq!(beyond + evaluated, 873);
+}
+
+#[test]
 fn gravity_from_rest_is_not_a_runaway() {
     // All the kinetic energy comes from the field: the runaway check must count that input.
     let mut r = Run::new(

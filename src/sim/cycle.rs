@@ -904,7 +904,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         for k in start..end {
             // (Nothing is stored in the hot pair: its line stays clean and is not written
             // back to memory.)
-            let (d, dist2, ev) = pair_reach(&hots[k], c);
+            let (d, dist2, ev) = pair_reach::<ADH, LIQ>(&hots[k], c);
             idx[m] = k as u32;
             ds[m] = d;
             d2s[m] = dist2;
@@ -998,15 +998,22 @@ impl Scratch {
 
 /// Separation of a candidate pair: the vector A → B (nearest image), its squared length,
 /// and whether the pair's contact laws run (it is within reach or has something to
-/// remember). The reach includes the round-off allowance of bridge formation (gap ≤ 1e-6 R,
-/// interact.rs), so pairs that touch exactly (lattices) are evaluated.
+/// remember). With adhesion or liquid the reach includes the round-off allowance of bridge
+/// formation and of JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly
+/// (lattices) are evaluated. Without them the reach is the touching distance: a pair with
+/// a gap gets no force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that
+/// just opened is still evaluated once, being live.
 #[inline(always)]
-fn pair_reach(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
+fn pair_reach<const ADH: bool, const LIQ: bool>(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
     let d = nearest_image(c.pos[j] - c.pos[i], c.size, c.periodic);
     let (ri, rj) = (c.radius[i], c.radius[j]);
     let dist2 = d.norm_squared();
-    let reach = (ri + rj) * (1.0 + 1e-6);
+    let reach = if ADH || LIQ {
+        (ri + rj) * (1.0 + 1e-6)
+    } else {
+        ri + rj
+    };
     (d, dist2, h.live | !(dist2 > reach * reach))
 }
 
