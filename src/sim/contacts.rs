@@ -502,12 +502,12 @@ impl Incidence {
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
-    /// Forces of the wall pairs evaluated in the current step (derived; not saved; used
-    /// with several threads).
+    /// Forces of the wall pairs evaluated in the current step (derived; not saved).
     pub wall_out: WallOut,
-    /// With several threads the force step leaves the shared particles' sums (from the
-    /// pairs' slots) and the wall forces to the particle update, which adds them chunk by
-    /// chunk before it moves the particles (`cycle::move_all`; derived, not saved).
+    /// The force step leaves to the particle update, chunk by chunk before it moves the
+    /// particles: with several threads the shared particles' sums (from the pairs' slots),
+    /// the moments' scaling by the radius, the wall forces (`cycle::finish_chunk`; derived,
+    /// not saved).
     pub deferred: bool,
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.

@@ -1288,8 +1288,8 @@ impl Mover {
             force,
             moment,
         } = a;
-        // First what the force step left (several threads): this chunk's shared
-        // particles and wall forces.
+        // First what the force step left (`finish_chunk`): with several threads the shared
+        // particles' sums; the moments times the radius; the wall forces.
         if let Some(left) = left {
             finish_chunk(left, chunk, (&mut *force, &mut *moment), radius, rotation);
         }
