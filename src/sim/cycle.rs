@@ -437,7 +437,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
 /// particles' sums from their pairs' slots, in pair order; the moments (summed per unit
 /// radius) times the radius; then each particle's wall forces in pair order. The same sums
 /// in the same order for any number of threads, done where the update reads the chunk
-/// anyway (a pass of its own over the moments cost about as much as the rotation update).
+/// anyway (one pass over the moments less per step).
 fn finish_chunk(
     left: Left<'_>,
     c: usize,
@@ -447,31 +447,30 @@ fn finish_chunk(
 ) {
     let lo = c * CHUNK;
     let hi = lo + force.len();
-    if let Some((inc, hot, out)) = left.scatter {
-        let list = &inc.shared_list;
-        let first = list.partition_point(|&q| (q as usize) < lo);
-        let last = list.partition_point(|&q| (q as usize) < hi);
-        for (s, &q) in list.iter().enumerate().take(last).skip(first) {
-            let q = q as usize;
-            let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
-            for &k in inc.of_shared(s) {
-                let h = &hot[k as usize];
-                // (A pair not evaluated in this step left its slot at zero, which adds
-                // nothing: the sum starts at +0 and never becomes −0.)
-                let o = &out[inc.slot[k as usize] as usize];
-                // Force −f on the pair's first particle (A), +f on B.
-                if h.i as usize == q {
-                    f -= o.f;
-                } else {
-                    f += o.f;
-                }
-                if rotation {
-                    m += o.m;
-                }
+    let (inc, hot, out) = left.scatter;
+    let list = &inc.shared_list;
+    let first = list.partition_point(|&q| (q as usize) < lo);
+    let last = list.partition_point(|&q| (q as usize) < hi);
+    for (s, &q) in list.iter().enumerate().take(last).skip(first) {
+        let q = q as usize;
+        let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+        for &k in inc.of_shared(s) {
+            let h = &hot[k as usize];
+            // (A pair not evaluated in this step left its slot at zero, which adds
+            // nothing: the sum starts at +0 and never becomes −0.)
+            let o = &out[inc.slot[k as usize] as usize];
+            // Force −f on the pair's first particle (A), +f on B.
+            if h.i as usize == q {
+                f -= o.f;
+            } else {
+                f += o.f;
             }
-            force[q - lo] = f;
-            moment[q - lo] = m;
+            if rotation {
+                m += o.m;
+            }
         }
+        force[q - lo] = f;
+        moment[q - lo] = m;
     }
     if rotation {
         for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
@@ -494,7 +493,7 @@ fn finish_deferred(scene: &mut Scene, rotation: bool) {
     }
     let contacts = &scene.contacts;
     let left = Left {
-        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        scatter: (&contacts.scatter, &contacts.hot, &contacts.out),
         wall_out: &contacts.wall_out,
     };
     let p = &mut scene.particles;
@@ -1083,7 +1082,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
     let deferred = std::mem::take(&mut scene.contacts.deferred);
     let contacts = &scene.contacts;
     let left = deferred.then_some(Left {
-        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        scatter: (&contacts.scatter, &contacts.hot, &contacts.out),
         wall_out: &contacts.wall_out,
     });
     let p = &mut scene.particles;
@@ -1183,11 +1182,11 @@ struct ChunkArrays<'a> {
     moment: &'a mut [Vec3],
 }
 
-/// What the force step left to the update (see [`finish_chunk`]): with several threads the
-/// shared particles' pairs and slots; the wall forces.
+/// What the force step left to the update (see [`finish_chunk`]): the shared particles'
+/// pairs and slots (none with one thread), the wall forces.
 #[derive(Clone, Copy)]
 struct Left<'a> {
-    scatter: Option<(&'a Incidence, &'a [HotPair], &'a [PairForce])>,
+    scatter: (&'a Incidence, &'a [HotPair], &'a [PairForce]),
     wall_out: &'a WallOut,
 }
 
