@@ -213,8 +213,14 @@ fn dry_lattice_pairs_beyond_touching_are_not_evaluated() {
     let sc = r.scene();
     let (mut beyond, mut evaluated) = (0, 0);
     for c in sc.contacts.iter() {
-        let d = sc.branch(&sc.particles.pos[c.i as usize], &sc.particles.pos[c.j as usize]);
-        let (ri, rj) = (sc.particles.radius[c.i as usize], sc.particles.radius[c.j as usize]);
+        let d = sc.branch(
+            &sc.particles.pos[c.i as usize],
+            &sc.particles.pos[c.j as usize],
+        );
+        let (ri, rj) = (
+            sc.particles.radius[c.i as usize],
+            sc.particles.radius[c.j as usize],
+        );
         let near = d.norm() < 1.000001 * (ri + rj);
         let gap_beyond = d.norm_squared() > (ri + rj) * (ri + rj);
         if near && gap_beyond {
@@ -225,7 +231,10 @@ fn dry_lattice_pairs_beyond_touching_are_not_evaluated() {
         }
     }
     // Both kinds occur in this lattice (873 near pairs in all).
-    assert!(beyond > 100 && evaluated > 100, "{beyond} beyond, {evaluated} at or within 2R");
+    assert!(
+        beyond > 100 && evaluated > 100,
+        "{beyond} beyond, {evaluated} at or within 2R"
+    );
     assert_eq!(beyond + evaluated, 873);
 }
 
