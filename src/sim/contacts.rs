@@ -783,23 +783,6 @@ fn radix_sort_keys(keys: &mut Vec<PairKey>) {
     }
 }
 
-/// Moves a state out of its old block: the plain fields copied, the boxes taken (so nothing
-/// is allocated or freed), the old place left with empty boxes.
-fn take_state(s: &mut ContactState) -> ContactState {
-    ContactState {
-        touching: s.touching,
-        overlap: s.overlap,
-        normal_force: s.normal_force,
-        damp_force: s.damp_force,
-        tang_energy: s.tang_energy,
-        a: s.a,
-        tforce: s.tforce,
-        tdamp: s.tdamp,
-        ext: s.ext.take(),
-        bridge: s.bridge.take(),
-    }
-}
-
 /// Free state slots a block keeps for contacts that form before the next rebuild: a few
 /// per step in a settling bed, so 1/16 of its states plus 4 (a `Vec` that doubled when full
 /// would hold up to twice the live states: 4.8 of the 20 MB heap peak of the S1 10k bed).
@@ -1000,14 +983,11 @@ impl ContactStore {
         self.hot = Vec::new();
         self.scatter.clear();
         let old_pairs = std::mem::take(&mut self.pairs);
-        // The old states are moved, not cloned (a clone allocates the boxes of every
-        // Mindlin–Deresiewicz, JKR or bridge state). Each old state is taken by the one new
-        // pair of its ids, so the order in which blocks take them does not matter; a block's
-        // walk visits the old blocks in order and holds one lock at a time.
-        let old_blocks: Vec<std::sync::Mutex<Vec<ContactState>>> = std::mem::take(&mut self.blocks)
-            .into_iter()
-            .map(std::sync::Mutex::new)
-            .collect();
+        // The old states are cloned, not moved: a clone allocates the boxes of the
+        // Mindlin–Deresiewicz, JKR and bridge states anew, in pair order, so the force loop
+        // reads them in order too (moving them, which keeps the boxes where the contacts
+        // formed, made the merge 30 % cheaper and the JKR agglomerate 8–14 % slower).
+        let old_blocks = std::mem::take(&mut self.blocks);
         // Each block of new pairs finds its first old pair by bisection and walks on from
         // there (blocks in parallel; the same pairs and states as one walk), writing its pairs
         // in place and its states into a block of the exact size.
@@ -1039,26 +1019,13 @@ impl ContactStore {
                     }
                 }
                 let mut states = Vec::with_capacity(n + headroom(n));
-                let mut held: Option<(usize, std::sync::MutexGuard<'_, Vec<ContactState>>)> = None;
                 for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
                     let slot = if m == u32::MAX {
                         NO_STATE
                     } else {
                         let k_old = m as usize;
                         let s_old = old_pairs[k_old].slot as usize;
-                        let b_old = k_old / BLOCK;
-                        if held.as_ref().is_none_or(|h| h.0 != b_old) {
-                            // Release the old block before locking the next one. (A poisoned
-                            // lock means another block's walk panicked; its states are whole.)
-                            drop(held.take());
-                            let g = old_blocks[b_old]
-                                .lock()
-                                .unwrap_or_else(std::sync::PoisonError::into_inner);
-                            held = Some((b_old, g));
-                        }
-                        if let Some((_, g)) = held.as_mut() {
-                            states.push(take_state(&mut g[s_old]));
-                        }
+                        states.push(old_blocks[k_old / BLOCK][s_old].clone());
                         (states.len() - 1) as u32
                     };
                     *p = Pair {
