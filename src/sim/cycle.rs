@@ -391,32 +391,30 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         let moment = &mut scene.particles.moment;
         let walls = &scene.walls;
         let shapes = &shapes;
-        {
-            // The wall contacts (their forces into a list) are one more job of the pair loop,
-            // weighed when the split is made by the time they took since the last one, or
-            // before any measurement, live wall pairs like contacts.
-            let threads = rayon::current_num_threads();
-            let wall_cost =
-                if !one_thread && scatter.needs_split(np, threads) && !scatter.balance.measured() {
-                    let live = wall_pairs
-                        .iter()
-                        .filter(|c| c.s.touching || c.s.bridge.is_some());
-                    wall_pairs.len() + 7 * live.count()
-                } else {
-                    0
-                };
-            let wall_job =
-                || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
-            let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
-                (hot, pairs, blocks, out, scatter),
-                (force, moment),
-                &ctx,
-                (wall_job, wall_cost),
-            );
-            acc.add(&pair_acc);
-            for a in &wall_acc {
-                acc.add(a);
-            }
+        // The wall contacts (their forces into a list) are one more job of the pair loop,
+        // weighed when the split is made by the time they took since the last one, or
+        // before any measurement, live wall pairs like contacts.
+        let threads = rayon::current_num_threads();
+        let wall_cost =
+            if !one_thread && scatter.needs_split(np, threads) && !scatter.balance.measured() {
+                let live = wall_pairs
+                    .iter()
+                    .filter(|c| c.s.touching || c.s.bridge.is_some());
+                wall_pairs.len() + 7 * live.count()
+            } else {
+                0
+            };
+        let wall_job =
+            || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
+        let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
+            (hot, pairs, blocks, out, scatter),
+            (force, moment),
+            &ctx,
+            (wall_job, wall_cost),
+        );
+        acc.add(&pair_acc);
+        for a in &wall_acc {
+            acc.add(a);
         }
     }
 
