@@ -7,7 +7,9 @@ use crate::lang::command::*;
 use crate::sim::generate::{
     OverlapIndex, first_overlap, inside, lattice_sites, morton_order, sphere_mass,
 };
-use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall};
+use crate::sim::scene::{
+    LatticeRun, MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall,
+};
 
 fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
     if m > MAX_MATERIALS {
@@ -208,6 +210,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             // All or nothing: the capacity is checked before anything is added.
             check_capacity(scene, accepted.len())?;
             let made = accepted.len();
+            let first_new = scene.particles.len();
             for x in accepted {
                 let id = scene.next_id;
                 scene.next_id += 1;
@@ -223,6 +226,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     *nagg,
                 );
             }
+            layer_order(scene, first_new, *nagg);
             scene.contacts.stale = true;
             Ok(format!(
                 "AGEnerate: {made} particles generated ({skipped} sites skipped for overlap); {} in all",
@@ -626,6 +630,55 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             crate::lang::parse::command_name(other)
         )),
     }
+}
+
+/// Orders the lattice particles an AGEnerate just placed (from `first_new` on), together
+/// with those the command before placed if it was an AGEnerate into the same agglomerate
+/// `nagg`, layer by layer (z, then y, then x), and gives them their ids in that order (the
+/// smallest first); then remembers them for the next AGEnerate. A BCC lattice is two
+/// AGEnerate commands: without this its two simple cubic halves would each be a contiguous
+/// run of the particle list, every nearest-neighbour pair would join the first half to the
+/// second, and with several threads nearly every particle would be shared between the tasks
+/// (`contacts::Incidence`): the Lian 1994 agglomerates ran 1.2–1.5 × slower on two threads.
+/// The earlier particles are taken only while nothing refers to them yet (no candidate
+/// pairs, no `PLot SAve` reference); each lattice alone is already in this order.
+fn layer_order(scene: &mut Scene, first_new: usize, nagg: usize) {
+    let p = &scene.particles;
+    let start = match scene.lattice_run {
+        Some(run)
+            if run.nagg == nagg
+                && run.start < first_new
+                && p.id.get(first_new.wrapping_sub(1)) == Some(&run.last_id)
+                && p.agg[run.start..first_new]
+                    .iter()
+                    .all(|&a| a as usize == nagg)
+                && scene.contacts.is_empty()
+                && scene.contacts.wall_pairs.is_empty()
+                && scene.reference.is_none() =>
+        {
+            run.start
+        }
+        _ => first_new,
+    };
+    if start < first_new {
+        let pos = &p.pos[start..];
+        let mut order: Vec<usize> = (0..pos.len()).collect();
+        order.sort_by(|&a, &b| {
+            let (x, y) = (&pos[a], &pos[b]);
+            (x.z.total_cmp(&y.z))
+                .then(x.y.total_cmp(&y.y))
+                .then(x.x.total_cmp(&y.x))
+        });
+        let mut ids = p.id[start..].to_vec();
+        ids.sort_unstable();
+        scene.particles.permute_tail(start, &order);
+        scene.particles.id[start..].copy_from_slice(&ids);
+    }
+    scene.lattice_run = scene.particles.id.last().map(|&last_id| LatticeRun {
+        start,
+        nagg,
+        last_id,
+    });
 }
 
 fn index_of(scene: &Scene, id: usize) -> Result<usize, String> {
