@@ -410,6 +410,11 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
             .windows(2)
             .all(|w| zyx(&w[0], &w[1]).is_lt())
     );
+    // A command that fails changes nothing, not even this.
+    let mut f = session(&format!("{BCC}{SUB1}\n"));
+    assert!(f.run_line("agen 1 9 1 0 0 0 1e-4 1e-4 1e-4").is_err());
+    f.run_line(SUB2).unwrap();
+    assert_eq!(f.scene.as_ref().unwrap().particles.pos, p.pos);
     // Once cycled (candidate pairs exist), a further AGEnerate leaves the others alone.
     let mut s = session(&format!("{BCC}{SUB1}\n"));
     s.run_line("cycle 1").unwrap();

@@ -198,7 +198,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         b_agenerate,
-        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (before any `Cycle` or `PLot SAve`) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks)."
+        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (no command in between) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks)."
     ),
     def!(
         "AWAll",

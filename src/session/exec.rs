@@ -633,28 +633,24 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
 }
 
 /// Orders the lattice particles an AGEnerate just placed (from `first_new` on), together
-/// with those the command before placed if it was an AGEnerate into the same agglomerate
-/// `nagg`, layer by layer (z, then y, then x), and gives them their ids in that order (the
-/// smallest first); then remembers them for the next AGEnerate. A BCC lattice is two
-/// AGEnerate commands: without this its two simple cubic halves would each be a contiguous
-/// run of the particle list, every nearest-neighbour pair would join the first half to the
-/// second, and with several threads nearly every particle would be shared between the tasks
-/// (`contacts::Incidence`): the Lian 1994 agglomerates ran 1.2–1.5 × slower on two threads.
-/// The earlier particles are taken only while nothing refers to them yet (no candidate
-/// pairs, no `PLot SAve` reference); each lattice alone is already in this order.
+/// with those of the command before if it was an AGEnerate into the same agglomerate `nagg`
+/// (`Session::execute` forgets the run at any other command), layer by layer (z, then y,
+/// then x), and gives them their ids in that order (the smallest first); then remembers
+/// them for the next AGEnerate. A BCC lattice is two AGEnerate commands: without this its
+/// two simple cubic halves would each be a contiguous run of the particle list, every
+/// nearest-neighbour pair would join the first half to the second, and with several threads
+/// nearly every particle would be shared between the tasks (`contacts::Incidence`): the Lian
+/// 1994 agglomerates ran 1.2–1.5 × slower on two threads. Each lattice alone is already in
+/// this order.
 fn layer_order(scene: &mut Scene, first_new: usize, nagg: usize) {
     let p = &scene.particles;
     let start = match scene.lattice_run {
         Some(run)
             if run.nagg == nagg
                 && run.start < first_new
-                && p.id.get(first_new.wrapping_sub(1)) == Some(&run.last_id)
                 && p.agg[run.start..first_new]
                     .iter()
-                    .all(|&a| a as usize == nagg)
-                && scene.contacts.is_empty()
-                && scene.contacts.wall_pairs.is_empty()
-                && scene.reference.is_none() =>
+                    .all(|&a| a as usize == nagg) =>
         {
             run.start
         }
@@ -674,11 +670,7 @@ fn layer_order(scene: &mut Scene, first_new: usize, nagg: usize) {
         scene.particles.permute_tail(start, &order);
         scene.particles.id[start..].copy_from_slice(&ids);
     }
-    scene.lattice_run = scene.particles.id.last().map(|&last_id| LatticeRun {
-        start,
-        nagg,
-        last_id,
-    });
+    scene.lattice_run = Some(LatticeRun { start, nagg });
 }
 
 fn index_of(scene: &Scene, id: usize) -> Result<usize, String> {

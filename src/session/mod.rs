@@ -184,6 +184,17 @@ impl Session {
 
     /// Executes one command.
     pub fn execute(&mut self, cmd: &Command) -> Result<Flow, String> {
+        let r = self.execute_one(cmd);
+        // Only an AGEnerate right after another joins its lattice (`exec::layer_order`).
+        if r.is_ok() && !matches!(cmd, Command::Agenerate { .. }) {
+            if let Some(s) = self.scene.as_mut() {
+                s.lattice_run = None;
+            }
+        }
+        r
+    }
+
+    fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
         match cmd {
             Command::Help { topic } => {
                 let text = match topic {

@@ -300,20 +300,20 @@ pub struct Scene {
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     #[serde(skip, default = "always")]
     pub maybe_outside: bool,
-    /// The particles the last command placed, if it was an AGEnerate (derived, not saved):
-    /// the next AGEnerate into the same agglomerate orders them with its own (a BCC lattice
-    /// is two AGEnerate commands; see `session::exec::layer_order`).
+    /// The particles the last command placed, if it was an AGEnerate (derived, not saved;
+    /// any other command forgets them, SAve included, so a RESTart sees the same): the next
+    /// AGEnerate into the same agglomerate orders them with its own (a BCC lattice is two
+    /// AGEnerate commands; see `session::exec::layer_order`).
     #[serde(skip)]
     pub lattice_run: Option<LatticeRun>,
 }
 
 /// A run of particles placed by AGEnerate: `start..` of the particle list, agglomerate
-/// `nagg`, the last one's id.
+/// `nagg`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LatticeRun {
     pub start: usize,
     pub nagg: usize,
-    pub last_id: u32,
 }
 
 fn always() -> bool {
