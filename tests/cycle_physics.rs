@@ -440,3 +440,35 @@ fn few_particles_of_a_bcc_agglomerate_are_shared_between_two_threads() {
     let shared = inc.shared_list.len() as f64 / sc.particles.len() as f64;
     assert!(shared < 0.2, "shared fraction {shared}");
 }
+
+#[test]
+fn a_cycle_leaves_the_forces_of_its_last_step() {
+    // The update clears each chunk's forces and moments after using them, so that the next
+    // step need not; the last step of a Cycle keeps them for PRint, plots and checkpoints.
+    // A sphere squeezed between a floor and a ceiling, stable at the default FRAction.
+    let mut s = session(&wall_scene("dwall p 0 0 -1 -0.03999 m 1", 0.0));
+    s.run_line("cycle 25").unwrap();
+    let f = s.scene.as_ref().unwrap().particles.force[0];
+    assert!(f.norm() > 0.0, "{f:?}");
+    // The same forces, bit for bit, as those of a 25th step taken in a Cycle of its own.
+    let mut t = session(&wall_scene("dwall p 0 0 -1 -0.03999 m 1", 0.0));
+    t.run_line("cycle 24").unwrap();
+    t.run_line("cycle 1").unwrap();
+    let g = t.scene.as_ref().unwrap().particles.force[0];
+    assert_eq!(f.map(f64::to_bits), g.map(f64::to_bits));
+    // Nor does the step before a blow-up snapshot clear them: the state a blow-up restores
+    // has the forces of its step (at FRAction 5 the energy runs away by cycle 4; with a
+    // snapshot every 2 cycles the one of cycle 2 is restored).
+    let mut b = session(&wall_scene(
+        "fraction 5\nset snapshot 2\ndwall p 0 0 -1 -0.03999 m 1",
+        0.0,
+    ));
+    assert!(b.run_line("cycle 1000").is_err());
+    let sc = b.scene.as_ref().unwrap();
+    assert_eq!(sc.cycle, 2);
+    assert!(
+        sc.particles.force[0].norm() > 0.0,
+        "{:?}",
+        sc.particles.force[0]
+    );
+}

@@ -509,6 +509,11 @@ pub struct ContactStore {
     /// the moments' scaling by the radius, the wall forces (`cycle::finish_chunk`; derived,
     /// not saved).
     pub deferred: bool,
+    /// The particles' force and moment arrays are zero: the update cleared each chunk's
+    /// after using them, so the next force step need not (derived, not saved; a step
+    /// whose forces are kept, the last of a `Cycle` or one before a blow-up snapshot,
+    /// leaves it false).
+    pub zeroed: bool,
     /// Indices, state slots and liveness of `pairs`, in the same order. Derived: rebuilt
     /// after a merge.
     pub hot: Vec<HotPair>,
@@ -1070,6 +1075,7 @@ impl ContactStore {
         self.out.clear();
         self.wall_out = WallOut::default();
         self.deferred = false;
+        self.zeroed = false;
         self.clear_hot();
     }
 

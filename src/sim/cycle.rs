@@ -246,7 +246,10 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
         let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);
-        let mut result = one_step(scene, &model, tol, xres);
+        // The forces of the last step are kept for what reads them after the Cycle (PRint,
+        // plots, checkpoints), and those of the step before a snapshot for the snapshot.
+        let keep = step + 1 == n || (step + 1) % every == 0;
+        let mut result = one_step(scene, &model, (tol, xres), keep);
         // A particle that leaves through an open side carrying far more energy than was
         // ever put in is a blow-up, not an exit.
         let carried = commands_before - scene.ledger.commands;
@@ -308,8 +311,14 @@ fn runaway(scene: &Scene, e_now: f64, e_ref: f64) -> Blowup {
     }
 }
 
-/// One time step.
-pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result<(), Blowup> {
+/// One time step; `keep`: leave the forces and moments in the particle arrays (otherwise the
+/// update clears them as it goes, which saves the next step a pass over them).
+pub fn one_step(
+    scene: &mut Scene,
+    model: &Model,
+    (tol, xres): (f64, f64),
+    keep: bool,
+) -> Result<(), Blowup> {
     let dt = model.dt;
     if scene.contacts.stale || scene.contacts.remap {
         rebuild(scene, tol);
@@ -321,7 +330,7 @@ pub fn one_step(scene: &mut Scene, model: &Model, tol: f64, xres: f64) -> Result
     {
         super::liquid::settle(scene);
     }
-    move_all(scene, model, xres, acc)
+    move_all(scene, model, xres, acc, keep)
 }
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
@@ -385,6 +394,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         ..ctx
     };
     {
+        let zeroed = std::mem::take(&mut scene.contacts.zeroed);
         let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
         let force = &mut scene.particles.force;
         let np = force.len();
@@ -408,7 +418,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
             || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
         let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
             (hot, pairs, blocks, out, scatter),
-            (force, moment),
+            (force, moment, zeroed),
             &ctx,
             (wall_job, wall_cost),
         );
@@ -517,7 +527,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
         &mut Vec<PairForce>,
         &mut Incidence,
     ),
-    (force, moment): (&mut Vec<Vec3>, &mut Vec<Vec3>),
+    (force, moment, zeroed): (&mut Vec<Vec3>, &mut Vec<Vec3>, bool),
     ctx: &PairCtx,
     (job, job_cost): (impl FnOnce() -> J + Send, usize),
 ) -> (Acc, J) {
@@ -528,8 +538,10 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
     {
         if rayon::current_num_threads() == 1 {
             job_out = job();
-            force.fill(Vec3::zeros());
-            moment.fill(Vec3::zeros());
+            if !zeroed {
+                force.fill(Vec3::zeros());
+                moment.fill(Vec3::zeros());
+            }
             let mut sc = Scratch::new();
             for ((hots, pairs), block) in hot
                 .chunks_mut(BLOCK)
@@ -616,8 +628,10 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                         job_secs = t0.elapsed().as_secs_f64();
                     }
                     let lo = r.parts.start;
-                    force.fill(Vec3::zeros());
-                    moment.fill(Vec3::zeros());
+                    if !zeroed {
+                        force.fill(Vec3::zeros());
+                        moment.fill(Vec3::zeros());
+                    }
                     let mut accs = Vec::with_capacity(blocks.len());
                     let mut sc = Scratch::new();
                     for (b, ((hots, pairs), block)) in hots
@@ -1074,7 +1088,13 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
 }
 
 /// Step 2 of a cycle: wall forces and motion, then the particle update.
-fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(), Blowup> {
+fn move_all(
+    scene: &mut Scene,
+    model: &Model,
+    xres: f64,
+    acc: Acc,
+    keep: bool,
+) -> Result<(), Blowup> {
     let wall_work = move_walls(scene, model.dt);
     let mv = Mover::of(scene, model);
     let deferred = std::mem::take(&mut scene.contacts.deferred);
@@ -1099,7 +1119,7 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
         .enumerate()
         .map(
             |(chunk, ((((((vel, pos), disp), spin), rot), force), moment))| {
-                mv.chunk(
+                let sums = mv.chunk(
                     chunk,
                     ChunkArrays {
                         vel,
@@ -1107,15 +1127,23 @@ fn move_all(scene: &mut Scene, model: &Model, xres: f64, acc: Acc) -> Result<(),
                         disp,
                         spin,
                         rot,
-                        force,
-                        moment,
+                        force: &mut *force,
+                        moment: &mut *moment,
                     },
                     fixed_arrays,
                     left,
-                )
+                );
+                // Cleared while the chunk is in the cache, for the next step's sums (a
+                // particle with a non-finite state keeps its force for the message).
+                if !keep && sums.3.is_none() {
+                    force.fill(Vec3::zeros());
+                    moment.fill(Vec3::zeros());
+                }
+                sums
             },
         )
         .collect();
+    scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
     finish_move(scene, xres, acc, wall_work, &parts, model.dt)
 }
 
