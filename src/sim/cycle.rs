@@ -224,8 +224,10 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     // Energy runaway: the stored energy may not grow far beyond what was put in.
     let scale = |s: &Scene| super::energy::stored(s).total().max(s.ledger.input().abs());
     let mut e_ref = scale(scene);
+    // A snapshot is taken before step `s` (of this Cycle) when this holds.
+    let snapshot_before = |s: u64| s > 0 && s % every == 0;
     for step in 0..n {
-        if step > 0 && step % every == 0 {
+        if snapshot_before(step) {
             let e_now = super::energy::stored(scene).total();
             // Gravity and moving walls put energy in as the run goes: compare with that too.
             e_ref = e_ref.max(scene.ledger.input().abs());
@@ -248,7 +250,7 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
-        let keep = step + 1 == n || (step + 1) % every == 0;
+        let keep = step + 1 == n || snapshot_before(step + 1);
         let mut result = one_step(scene, &model, (tol, xres), keep);
         // A particle that leaves through an open side carrying far more energy than was
         // ever put in is a blow-up, not an exit.
