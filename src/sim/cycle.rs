@@ -197,6 +197,13 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
 /// Runs `n` cycles. On a blow-up the scene is restored to the last good snapshot and the
 /// error says where it happened.
 pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
+    // With several threads the pool's other workers poll for the length of the Cycle
+    // instead of falling asleep between the step's parallel regions (`awake`).
+    super::awake::while_running(|| run_steps(scene, n))
+}
+
+/// The body of [`run`].
+fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     let model = check(scene).map_err(|m| Blowup {
         cycle: scene.cycle,
         message: m,

@@ -1,6 +1,7 @@
 //! The simulation core: state, generation, contact search, contact forces, time stepping and
 //! the energy ledger. No I/O happens here: the session asks and formats.
 
+pub mod awake;
 pub mod contacts;
 pub mod cycle;
 pub mod energy;
