@@ -657,52 +657,105 @@ impl<'de> Deserialize<'de> for ContactStore {
     }
 }
 
-/// Sorts candidate keys by their ids (ida, idb). The id pairs are unique, so any correct sort
-/// gives this one order (whatever the number of threads).
-///
-/// Ids are usually dense (at most a few times the number of keys): then one counting sort by
-/// the lower id `ida` puts each particle's forward partners together, and each such bucket
-/// (a handful of keys) is sorted by `idb` in place. The buckets are cut into one range of
-/// ids per thread; each thread reads all keys and counts and places those of its range, so
-/// the passes run in parallel without sharing a write. Sparse ids take the radix sort.
-fn sort_keys(keys: &mut Vec<PairKey>) {
-    sort_keys_in(keys, rayon::current_num_threads());
+/// Candidate keys as the search emits them, parted by the lower id: part `t` holds the keys
+/// with `bounds[t] <= ida < bounds[t + 1]`, in no particular order. The parts are sorted on
+/// their own, in parallel, each reading only its own keys, and laid end to end
+/// ([`KeyParts::into_sorted`]).
+#[derive(Clone, Debug, Default)]
+pub struct KeyParts {
+    pub bounds: Vec<u32>,
+    pub parts: Vec<Vec<PairKey>>,
 }
 
-/// [`sort_keys`] with the buckets cut into `parts` ranges.
-fn sort_keys_in(keys: &mut Vec<PairKey>, parts: usize) {
-    let n = keys.len();
-    let max_ida = keys.iter().map(|k| k.ida).max().unwrap_or(0) as usize;
-    if n == 0 || max_ida > 4 * n + 4096 {
-        radix_sort_keys(keys);
-        return;
+impl KeyParts {
+    /// The bounds of `parts` ranges of equal width covering ids `0..=max_id`.
+    pub fn bounds(max_id: u32, parts: usize) -> Vec<u32> {
+        let parts = parts.clamp(1, 64) as u64;
+        let end = max_id as u64 + 1;
+        (0..=parts)
+            .map(|t| (t * end / parts).min(u32::MAX as u64) as u32)
+            .collect()
     }
-    let nb = max_ida + 1;
-    let parts = parts.clamp(1, 64).min(nb);
-    // Part t holds the buckets (ids) lo[t] .. lo[t + 1].
-    let lo: Vec<usize> = (0..=parts).map(|t| t * nb / parts).collect();
-    // Counts of each part's buckets (each part scans all keys).
-    let keys_ro: &[PairKey] = keys;
-    let counts: Vec<Vec<u32>> = (0..parts)
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|t| {
-            let (a, b) = (lo[t], lo[t + 1]);
-            let mut c = vec![0u32; b - a];
-            for k in keys_ro {
-                let d = (k.ida as usize).wrapping_sub(a);
-                if d < b - a {
-                    c[d] += 1;
+
+    /// The part of a key's lower id (`bounds` as from [`KeyParts::bounds`]).
+    #[inline]
+    pub fn part_of(bounds: &[u32], ida: u32) -> usize {
+        bounds[1..bounds.len() - 1].iter().filter(|&&b| ida >= b).count()
+    }
+
+    /// Keys in one list, parted for `parts` threads.
+    pub fn split(keys: Vec<PairKey>, parts: usize) -> KeyParts {
+        let max_id = keys.iter().map(|k| k.ida).max().unwrap_or(0);
+        let bounds = KeyParts::bounds(max_id, parts);
+        if bounds.len() == 2 {
+            return KeyParts {
+                bounds,
+                parts: vec![keys],
+            };
+        }
+        let mut out = vec![Vec::new(); bounds.len() - 1];
+        for k in keys {
+            out[KeyParts::part_of(&bounds, k.ida)].push(k);
+        }
+        KeyParts { bounds, parts: out }
+    }
+
+    pub fn len(&self) -> usize {
+        self.parts.iter().map(Vec::len).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// All keys sorted by their ids (ida, idb). The id pairs are unique, so any correct sort
+    /// gives this one order, whatever the parts (and so the number of threads).
+    ///
+    /// Each part is sorted into its place in the output, in parallel: where its ids are dense
+    /// (a range at most a few times its number of keys, as usual) by one counting sort by the
+    /// lower id `ida`, which puts each particle's forward partners together, then each such
+    /// bucket (a handful of keys) by `idb` in place; sparse ids take the radix sort.
+    pub fn into_sorted(self) -> Vec<PairKey> {
+        let KeyParts { bounds, parts } = self;
+        if parts.len() == 1 {
+            let mut keys = parts.into_iter().next().unwrap_or_default();
+            sort_keys(&mut keys);
+            return keys;
+        }
+        let n: usize = parts.iter().map(Vec::len).sum();
+        let blank = PairKey {
+            ida: 0,
+            idb: 0,
+            i: 0,
+            j: 0,
+        };
+        let mut out = Vec::with_capacity(n);
+        out.par_extend(rayon::iter::repeat_n(blank, n));
+        let mut pieces: Vec<&mut [PairKey]> = Vec::with_capacity(parts.len());
+        let mut rest: &mut [PairKey] = &mut out;
+        for p in &parts {
+            let (piece, tail) = rest.split_at_mut(p.len());
+            pieces.push(piece);
+            rest = tail;
+        }
+        pieces
+            .into_par_iter()
+            .zip(parts)
+            .enumerate()
+            .with_max_len(1)
+            .for_each(|(t, (piece, mut keys))| {
+                if !counting_sort_keys(&keys, bounds[t], piece) {
+                    radix_sort_keys(&mut keys);
+                    piece.copy_from_slice(&keys);
                 }
-            }
-            c
-        })
-        .collect();
-    // Where each part's keys go: its buckets' starts, relative to the part's first key.
-    let sizes: Vec<usize> = counts
-        .iter()
-        .map(|c| c.iter().map(|&x| x as usize).sum())
-        .collect();
+            });
+        out
+    }
+}
+
+/// Sorts candidate keys by their ids (ida, idb), as [`KeyParts::into_sorted`] with one part.
+fn sort_keys(keys: &mut Vec<PairKey>) {
+    let n = keys.len();
     let mut out = vec![
         PairKey {
             ida: 0,
@@ -712,50 +765,62 @@ fn sort_keys_in(keys: &mut Vec<PairKey>, parts: usize) {
         };
         n
     ];
-    let mut pieces: Vec<&mut [PairKey]> = Vec::with_capacity(parts);
-    let mut rest: &mut [PairKey] = &mut out;
-    for &m in &sizes {
-        let (piece, tail) = rest.split_at_mut(m);
-        pieces.push(piece);
-        rest = tail;
+    if counting_sort_keys(keys, 0, &mut out) {
+        *keys = out;
+    } else {
+        radix_sort_keys(keys);
     }
-    pieces
-        .into_par_iter()
-        .zip(counts)
-        .enumerate()
-        .with_max_len(1)
-        .for_each(|(t, (piece, count))| {
-            let a = lo[t];
-            let mut start = Vec::with_capacity(count.len() + 1);
-            let mut sum = 0u32;
-            start.push(0u32);
-            for &c in &count {
-                sum += c;
-                start.push(sum);
+}
+
+/// The counting sort of [`KeyParts::into_sorted`]: `keys` (all with `ida >= lo`) sorted into
+/// `out` (of the same length); false, with `out` untouched, if their ids are too sparse for
+/// it (more than 4 n + 4096 buckets).
+fn counting_sort_keys(keys: &[PairKey], lo: u32, out: &mut [PairKey]) -> bool {
+    let n = keys.len();
+    let Some(max_ida) = keys.iter().map(|k| k.ida).max() else {
+        return true;
+    };
+    let nb = (max_ida - lo) as usize + 1;
+    if nb > 4 * n + 4096 {
+        return false;
+    }
+    let mut start = vec![0u32; nb + 1];
+    for k in keys {
+        start[(k.ida - lo) as usize + 1] += 1;
+    }
+    for b in 0..nb {
+        start[b + 1] += start[b];
+    }
+    let mut fill = start.clone();
+    for k in keys {
+        let d = (k.ida - lo) as usize;
+        out[fill[d] as usize] = *k;
+        fill[d] += 1;
+    }
+    // Each bucket by idb (insertion sort: buckets hold a few keys).
+    for w in start.windows(2) {
+        let bucket = &mut out[w[0] as usize..w[1] as usize];
+        for x in 1..bucket.len() {
+            let k = bucket[x];
+            let mut y = x;
+            while y > 0 && bucket[y - 1].idb > k.idb {
+                bucket[y] = bucket[y - 1];
+                y -= 1;
             }
-            let mut fill = start.clone();
-            for k in keys_ro {
-                let d = (k.ida as usize).wrapping_sub(a);
-                if d < count.len() {
-                    piece[fill[d] as usize] = *k;
-                    fill[d] += 1;
-                }
-            }
-            // Each bucket by idb (insertion sort: buckets hold a few keys).
-            for w in start.windows(2) {
-                let bucket = &mut piece[w[0] as usize..w[1] as usize];
-                for x in 1..bucket.len() {
-                    let k = bucket[x];
-                    let mut y = x;
-                    while y > 0 && bucket[y - 1].idb > k.idb {
-                        bucket[y] = bucket[y - 1];
-                        y -= 1;
-                    }
-                    bucket[y] = k;
-                }
-            }
-        });
-    *keys = out;
+            bucket[y] = k;
+        }
+    }
+    true
+}
+
+impl From<Vec<PairKey>> for KeyParts {
+    /// Keys in one part.
+    fn from(keys: Vec<PairKey>) -> KeyParts {
+        KeyParts {
+            bounds: vec![0, u32::MAX],
+            parts: vec![keys],
+        }
+    }
 }
 
 /// Sorts candidate keys by their ids (ida, idb): a least-significant-digit radix sort on
@@ -981,9 +1046,9 @@ impl ContactStore {
     /// Replaces the pair lists by new candidates (sorted by ids), carrying over the state of
     /// pairs present in both. Pairs that disappear lose their history (they were farther apart
     /// than TOL and carried no bond). The states are laid out anew in pair order.
-    pub fn merge(&mut self, mut new_pairs: Vec<PairKey>, mut new_walls: Vec<WallKey>) {
+    pub fn merge(&mut self, new_pairs: impl Into<KeyParts>, mut new_walls: Vec<WallKey>) {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
-        sort_keys(&mut new_pairs);
+        let new_pairs = new_pairs.into().into_sorted();
         // The hot list goes first: a rebuild holds the old and the new lists at once.
         self.hot = Vec::new();
         self.scatter.clear();
@@ -1393,9 +1458,13 @@ mod tests {
             want.sort_unstable();
             keys.reverse();
             for parts in [1, 2, 3, 7] {
-                let mut k = keys.clone();
-                sort_keys_in(&mut k, parts);
-                assert_eq!(k, want, "ids up to {max}, {parts} parts");
+                let k = KeyParts::split(keys.clone(), parts);
+                assert_eq!(k.parts.len(), parts);
+                for (t, p) in k.parts.iter().enumerate() {
+                    let (a, b) = (k.bounds[t], k.bounds[t + 1]);
+                    assert!(p.iter().all(|q| a <= q.ida && (t + 1 == parts || q.ida < b)));
+                }
+                assert_eq!(k.into_sorted(), want, "ids up to {max}, {parts} parts");
             }
             sort_keys(&mut keys);
             assert_eq!(keys, want, "ids up to {max}");

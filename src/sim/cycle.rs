@@ -95,7 +95,8 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
 
 /// Rebuilds the candidate lists.
 pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
-    let (pairs, walls, info) = search::candidates(scene, tol);
+    let parts = rayon::current_num_threads();
+    let (pairs, walls, info) = search::candidates_in_parts(scene, tol, parts);
     scene.contacts.merge(pairs, walls);
     scene.contacts.tol = tol;
     for d in scene.particles.disp.iter_mut() {

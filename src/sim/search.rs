@@ -18,7 +18,7 @@
 
 use rayon::prelude::*;
 
-use super::contacts::{PairKey, WallKey};
+use super::contacts::{KeyParts, PairKey, WallKey};
 use super::scene::{Scene, Vec3};
 use super::walls::WallShape;
 
@@ -85,9 +85,27 @@ fn wrap(c: i64, n: usize) -> usize {
 
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
 pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridInfo) {
+    let (pairs, walls, info) = candidates_in_parts(scene, tol, 1);
+    let pairs = pairs.parts.into_iter().flatten().collect();
+    (pairs, walls, info)
+}
+
+/// [`candidates`], the pairs parted by their lower id into `parts` ranges (one per thread,
+/// to be sorted in parallel: [`KeyParts`]).
+pub fn candidates_in_parts(
+    scene: &Scene,
+    tol: f64,
+    parts: usize,
+) -> (KeyParts, Vec<WallKey>, GridInfo) {
     let (pairs, info) = match single_cell_grid(scene, tol) {
-        Some((n, cell)) => single_cell_pairs(scene, tol, n, cell),
-        None => multi_entry_pairs(scene, tol),
+        Some((n, cell)) => {
+            let max_id = scene.particles.id.iter().copied().max().unwrap_or(0);
+            single_cell_pairs(scene, tol, n, cell, &KeyParts::bounds(max_id, parts))
+        }
+        None => {
+            let (pairs, info) = multi_entry_pairs(scene, tol);
+            (KeyParts::split(pairs, parts), info)
+        }
     };
     (pairs, wall_candidates(scene, tol), info)
 }
@@ -120,7 +138,8 @@ fn single_cell_pairs(
     tol: f64,
     n: [usize; 3],
     cell: [f64; 3],
-) -> (Vec<PairKey>, GridInfo) {
+    bounds: &[u32],
+) -> (KeyParts, GridInfo) {
     let p = &scene.particles;
     let np = p.len();
     let periodic = scene.settings.periodic;
@@ -218,11 +237,14 @@ fn single_cell_pairs(
         [of(0), of(1), of(2), of(3)]
     });
     const BLOCK: usize = 256;
-    let per_block: Vec<Vec<PairKey>> = (0..ncell.div_ceil(BLOCK))
+    let nparts = bounds.len() - 1;
+    // Each block's keys go to the part of their lower id.
+    let per_block: Vec<Vec<Vec<PairKey>>> = (0..ncell.div_ceil(BLOCK))
         .into_par_iter()
         .with_max_len(1)
         .map(|blk| {
-            let mut pairs = Vec::new();
+            let mut parted = vec![Vec::new(); nparts];
+            let mut pairs = Parted(&mut parted, bounds);
             let mut hits: Vec<u32> = Vec::new();
             for c in blk * BLOCK..((blk + 1) * BLOCK).min(ncell) {
                 let here = slots_of(c);
@@ -325,13 +347,25 @@ fn single_cell_pairs(
                     }
                 }
             }
-            pairs
+            parted
         })
         .collect();
-    let mut pairs = Vec::with_capacity(per_block.iter().map(Vec::len).sum());
-    for v in per_block {
-        pairs.extend(v);
-    }
+    // Each part's keys of all blocks, in block order (parts in parallel).
+    let parts: Vec<Vec<PairKey>> = (0..nparts)
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|t| {
+            let mut keys = Vec::with_capacity(per_block.iter().map(|b| b[t].len()).sum());
+            for b in &per_block {
+                keys.extend_from_slice(&b[t]);
+            }
+            keys
+        })
+        .collect();
+    let pairs = KeyParts {
+        bounds: bounds.to_vec(),
+        parts,
+    };
     let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
     let info = GridInfo {
         n,
@@ -341,6 +375,17 @@ fn single_cell_pairs(
         empty_boxes: counts.filter(|&m| m == 0).count(),
     };
     (pairs, info)
+}
+
+/// The keys of one search block, each pushed to the part of its lower id.
+struct Parted<'a>(&'a mut Vec<Vec<PairKey>>, &'a [u32]);
+
+impl Parted<'_> {
+    #[inline]
+    fn push(&mut self, k: PairKey) {
+        let t = KeyParts::part_of(self.1, k.ida);
+        self.0[t].push(k);
+    }
 }
 
 /// Multi-entry search (TRUBAL's): each particle is entered in every box its cube of side
