@@ -399,10 +399,14 @@ impl Incidence {
             self.shared[p as usize] = true;
         }
         drop(foreign);
-        self.shared_list.clear();
         let shared = &self.shared;
-        self.shared_list
-            .extend((0..np as u32).filter(|&q| shared[q as usize]));
+        self.shared_list.clear();
+        self.shared_list.par_extend(
+            (0..np as u32)
+                .into_par_iter()
+                .with_min_len(4096)
+                .filter(|&q| shared[q as usize]),
+        );
         hot.par_iter_mut().for_each(|h| {
             h.shared = u8::from(shared[h.i as usize]) | (u8::from(shared[h.j as usize]) << 1);
         });
@@ -419,7 +423,8 @@ impl Incidence {
             })
             .collect();
         self.slot.clear();
-        self.slot.resize(hot.len(), u32::MAX);
+        self.slot
+            .par_extend(rayon::iter::repeat_n(u32::MAX, hot.len()));
         self.task_slots.clear();
         let mut next = 0;
         for t in &touching {

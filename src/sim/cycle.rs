@@ -99,9 +99,11 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
     let (pairs, walls, info) = search::candidates_in_parts(scene, tol, parts);
     scene.contacts.merge(pairs, walls);
     scene.contacts.tol = tol;
-    for d in scene.particles.disp.iter_mut() {
-        *d = Vec3::zeros();
-    }
+    scene
+        .particles
+        .disp
+        .par_chunks_mut(CHUNK)
+        .for_each(|d| d.fill(Vec3::zeros()));
     info
 }
 
