@@ -685,7 +685,10 @@ impl KeyParts {
     /// The part of a key's lower id (`bounds` as from [`KeyParts::bounds`]).
     #[inline]
     pub fn part_of(bounds: &[u32], ida: u32) -> usize {
-        bounds[1..bounds.len() - 1].iter().filter(|&&b| ida >= b).count()
+        bounds[1..bounds.len() - 1]
+            .iter()
+            .filter(|&&b| ida >= b)
+            .count()
     }
 
     /// Keys in one list, parted for `parts` threads.
@@ -1467,7 +1470,10 @@ mod tests {
                 assert_eq!(k.parts.len(), parts);
                 for (t, p) in k.parts.iter().enumerate() {
                     let (a, b) = (k.bounds[t], k.bounds[t + 1]);
-                    assert!(p.iter().all(|q| a <= q.ida && (t + 1 == parts || q.ida < b)));
+                    assert!(
+                        p.iter()
+                            .all(|q| a <= q.ida && (t + 1 == parts || q.ida < b))
+                    );
                 }
                 assert_eq!(k.into_sorted(), want, "ids up to {max}, {parts} parts");
             }
