@@ -708,14 +708,6 @@ impl KeyParts {
         KeyParts { bounds, parts: out }
     }
 
-    pub fn len(&self) -> usize {
-        self.parts.iter().map(Vec::len).sum()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// All keys sorted by their ids (ida, idb). The id pairs are unique, so any correct sort
     /// gives this one order, whatever the parts (and so the number of threads).
     ///
