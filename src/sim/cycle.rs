@@ -594,7 +594,8 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 scatter.split(&mut *hot, np, ranges, threads);
             }
             // The slots of pairs not evaluated in this step stay zero.
-            out.clear();
+            // (Each task zeroes its own slots below, in parallel and on the core that
+            // writes them.)
             out.resize(scatter.slots, PairForce::default());
             let job = std::sync::Mutex::new(Some(job));
             let job_out_slot = std::sync::Mutex::new(None);
@@ -640,6 +641,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                         job_secs = t0.elapsed().as_secs_f64();
                     }
                     let lo = r.parts.start;
+                    outs.fill(PairForce::default());
                     if !zeroed {
                         force.fill(Vec3::zeros());
                         moment.fill(Vec3::zeros());
