@@ -193,7 +193,7 @@ fn pristine(s: &ContactState) -> bool {
 }
 
 /// A candidate pair found by the search (no state yet).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
 pub struct PairKey {
     pub ida: u32,
     pub idb: u32,
@@ -717,20 +717,9 @@ impl KeyParts {
     /// bucket (a handful of keys) by `idb` in place; sparse ids take the radix sort.
     pub fn into_sorted(self) -> Vec<PairKey> {
         let KeyParts { bounds, parts } = self;
-        if parts.len() == 1 {
-            let mut keys = parts.into_iter().next().unwrap_or_default();
-            sort_keys(&mut keys);
-            return keys;
-        }
         let n: usize = parts.iter().map(Vec::len).sum();
-        let blank = PairKey {
-            ida: 0,
-            idb: 0,
-            i: 0,
-            j: 0,
-        };
         let mut out = Vec::with_capacity(n);
-        out.par_extend(rayon::iter::repeat_n(blank, n));
+        out.par_extend(rayon::iter::repeat_n(PairKey::default(), n));
         let mut pieces: Vec<&mut [PairKey]> = Vec::with_capacity(parts.len());
         let mut rest: &mut [PairKey] = &mut out;
         for p in &parts {
@@ -750,25 +739,6 @@ impl KeyParts {
                 }
             });
         out
-    }
-}
-
-/// Sorts candidate keys by their ids (ida, idb), as [`KeyParts::into_sorted`] with one part.
-fn sort_keys(keys: &mut Vec<PairKey>) {
-    let n = keys.len();
-    let mut out = vec![
-        PairKey {
-            ida: 0,
-            idb: 0,
-            i: 0,
-            j: 0
-        };
-        n
-    ];
-    if counting_sort_keys(keys, 0, &mut out) {
-        *keys = out;
-    } else {
-        radix_sort_keys(keys);
     }
 }
 
@@ -1469,7 +1439,7 @@ mod tests {
                 }
                 assert_eq!(k.into_sorted(), want, "ids up to {max}, {parts} parts");
             }
-            sort_keys(&mut keys);
+            let keys = KeyParts::from(keys).into_sorted();
             assert_eq!(keys, want, "ids up to {max}");
         }
     }
