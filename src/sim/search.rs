@@ -40,9 +40,16 @@ fn grid_dims(scene: &Scene, tol: f64) -> ([usize; 3], [f64; 3]) {
     grid_of(scene, 2.0 * median + tol, 4)
 }
 
-/// The median particle radius (None without particles).
+/// The median particle radius, of every radius up to 1024 particles and of an evenly spaced
+/// sample of about 1024 beyond (None without particles). It chooses only the grid of the
+/// search, never which pairs it finds.
 fn median_radius(scene: &Scene) -> Option<f64> {
-    let mut r: Vec<f64> = scene.particles.radius.clone();
+    let all = &scene.particles.radius;
+    let mut r: Vec<f64> = all
+        .iter()
+        .step_by(all.len().div_ceil(1024).max(1))
+        .copied()
+        .collect();
     if r.is_empty() {
         return None;
     }
@@ -68,9 +75,18 @@ fn grid_of(scene: &Scene, mut h: f64, per_particle: usize) -> ([usize; 3], [f64;
     (n, cell)
 }
 
+/// `q.floor() as i64`, without the call to the C library's `floor` that the baseline
+/// x86-64 build makes (no rounding instruction before SSE4.1): the truncation, one less
+/// for a negative non-integer; the same value for every input, NaN and ±∞ included.
+#[inline]
+fn floor_i64(q: f64) -> i64 {
+    let t = q as i64;
+    t.saturating_sub(i64::from((t as f64) > q))
+}
+
 #[inline]
 fn cell_index(x: f64, k: usize, n: &[usize; 3], cell: &[f64; 3], periodic: bool) -> i64 {
-    let c = (x / cell[k]).floor() as i64;
+    let c = floor_i64(x / cell[k]);
     if periodic {
         c
     } else {
@@ -97,17 +113,21 @@ pub fn candidates_in_parts(
     tol: f64,
     parts: usize,
 ) -> (KeyParts, Vec<WallKey>, GridInfo) {
-    let (pairs, info) = match single_cell_grid(scene, tol) {
-        Some((n, cell)) => {
-            let max_id = scene.particles.id.iter().copied().max().unwrap_or(0);
-            single_cell_pairs(scene, tol, n, cell, &KeyParts::bounds(max_id, parts))
-        }
-        None => {
-            let (pairs, info) = multi_entry_pairs(scene, tol);
-            (KeyParts::split(pairs, parts), info)
-        }
-    };
-    (pairs, wall_candidates(scene, tol), info)
+    // The wall candidates beside the particle pairs (nothing shared).
+    let ((pairs, info), walls) = rayon::join(
+        || match single_cell_grid(scene, tol) {
+            Some((n, cell)) => {
+                let max_id = scene.particles.id.iter().copied().max().unwrap_or(0);
+                single_cell_pairs(scene, tol, n, cell, &KeyParts::bounds(max_id, parts))
+            }
+            None => {
+                let (pairs, info) = multi_entry_pairs(scene, tol);
+                (KeyParts::split(pairs, parts), info)
+            }
+        },
+        || wall_candidates(scene, tol),
+    );
+    (pairs, walls, info)
 }
 
 /// Grid of the single-cell search, if it suits the scene: near-monodisperse (largest radius
@@ -163,19 +183,7 @@ fn single_cell_pairs(
         .with_min_len(4096)
         .map(|i| flat(coord(i)) as u32)
         .collect();
-    let mut start = vec![0u32; ncell + 1];
-    for &c in &cell_of {
-        start[c as usize + 1] += 1;
-    }
-    for c in 0..ncell {
-        start[c + 1] += start[c];
-    }
-    let mut fill = start.clone();
-    let mut members = vec![0u32; np];
-    for (i, &c) in cell_of.iter().enumerate() {
-        members[fill[c as usize] as usize] = i as u32;
-        fill[c as usize] += 1;
-    }
+    let (start, members) = by_cell(&cell_of, ncell, bounds.len() - 1);
     let slots_of = |c: usize| start[c] as usize..start[c + 1] as usize;
     // The 13 forward neighbours.
     let mut stencil = Vec::with_capacity(13);
@@ -377,6 +385,71 @@ fn single_cell_pairs(
     (pairs, info)
 }
 
+/// Counting sort of the particles by cell: `start[c]..start[c + 1]` are cell `c`'s slots in
+/// `members`, which lists each cell's particles in index order. Done in `parts` ranges of
+/// cells in parallel (each part reads every particle's cell and counts and places only
+/// those of its own cells), with the result of one serial pass.
+fn by_cell(cell_of: &[u32], ncell: usize, parts: usize) -> (Vec<u32>, Vec<u32>) {
+    let parts = parts.clamp(1, ncell.max(1));
+    let cut: Vec<usize> = (0..=parts).map(|t| t * ncell / parts).collect();
+    let ours = |c0: usize, c1: usize| {
+        cell_of
+            .iter()
+            .enumerate()
+            .filter(move |(_, c)| (c0..c1).contains(&(**c as usize)))
+            .map(move |(i, &c)| (i as u32, c as usize - c0))
+    };
+    // Per part: the running sums of its cells' counts (start[c + 1] for its cells c).
+    let mut start = vec![0u32; ncell + 1];
+    let mut counts: Vec<&mut [u32]> = Vec::with_capacity(parts);
+    let mut rest = &mut start[1..];
+    for t in 0..parts {
+        let (a, b) = rest.split_at_mut(cut[t + 1] - cut[t]);
+        counts.push(a);
+        rest = b;
+    }
+    counts.par_iter_mut().enumerate().for_each(|(t, n)| {
+        for (_, c) in ours(cut[t], cut[t + 1]) {
+            n[c] += 1;
+        }
+        let mut sum = 0;
+        for x in n.iter_mut() {
+            sum += *x;
+            *x = sum;
+        }
+    });
+    // Then each part's particles into its own stretch of `members`, and the slots before
+    // it added to its sums.
+    let sizes: Vec<u32> = counts
+        .iter()
+        .map(|n| n.last().copied().unwrap_or(0))
+        .collect();
+    let mut members = vec![0u32; cell_of.len()];
+    let mut slots: Vec<(&mut [u32], u32)> = Vec::with_capacity(parts);
+    let (mut rest, mut before) = (&mut members[..], 0);
+    for &size in &sizes {
+        let (a, b) = rest.split_at_mut(size as usize);
+        slots.push((a, before));
+        rest = b;
+        before += size;
+    }
+    counts
+        .into_par_iter()
+        .zip(slots)
+        .enumerate()
+        .for_each(|(t, (n, (slots, before)))| {
+            let mut fill: Vec<u32> = std::iter::once(0).chain(n.iter().copied()).collect();
+            for (i, c) in ours(cut[t], cut[t + 1]) {
+                slots[fill[c] as usize] = i;
+                fill[c] += 1;
+            }
+            for x in n.iter_mut() {
+                *x += before;
+            }
+        });
+    (start, members)
+}
+
 /// The keys of one search block, each pushed to the part of its lower id.
 struct Parted<'a>(&'a mut Vec<Vec<PairKey>>, &'a [u32]);
 
@@ -565,4 +638,93 @@ pub fn brute_force_pairs(scene: &Scene, tol: f64) -> Vec<(u32, u32)> {
     }
     v.sort_unstable();
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::rng::Rng;
+
+    #[test]
+    fn floor_without_the_library_call_is_floor() {
+        let mut r = Rng::new(3);
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            1.5,
+            -1.5,
+            2.0 - 1e-16,
+            -2.0 + 1e-16,
+            4503599627370495.5,
+            -4503599627370495.5,
+            9007199254740993.0,
+            1e300,
+            -1e300,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            9.3e18,
+            -9.3e18,
+        ];
+        xs.extend((0..10_000).map(|_| r.normal() * 1e3));
+        for x in xs {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
+        }
+    }
+
+    /// The serial counting sort the parted one stands for.
+    fn by_cell_serial(cell_of: &[u32], ncell: usize) -> (Vec<u32>, Vec<u32>) {
+        let mut start = vec![0u32; ncell + 1];
+        for &c in cell_of {
+            start[c as usize + 1] += 1;
+        }
+        for c in 0..ncell {
+            start[c + 1] += start[c];
+        }
+        let mut fill = start.clone();
+        let mut members = vec![0u32; cell_of.len()];
+        for (i, &c) in cell_of.iter().enumerate() {
+            members[fill[c as usize] as usize] = i as u32;
+            fill[c as usize] += 1;
+        }
+        (start, members)
+    }
+
+    #[test]
+    fn particles_sorted_by_cell_in_parts_as_in_one_pass() {
+        let mut r = Rng::new(11);
+        for (np, ncell) in [
+            (0, 1),
+            (1, 1),
+            (5, 2),
+            (1000, 37),
+            (1000, 5000),
+            (20_000, 3000),
+        ] {
+            // Runs of one cell and scattered cells, many cells empty.
+            let cell_of: Vec<u32> = (0..np)
+                .map(|i| {
+                    if i % 3 == 0 {
+                        (i * ncell / np.max(1)) as u32
+                    } else {
+                        ((r.uniform() * ncell as f64) as usize).min(ncell - 1) as u32
+                    }
+                })
+                .collect();
+            let want = by_cell_serial(&cell_of, ncell);
+            for parts in [1, 2, 3, 7, 64] {
+                assert_eq!(
+                    by_cell(&cell_of, ncell, parts),
+                    want,
+                    "{np} in {ncell}, {parts}"
+                );
+            }
+        }
+    }
 }
