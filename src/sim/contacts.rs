@@ -663,13 +663,13 @@ impl<'de> Deserialize<'de> for ContactStore {
 }
 
 /// Candidate keys as the search emits them, parted by the lower id: part `t` holds the keys
-/// with `bounds[t] <= ida < bounds[t + 1]`, in no particular order. The parts are sorted on
-/// their own, in parallel, each reading only its own keys, and laid end to end
-/// ([`KeyParts::into_sorted`]).
+/// with `bounds[t] <= ida < bounds[t + 1]`, in no particular order, in one or more lists (the
+/// search's blocks, not copied into one). The parts are sorted on their own, in parallel,
+/// each reading only its own keys, and laid end to end ([`KeyParts::into_sorted`]).
 #[derive(Clone, Debug, Default)]
 pub struct KeyParts {
     pub bounds: Vec<u32>,
-    pub parts: Vec<Vec<PairKey>>,
+    pub parts: Vec<Vec<Vec<PairKey>>>,
 }
 
 impl KeyParts {
@@ -698,14 +698,22 @@ impl KeyParts {
         if bounds.len() == 2 {
             return KeyParts {
                 bounds,
-                parts: vec![keys],
+                parts: vec![vec![keys]],
             };
         }
         let mut out = vec![Vec::new(); bounds.len() - 1];
         for k in keys {
             out[KeyParts::part_of(&bounds, k.ida)].push(k);
         }
-        KeyParts { bounds, parts: out }
+        KeyParts {
+            bounds,
+            parts: out.into_iter().map(|p| vec![p]).collect(),
+        }
+    }
+
+    /// All keys, part after part, unsorted.
+    pub fn into_flat(self) -> Vec<PairKey> {
+        self.parts.into_iter().flatten().flatten().collect()
     }
 
     /// All keys sorted by their ids (ida, idb). The id pairs are unique, so any correct sort
@@ -717,13 +725,14 @@ impl KeyParts {
     /// bucket (a handful of keys) by `idb` in place; sparse ids take the radix sort.
     pub fn into_sorted(self) -> Vec<PairKey> {
         let KeyParts { bounds, parts } = self;
-        let n: usize = parts.iter().map(Vec::len).sum();
+        let len = |p: &Vec<Vec<PairKey>>| p.iter().map(Vec::len).sum::<usize>();
+        let n: usize = parts.iter().map(len).sum();
         let mut out = Vec::with_capacity(n);
         out.par_extend(rayon::iter::repeat_n(PairKey::default(), n));
         let mut pieces: Vec<&mut [PairKey]> = Vec::with_capacity(parts.len());
         let mut rest: &mut [PairKey] = &mut out;
         for p in &parts {
-            let (piece, tail) = rest.split_at_mut(p.len());
+            let (piece, tail) = rest.split_at_mut(len(p));
             pieces.push(piece);
             rest = tail;
         }
@@ -732,8 +741,9 @@ impl KeyParts {
             .zip(parts)
             .enumerate()
             .with_max_len(1)
-            .for_each(|(t, (piece, mut keys))| {
-                if !counting_sort_keys(&keys, bounds[t], piece) {
+            .for_each(|(t, (piece, lists))| {
+                if !counting_sort_keys(&lists, bounds[t], piece) {
+                    let mut keys: Vec<PairKey> = lists.into_iter().flatten().collect();
                     radix_sort_keys(&mut keys);
                     piece.copy_from_slice(&keys);
                 }
@@ -742,12 +752,13 @@ impl KeyParts {
     }
 }
 
-/// The counting sort of [`KeyParts::into_sorted`]: `keys` (all with `ida >= lo`) sorted into
-/// `out` (of the same length); false, with `out` untouched, if their ids are too sparse for
-/// it (more than 4 n + 4096 buckets).
-fn counting_sort_keys(keys: &[PairKey], lo: u32, out: &mut [PairKey]) -> bool {
-    let n = keys.len();
-    let Some(max_ida) = keys.iter().map(|k| k.ida).max() else {
+/// The counting sort of [`KeyParts::into_sorted`]: the keys of `lists` (all with
+/// `ida >= lo`) sorted into `out` (of their number); false, with `out` untouched, if their
+/// ids are too sparse for it (more than 4 n + 4096 buckets).
+fn counting_sort_keys(lists: &[Vec<PairKey>], lo: u32, out: &mut [PairKey]) -> bool {
+    let n = out.len();
+    let keys = || lists.iter().flatten();
+    let Some(max_ida) = keys().map(|k| k.ida).max() else {
         return true;
     };
     let nb = (max_ida - lo) as usize + 1;
@@ -755,14 +766,14 @@ fn counting_sort_keys(keys: &[PairKey], lo: u32, out: &mut [PairKey]) -> bool {
         return false;
     }
     let mut start = vec![0u32; nb + 1];
-    for k in keys {
+    for k in keys() {
         start[(k.ida - lo) as usize + 1] += 1;
     }
     for b in 0..nb {
         start[b + 1] += start[b];
     }
     let mut fill = start.clone();
-    for k in keys {
+    for k in keys() {
         let d = (k.ida - lo) as usize;
         out[fill[d] as usize] = *k;
         fill[d] += 1;
@@ -788,7 +799,7 @@ impl From<Vec<PairKey>> for KeyParts {
     fn from(keys: Vec<PairKey>) -> KeyParts {
         KeyParts {
             bounds: vec![0, u32::MAX],
-            parts: vec![keys],
+            parts: vec![vec![keys]],
         }
     }
 }
@@ -1438,9 +1449,22 @@ mod tests {
                     let (a, b) = (k.bounds[t], k.bounds[t + 1]);
                     assert!(
                         p.iter()
+                            .flatten()
                             .all(|q| a <= q.ida && (t + 1 == parts || q.ida < b))
                     );
                 }
+                // The same keys in several lists per part (as the search's blocks).
+                let mut lists = k.clone();
+                for p in &mut lists.parts {
+                    let all: Vec<PairKey> = std::mem::take(p).into_iter().flatten().collect();
+                    *p = all.chunks(333).map(<[PairKey]>::to_vec).collect();
+                    p.insert(1.min(p.len()), Vec::new());
+                }
+                assert_eq!(
+                    lists.into_sorted(),
+                    want,
+                    "ids up to {max}, {parts} parts, lists"
+                );
                 assert_eq!(k.into_sorted(), want, "ids up to {max}, {parts} parts");
             }
             let keys = KeyParts::from(keys).into_sorted();

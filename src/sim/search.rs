@@ -102,7 +102,7 @@ fn wrap(c: i64, n: usize) -> usize {
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
 pub fn candidates(scene: &Scene, tol: f64) -> (Vec<PairKey>, Vec<WallKey>, GridInfo) {
     let (pairs, walls, info) = candidates_in_parts(scene, tol, 1);
-    let pairs = pairs.parts.into_iter().flatten().collect();
+    let pairs = pairs.into_flat();
     (pairs, walls, info)
 }
 
@@ -358,18 +358,15 @@ fn single_cell_pairs(
             parted
         })
         .collect();
-    // Each part's keys of all blocks, in block order (parts in parallel).
-    let parts: Vec<Vec<PairKey>> = (0..nparts)
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|t| {
-            let mut keys = Vec::with_capacity(per_block.iter().map(|b| b[t].len()).sum());
-            for b in &per_block {
-                keys.extend_from_slice(&b[t]);
+    // Each part's keys: its lists of all blocks, in block order (moved, not copied).
+    let mut parts: Vec<Vec<Vec<PairKey>>> = vec![Vec::new(); nparts];
+    for block in per_block {
+        for (t, keys) in block.into_iter().enumerate() {
+            if !keys.is_empty() {
+                parts[t].push(keys);
             }
-            keys
-        })
-        .collect();
+        }
+    }
     let pairs = KeyParts {
         bounds: bounds.to_vec(),
         parts,
