@@ -138,6 +138,9 @@ pub const BLOCK: usize = 1024;
 /// No contact state allocated for a pair.
 pub const NO_STATE: u32 = u32::MAX;
 
+/// [`Incidence::shared`] of a particle that is not shared.
+pub const NOT_SHARED: u32 = u32::MAX;
+
 /// A candidate particle–particle pair: gap < TOL at the last rebuild, or a live bond. Its
 /// contact state lives in the store's block of the pair (see [`ContactStore`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -302,8 +305,9 @@ pub struct Incidence {
     pub ranges: Vec<PairRange>,
     pub threads: usize,
     /// Particles whose pairs are not all in the task of their interval (summed from the
-    /// pairs' slots after the tasks), as flags and as a list.
-    pub shared: Vec<bool>,
+    /// pairs' slots after the tasks): for each particle its place in the list of them
+    /// ([`NOT_SHARED`]: not shared), and the list.
+    pub shared: Vec<u32>,
     pub shared_list: Vec<u32>,
     /// The force slot of each pair that touches a shared particle (`u32::MAX`: none), the
     /// slots of each task, and their number.
@@ -394,9 +398,9 @@ impl Incidence {
             })
             .collect();
         self.shared.clear();
-        self.shared.resize(np, false);
+        self.shared.resize(np, NOT_SHARED);
         for &p in foreign.iter().flatten() {
-            self.shared[p as usize] = true;
+            self.shared[p as usize] = 0;
         }
         drop(foreign);
         let shared = &self.shared;
@@ -405,23 +409,42 @@ impl Incidence {
             (0..np as u32)
                 .into_par_iter()
                 .with_min_len(4096)
-                .filter(|&q| shared[q as usize]),
+                .filter(|&q| shared[q as usize] != NOT_SHARED),
         );
-        hot.par_iter_mut().for_each(|h| {
-            h.shared = u8::from(shared[h.i as usize]) | (u8::from(shared[h.j as usize]) << 1);
-        });
-        let hot = &*hot;
-        // The pairs that touch a shared particle, per task in pair order: their slots.
-        let touching: Vec<Vec<u32>> = ranges
-            .par_iter()
-            .map(|r| {
-                r.pairs
-                    .clone()
-                    .filter(|&k| hot[k].shared != 0)
-                    .map(|k| k as u32)
-                    .collect()
+        for (s, &q) in self.shared_list.iter().enumerate() {
+            self.shared[q as usize] = s as u32;
+        }
+        let shared = &self.shared;
+        // Each task's pairs get their ownership bits, and those that touch a shared
+        // particle are listed (in pair order) for their slots.
+        debug_assert!(
+            ranges.first().is_none_or(|r| r.pairs.start == 0)
+                && ranges.windows(2).all(|w| w[0].pairs.end == w[1].pairs.start)
+                && ranges.last().is_none_or(|r| r.pairs.end == hot.len()),
+            "the tasks cover the pairs in order"
+        );
+        let mut pieces = Vec::with_capacity(ranges.len());
+        let mut rest = &mut hot[..];
+        for r in &ranges {
+            let (piece, tail) = rest.split_at_mut(r.pairs.len());
+            pieces.push((r.pairs.start, piece));
+            rest = tail;
+        }
+        let touching: Vec<Vec<u32>> = pieces
+            .into_par_iter()
+            .map(|(first, piece)| {
+                let mut t = Vec::new();
+                for (k, h) in piece.iter_mut().enumerate() {
+                    let (si, sj) = (shared[h.i as usize], shared[h.j as usize]);
+                    h.shared = u8::from(si != NOT_SHARED) | (u8::from(sj != NOT_SHARED) << 1);
+                    if h.shared != 0 {
+                        t.push((first + k) as u32);
+                    }
+                }
+                t
             })
             .collect();
+        let hot = &*hot;
         self.slot.clear();
         self.slot
             .par_extend(rayon::iter::repeat_n(u32::MAX, hot.len()));
@@ -435,10 +458,10 @@ impl Incidence {
             next += t.len();
         }
         self.slots = next;
-        // The pair lists of the shared particles: a counting sort over those pairs alone
-        // (`shared_list` is sorted: a particle's place in it by bisection).
+        // The pair lists of the shared particles: a counting sort over those pairs alone.
         let list = &self.shared_list;
-        let place = |p: u32| list.binary_search(&p).ok();
+        let place =
+            |p: u32| Some(shared[p as usize] as usize).filter(|&s| s != NOT_SHARED as usize);
         self.start.clear();
         self.start.resize(list.len() + 1, 0);
         for &k in touching.iter().flatten() {
@@ -1330,15 +1353,19 @@ mod tests {
         inc.split(&mut hot, np, ranges.clone(), 3);
         // Each pair carries its particles' shared flags.
         for h in &hot {
-            let want =
-                u8::from(inc.shared[h.i as usize]) | (u8::from(inc.shared[h.j as usize]) << 1);
+            let want = u8::from(inc.shared[h.i as usize] != NOT_SHARED)
+                | (u8::from(inc.shared[h.j as usize] != NOT_SHARED) << 1);
             assert_eq!(h.shared, want);
         }
         let mut owned = 0;
         for (r, rg) in ranges.iter().enumerate() {
             for q in rg.parts.clone() {
                 let inside = mine(q).iter().all(|&k| rg.pairs.contains(&(k as usize)));
-                assert_eq!(inc.shared[q], !inside, "particle {q} of task {r}");
+                assert_eq!(
+                    inc.shared[q] != NOT_SHARED,
+                    !inside,
+                    "particle {q} of task {r}"
+                );
                 owned += inside as usize;
             }
         }
@@ -1355,7 +1382,7 @@ mod tests {
         // contiguous.
         let mut next = 0;
         for (k, h) in hot.iter().enumerate() {
-            if inc.shared[h.i as usize] || inc.shared[h.j as usize] {
+            if inc.shared[h.i as usize] != NOT_SHARED || inc.shared[h.j as usize] != NOT_SHARED {
                 assert_eq!(inc.slot[k], next, "pair {k}");
                 next += 1;
             } else {
