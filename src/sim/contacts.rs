@@ -266,11 +266,27 @@ pub struct WallForce {
     pub i: u32,
 }
 
-/// The wall contacts' output of the current step with several threads (derived; not
-/// saved): made by the wall job alongside the pair loop, applied to the particles by the
-/// particle update, chunk by chunk (`cycle::move_all`).
+/// The wall contacts' output of the current step (derived; not saved): made by the force
+/// step, one piece per task (each task evaluates the wall pairs of about its own particles,
+/// so that the core that updates a particle has its wall forces in its cache), applied to
+/// the particles by the particle update, chunk by chunk (`cycle::move_all`).
 #[derive(Clone, Debug, Default)]
 pub struct WallOut {
+    /// Per task, in order: its stretch of the wall pairs' output (stretches of whole blocks
+    /// of [`WALL_BLOCK`] pairs).
+    pub pieces: Vec<WallPiece>,
+    /// The force on each wall: per block of [`WALL_BLOCK`] wall pairs the sum of its pairs'
+    /// forces in pair order, then these in block order (so for any number of threads).
+    pub on_wall: Vec<[f64; 3]>,
+}
+
+/// Wall pairs per block: the energy increments and the wall forces of the wall contacts are
+/// summed per block, then in block order.
+pub const WALL_BLOCK: usize = 256;
+
+/// One task's stretch of the wall pairs' output ([`WallOut`]).
+#[derive(Clone, Debug, Default)]
+pub struct WallPiece {
     /// The evaluated wall pairs' forces, in pair order.
     pub forces: Vec<WallForce>,
     /// Indices into `forces` grouped by the update's chunk of their particle (in pair order
@@ -278,11 +294,11 @@ pub struct WallOut {
     /// `order[start[c]..start[c + 1]]`.
     pub order: Vec<u32>,
     pub start: Vec<u32>,
-    /// The force on each wall: the sum of its pairs' forces in pair order.
-    pub on_wall: Vec<[f64; 3]>,
+    /// Per block of wall pairs, the force on each wall (`walls` entries per block).
+    pub sums: Vec<[f64; 3]>,
 }
 
-impl WallOut {
+impl WallPiece {
     /// The entries of chunk `c`.
     pub fn of_chunk(&self, c: usize) -> impl Iterator<Item = &WallForce> + '_ {
         let r = match (self.start.get(c), self.start.get(c + 1)) {
@@ -290,6 +306,31 @@ impl WallOut {
             _ => 0..0,
         };
         self.order[r].iter().map(|&e| &self.forces[e as usize])
+    }
+}
+
+impl WallOut {
+    /// The entries of chunk `c`, in pair order.
+    pub fn of_chunk(&self, c: usize) -> impl Iterator<Item = &WallForce> + '_ {
+        self.pieces.iter().flat_map(move |p| p.of_chunk(c))
+    }
+
+    /// `on_wall` from the pieces' block sums, for `walls` walls.
+    pub fn sum_walls(&mut self, walls: usize) {
+        self.on_wall.clear();
+        self.on_wall.resize(walls, [0.0; 3]);
+        if walls == 0 {
+            return;
+        }
+        for p in &self.pieces {
+            for block in p.sums.chunks(walls) {
+                for (w, b) in self.on_wall.iter_mut().zip(block) {
+                    for (wk, bk) in w.iter_mut().zip(b) {
+                        *wk += bk;
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -320,16 +361,14 @@ pub struct Incidence {
 
 /// Wall-clock times of the multi-thread force loop since the last split, for the cut of
 /// the next one: per task, where its pairs end (as a fraction of the pair list), the pair
-/// cost it was given ([`cycle::pair_ranges`](super::cycle)) and the seconds its pairs took;
-/// and the seconds of the extra job of the last task (the wall contacts). A task whose pairs
-/// took longer per unit of cost (denser contacts, other data in its caches) gets fewer at
-/// the next split, and the job is weighed by the time it took. Timing chooses only where
-/// the pair list is cut; every particle's sum and every energy partial sum is the same for
-/// any cut.
+/// cost it was given ([`cycle::pair_ranges`](super::cycle)) and the seconds it took (its
+/// pairs and its stretch of the wall pairs). A task whose pairs took longer per unit of cost
+/// (denser contacts, walls, other data in its caches) gets fewer at the next split. Timing
+/// chooses only where the pair list is cut; every particle's sum and every energy partial
+/// sum is the same for any cut.
 #[derive(Clone, Debug, Default)]
 pub struct Balance {
     pub tasks: Vec<(f64, usize, f64)>,
-    pub job_secs: f64,
 }
 
 impl Balance {
@@ -339,12 +378,12 @@ impl Balance {
     }
 
     /// The relative time per unit of pair cost of the pairs at fraction `x` of the list
-    /// (1 on average; clamped to 1/2 … 2 against a disturbed measurement), and the job's
-    /// cost in pair-cost units; `None` before any measurement.
-    pub fn rates(&self) -> Option<(Vec<(f64, f64)>, f64)> {
+    /// (1 on average; clamped to 1/2 … 2 against a disturbed measurement); `None` before any
+    /// measurement.
+    pub fn rates(&self) -> Option<Vec<(f64, f64)>> {
         let cost: usize = self.tasks.iter().map(|t| t.1).sum();
         let secs: f64 = self.tasks.iter().map(|t| t.2).sum();
-        let ok = cost > 0 && secs > 0.0 && secs.is_finite() && self.job_secs.is_finite();
+        let ok = cost > 0 && secs > 0.0 && secs.is_finite();
         if !ok {
             return None;
         }
@@ -357,7 +396,7 @@ impl Balance {
                 (end, r.clamp(0.5, 2.0))
             })
             .collect();
-        Some((rates, self.job_secs / mean))
+        Some(rates)
     }
 }
 
@@ -419,7 +458,9 @@ impl Incidence {
         // particle are listed (in pair order) for their slots.
         debug_assert!(
             ranges.first().is_none_or(|r| r.pairs.start == 0)
-                && ranges.windows(2).all(|w| w[0].pairs.end == w[1].pairs.start)
+                && ranges
+                    .windows(2)
+                    .all(|w| w[0].pairs.end == w[1].pairs.start)
                 && ranges.last().is_none_or(|r| r.pairs.end == hot.len()),
             "the tasks cover the pairs in order"
         );

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use super::contacts::{
     self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
-    WallForce, WallOut, WallPair,
+    WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
 };
 use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
@@ -373,7 +373,6 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         goldman: scene.settings.goldman,
     };
 
-    let one_thread = rayon::current_num_threads() == 1;
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
@@ -409,40 +408,24 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         let zeroed = std::mem::take(&mut scene.contacts.zeroed);
         let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
         let force = &mut scene.particles.force;
-        let np = force.len();
         let moment = &mut scene.particles.moment;
-        let walls = &scene.walls;
-        let shapes = &shapes;
-        // The wall contacts (their forces into a list) are one more job of the pair loop,
-        // weighed when the split is made by the time they took since the last one, or
-        // before any measurement, live wall pairs like contacts.
-        let threads = rayon::current_num_threads();
-        let wall_cost =
-            if !one_thread && scatter.needs_split(np, threads) && !scatter.balance.measured() {
-                let live = wall_pairs
-                    .iter()
-                    .filter(|c| c.s.touching || c.s.bridge.is_some());
-                wall_pairs.len() + 7 * live.count()
-            } else {
-                0
-            };
-        let wall_job =
-            || wall_forces::<ADH, LIQ>(wall_pairs, wall_out, (walls, shapes), &wall_ctx, np);
-        let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ, _>(
+        let walls = (&scene.walls[..], &shapes[..]);
+        let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ>(
             (hot, pairs, blocks, out, scatter),
             (force, moment, zeroed),
             &ctx,
-            (wall_job, wall_cost),
+            (wall_pairs, wall_out, walls, &wall_ctx),
         );
         acc.add(&pair_acc);
         for a in &wall_acc {
             acc.add(a);
         }
+        wall_out.sum_walls(scene.walls.len());
     }
 
     // ---- particle–wall contacts -------------------------------------------------------
-    // The wall job has made the walls' forces (summed in pair order) and the energy
-    // increments (per chunk of `BLOCK` wall pairs). The particles get theirs in the update
+    // The tasks have made the walls' forces (summed per block of wall pairs, then in block
+    // order) and the energy increments (per block). The particles get theirs in the update
     // (`move_all`, chunk by chunk), after their moments are scaled by the radius and, with
     // several threads, after the shared particles' sums.
     for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
@@ -527,11 +510,14 @@ fn finish_deferred(scene: &mut Scene, rotation: bool) {
 
 /// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two
 /// particles in pair order; the moments are summed per unit radius (the update scales them,
-/// `finish_chunk`).
-/// Returns the energy increments, summed per block in block order. `job` (the wall contacts,
-/// of about `job_cost` pair costs, see [`pair_ranges`]) runs alongside: with several threads
-/// in the last task, before its pairs.
-fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
+/// `finish_chunk`). The wall contacts are evaluated alongside: with several threads each task
+/// takes the stretch of wall pairs (whole blocks of [`WALL_BLOCK`]) that begins about where
+/// its particles do, before its pairs ([`wall_forces`], one piece of `wall_out` per task), so
+/// that the core that updates a particle has its wall forces in its cache.
+/// Returns the energy increments, the pairs' summed per block in block order, and the wall
+/// pairs' per block, in block order.
+#[allow(clippy::type_complexity)]
+fn pair_forces<const ADH: bool, const LIQ: bool>(
     (hot, pairs, blocks, out, scatter): (
         &mut [HotPair],
         &mut [Pair],
@@ -541,15 +527,23 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
     ),
     (force, moment, zeroed): (&mut Vec<Vec3>, &mut Vec<Vec3>, bool),
     ctx: &PairCtx,
-    (job, job_cost): (impl FnOnce() -> J + Send, usize),
-) -> (Acc, J) {
+    (wall_pairs, wall_out, walls, wall_ctx): (
+        &mut [WallPair],
+        &mut WallOut,
+        (&[Wall], &[WallShape]),
+        &PairCtx,
+    ),
+) -> (Acc, Vec<Acc>) {
     let ctx = *ctx;
     let rotation = ctx.model.rotation;
+    let np = force.len();
     let mut acc = Acc::default();
-    let job_out;
+    let wall_acc;
     {
         if rayon::current_num_threads() == 1 {
-            job_out = job();
+            wall_out.pieces.resize_with(1, WallPiece::default);
+            wall_acc =
+                wall_forces::<ADH, LIQ>(wall_pairs, &mut wall_out.pieces[0], walls, wall_ctx, np);
             if !zeroed {
                 force.fill(Vec3::zeros());
                 moment.fill(Vec3::zeros());
@@ -573,23 +567,18 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 acc.add(&a);
             }
         } else {
-            let np = force.len();
             let threads = rayon::current_num_threads();
             if scatter.needs_split(np, threads) {
                 // Once per rebuild: one task per thread (measured: more tasks make more
                 // particles shared), balanced on the contacts of this step and on what
                 // the tasks took since the last split.
-                let (rates, job_cost) = scatter
-                    .balance
-                    .rates()
-                    .unwrap_or_else(|| (Vec::new(), job_cost as f64));
-                let (ranges, costs) = pair_ranges(hot, np, threads, job_cost, &rates);
+                let rates = scatter.balance.rates().unwrap_or_default();
+                let (ranges, costs) = pair_ranges(hot, np, threads, &rates);
                 let n = hot.len().max(1) as f64;
                 scatter.balance = Balance {
                     tasks: (ranges.iter().zip(costs))
                         .map(|(r, c)| (r.pairs.end as f64 / n, c, 0.0))
                         .collect(),
-                    job_secs: 0.0,
                 };
                 scatter.split(&mut *hot, np, ranges, threads);
             }
@@ -597,11 +586,21 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
             // (Each task zeroes its own slots below, in parallel and on the core that
             // writes them.)
             out.resize(scatter.slots, PairForce::default());
-            let job = std::sync::Mutex::new(Some(job));
-            let job_out_slot = std::sync::Mutex::new(None);
             let inc = &*scatter;
             let ranges = &inc.ranges;
-            let n_tasks = ranges.len();
+            // Each task's stretch of wall pairs: whole blocks, from the block boundary
+            // nearest to the first wall pair of its particle interval (wall pairs are in
+            // id order, which is mostly index order). Where the cut falls changes no sum.
+            let mut wall_cut = vec![0; ranges.len() + 1];
+            for (t, r) in ranges.iter().enumerate().skip(1) {
+                let k = wall_pairs.partition_point(|w| (w.i as usize) < r.parts.start);
+                let k = (k + WALL_BLOCK / 2) / WALL_BLOCK * WALL_BLOCK;
+                wall_cut[t] = k.clamp(wall_cut[t - 1], wall_pairs.len());
+            }
+            wall_cut[ranges.len()] = wall_pairs.len();
+            wall_out
+                .pieces
+                .resize_with(ranges.len(), WallPiece::default);
             // Each task takes a range of whole blocks and the particles it owns: those of
             // its particle interval whose pairs all lie in its blocks. Their forces are summed
             // in the pair loop, in pair order, as with one thread; every other particle's
@@ -611,7 +610,9 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                 let (mut hot, mut pairs, mut blocks, mut out) =
                     (&mut hot[..], &mut pairs[..], &mut blocks[..], &mut out[..]);
                 let (mut force, mut moment) = (&mut force[..], &mut moment[..]);
-                for (r, slots) in ranges.iter().zip(&inc.task_slots) {
+                let mut wall_rest = &mut wall_pairs[..];
+                let mut pieces = &mut wall_out.pieces[..];
+                for (t, (r, slots)) in ranges.iter().zip(&inc.task_slots).enumerate() {
                     let (h, rest) = hot.split_at_mut(r.pairs.len());
                     hot = rest;
                     let (p, rest) = pairs.split_at_mut(r.pairs.len());
@@ -624,117 +625,114 @@ fn pair_forces<const ADH: bool, const LIQ: bool, J: Send>(
                     force = rest;
                     let (m, rest) = moment.split_at_mut(r.parts.len());
                     moment = rest;
-                    tasks.push((tasks.len(), r.clone(), slots.start, h, p, b, o, f, m));
+                    let (w, rest) = wall_rest.split_at_mut(wall_cut[t + 1] - wall_cut[t]);
+                    wall_rest = rest;
+                    let (piece, rest) = pieces.split_at_mut(1);
+                    pieces = rest;
+                    let walls_of = (w, &mut piece[0]);
+                    tasks.push((r.clone(), slots.start, h, p, b, o, f, m, walls_of));
                 }
             }
-            let task_acc: Vec<(Vec<Acc>, f64, f64)> = tasks
+            let task_acc: Vec<(Vec<Acc>, Vec<Acc>, f64)> = tasks
                 .into_par_iter()
                 .with_max_len(1)
-                .map(|(t, r, slot0, hots, pairs, blocks, outs, force, moment)| {
-                    let t0 = std::time::Instant::now();
-                    let mut job_secs = 0.0;
-                    if t + 1 == n_tasks {
-                        let job = job.lock().ok().and_then(|mut j| j.take());
-                        if let (Some(job), Ok(mut slot)) = (job, job_out_slot.lock()) {
-                            *slot = Some(job());
+                .map(
+                    |(r, slot0, hots, pairs, blocks, outs, force, moment, (wp, piece))| {
+                        let t0 = std::time::Instant::now();
+                        let wall_accs = wall_forces::<ADH, LIQ>(wp, piece, walls, wall_ctx, np);
+                        let lo = r.parts.start;
+                        outs.fill(PairForce::default());
+                        if !zeroed {
+                            force.fill(Vec3::zeros());
+                            moment.fill(Vec3::zeros());
                         }
-                        job_secs = t0.elapsed().as_secs_f64();
-                    }
-                    let lo = r.parts.start;
-                    outs.fill(PairForce::default());
-                    if !zeroed {
-                        force.fill(Vec3::zeros());
-                        moment.fill(Vec3::zeros());
-                    }
-                    let mut accs = Vec::with_capacity(blocks.len());
-                    let mut sc = Scratch::new();
-                    for (b, ((hots, pairs), block)) in hots
-                        .chunks_mut(BLOCK)
-                        .zip(pairs.chunks_mut(BLOCK))
-                        .zip(blocks.iter_mut())
-                        .enumerate()
-                    {
-                        let base = r.pairs.start + b * BLOCK;
-                        let mut a = Acc::default();
-                        block_forces::<ADH, LIQ>(
-                            hots,
-                            pairs,
-                            block,
-                            &ctx,
-                            &mut a,
-                            &mut sc,
-                            |k, h, o| {
-                                let (i, j) = (h.i as usize, h.j as usize);
-                                // A particle this task's pairs touch is its own unless
-                                // shared.
-                                let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
-                                if oi {
-                                    force[i - lo] -= o.f;
-                                    if rotation {
-                                        moment[i - lo] += o.m;
+                        let mut accs = Vec::with_capacity(blocks.len());
+                        let mut sc = Scratch::new();
+                        for (b, ((hots, pairs), block)) in hots
+                            .chunks_mut(BLOCK)
+                            .zip(pairs.chunks_mut(BLOCK))
+                            .zip(blocks.iter_mut())
+                            .enumerate()
+                        {
+                            let base = r.pairs.start + b * BLOCK;
+                            let mut a = Acc::default();
+                            block_forces::<ADH, LIQ>(
+                                hots,
+                                pairs,
+                                block,
+                                &ctx,
+                                &mut a,
+                                &mut sc,
+                                |k, h, o| {
+                                    let (i, j) = (h.i as usize, h.j as usize);
+                                    // A particle this task's pairs touch is its own unless
+                                    // shared.
+                                    let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
+                                    if oi {
+                                        force[i - lo] -= o.f;
+                                        if rotation {
+                                            moment[i - lo] += o.m;
+                                        }
                                     }
-                                }
-                                if oj {
-                                    force[j - lo] += o.f;
-                                    if rotation {
-                                        moment[j - lo] += o.m;
+                                    if oj {
+                                        force[j - lo] += o.f;
+                                        if rotation {
+                                            moment[j - lo] += o.m;
+                                        }
                                     }
-                                }
-                                if !(oi && oj) {
-                                    outs[inc.slot[base + k] as usize - slot0] = o;
-                                }
-                            },
-                        );
-                        accs.push(a);
-                    }
-                    (accs, t0.elapsed().as_secs_f64() - job_secs, job_secs)
-                })
+                                    if !(oi && oj) {
+                                        outs[inc.slot[base + k] as usize - slot0] = o;
+                                    }
+                                },
+                            );
+                            accs.push(a);
+                        }
+                        (accs, wall_accs, t0.elapsed().as_secs_f64())
+                    },
+                )
                 .collect();
-            let mut job_secs = 0.0;
-            for (accs, _, j) in &task_acc {
+            let mut walls_acc = Vec::new();
+            for (accs, wall_accs, _) in &task_acc {
                 for a in accs {
                     acc.add(a);
                 }
-                job_secs += j;
+                walls_acc.extend_from_slice(wall_accs);
             }
-            job_out = job_out_slot
-                .into_inner()
-                .ok()
-                .flatten()
-                .expect("the last task ran the job");
+            wall_acc = walls_acc;
             // The particles no task owned are summed from their pairs' slots by the
             // update (`finish_chunk`).
-            for (t, (_, p, _)) in scatter.balance.tasks.iter_mut().zip(&task_acc) {
-                t.2 += p;
+            for (t, (_, _, secs)) in scatter.balance.tasks.iter_mut().zip(&task_acc) {
+                t.2 += secs;
             }
-            scatter.balance.job_secs += job_secs;
         }
     }
 
-    (acc, job_out)
+    (acc, wall_acc)
 }
 
-/// The particle–wall contacts: each evaluated pair's force and moment into `out`, in pair
-/// order, with the force on each wall (summed in pair order) and the entries grouped by the
-/// update's chunk of their particle (`np` particles); returns the energy increments per
-/// chunk of `BLOCK` pairs.
+/// The particle–wall contacts of a stretch of wall pairs (whole blocks of [`WALL_BLOCK`]):
+/// each evaluated pair's force and moment into `out`, in pair order, with the force on each
+/// wall summed per block in pair order, and the entries grouped by the update's chunk of
+/// their particle (`np` particles); returns the energy increments per block.
 fn wall_forces<const ADH: bool, const LIQ: bool>(
     wall_pairs: &mut [WallPair],
-    out: &mut WallOut,
+    out: &mut WallPiece,
     walls: (&[Wall], &[WallShape]),
     c: &PairCtx,
     np: usize,
 ) -> Vec<Acc> {
+    let nw = walls.0.len();
     out.forces.clear();
-    out.on_wall.clear();
-    out.on_wall.resize(walls.0.len(), [0.0; 3]);
+    out.sums.clear();
     let accs = wall_pairs
-        .chunks_mut(BLOCK)
+        .chunks_mut(WALL_BLOCK)
         .map(|pairs| {
             let mut acc = Acc::default();
+            let base = out.sums.len();
+            out.sums.resize(base + nw, [0.0; 3]);
             for c2 in pairs.iter_mut() {
                 if let Some(o) = wall_force::<ADH, LIQ>(c2, walls, c, &mut acc) {
-                    let w = &mut out.on_wall[c2.wall as usize];
+                    let w = &mut out.sums[base + c2.wall as usize];
                     for (wk, fk) in w.iter_mut().zip(o.f.iter()) {
                         *wk += fk;
                     }
@@ -812,7 +810,7 @@ fn wall_force<const ADH: bool, const LIQ: bool>(
 
 /// Splits the pairs into about `n` ranges of whole blocks of similar cost (pairs evaluated in
 /// the last step count 8, the others 1, times the relative rate measured at their place in
-/// the list, `rates` as from [`Balance::rates`]; the last range also has `extra`), each with
+/// the list, `rates` as from [`Balance::rates`]), each with
 /// the particle interval that starts at its first pair's first particle; and each range's
 /// pair cost (unweighted). Where the split falls changes which particles are summed in the
 /// pair loop and which from the slots, not the result.
@@ -820,7 +818,6 @@ fn pair_ranges(
     hot: &[HotPair],
     np: usize,
     n: usize,
-    extra: f64,
     rates: &[(f64, f64)],
 ) -> (Vec<PairRange>, Vec<usize>) {
     let cost: Vec<usize> = hot
@@ -837,7 +834,7 @@ fn pair_ranges(
         .enumerate()
         .map(|(b, &c)| c as f64 * rate(b))
         .collect();
-    let total = weight.iter().sum::<f64>() + extra.max(0.0);
+    let total = weight.iter().sum::<f64>();
     let n = n.clamp(1, cost.len().max(1));
     let mut ranges = Vec::with_capacity(n);
     let mut costs = Vec::with_capacity(n);
@@ -1669,48 +1666,40 @@ mod tests {
 
     /// Uniform cost: two ranges of 20 blocks each. Pairs measured twice as slow per unit in
     /// the first half of the list: the first range gets 15 blocks (time 2x for the cut x
-    /// blocks in, against 2(20 − x) + 20 for the rest). A job of 20 blocks' cost in the last
-    /// range moves the cut to 30 blocks.
+    /// blocks in, against 2(20 − x) + 20 for the rest).
     #[test]
-    fn the_cut_follows_the_measured_rates_and_the_job() {
+    fn the_cut_follows_the_measured_rates() {
         let np = 4000;
         let hot = hot_list(40, np);
-        let (r, costs) = pair_ranges(&hot, np, 2, 0.0, &[]);
+        let (r, costs) = pair_ranges(&hot, np, 2, &[]);
         check_cover(&r, hot.len(), np);
         assert_eq!(r[0].pairs.end, 20 * BLOCK);
         assert_eq!(costs, vec![20 * BLOCK, 20 * BLOCK]);
         assert_eq!(r[1].parts.start, hot[20 * BLOCK].i as usize);
 
-        let (r, costs) = pair_ranges(&hot, np, 2, 0.0, &[(0.5, 2.0), (1.0, 1.0)]);
+        let (r, costs) = pair_ranges(&hot, np, 2, &[(0.5, 2.0), (1.0, 1.0)]);
         check_cover(&r, hot.len(), np);
         assert_eq!(r[0].pairs.end, 15 * BLOCK);
         assert_eq!(costs, vec![15 * BLOCK, 25 * BLOCK]);
-
-        let (r, _) = pair_ranges(&hot, np, 2, (20 * BLOCK) as f64, &[]);
-        check_cover(&r, hot.len(), np);
-        assert_eq!(r[0].pairs.end, 30 * BLOCK);
     }
 
-    /// Rates relative to the mean time per unit of cost, clamped; the job in cost units.
+    /// Rates relative to the mean time per unit of cost, clamped.
     #[test]
     fn balance_rates_are_relative_to_the_mean() {
         assert!(Balance::default().rates().is_none());
         assert!(!Balance::default().measured());
         let b = Balance {
             tasks: vec![(0.5, 100, 2.0), (1.0, 100, 1.0)],
-            job_secs: 0.3,
         };
         assert!(b.measured());
-        let (rates, job) = b.rates().unwrap();
+        let rates = b.rates().unwrap();
         // Mean 3 s / 200 = 0.015 s per unit.
         assert!((rates[0].1 - 2.0 / 1.5).abs() < 1e-12);
         assert!((rates[1].1 - 1.0 / 1.5).abs() < 1e-12);
-        assert!((job - 20.0).abs() < 1e-9);
         let skewed = Balance {
             tasks: vec![(0.05, 10, 10.0), (1.0, 190, 0.01)],
-            job_secs: 0.0,
         };
-        let (rates, _) = skewed.rates().unwrap();
+        let rates = skewed.rates().unwrap();
         assert_eq!((rates[0].1, rates[1].1), (2.0, 0.5));
     }
 }
