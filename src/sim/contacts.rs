@@ -1486,6 +1486,83 @@ mod tests {
         assert!(store.blocks[0].capacity() <= 300 + headroom(300));
     }
 
+    /// The walls' forces are the pieces' block sums added in block order, whatever the
+    /// pieces (a split of the same blocks into two pieces gives the same bits), and a chunk's
+    /// wall forces come piece after piece, each in pair order.
+    #[test]
+    fn wall_output_in_pieces_sums_blocks_in_order() {
+        let force = |i: u32, x: f64| WallForce {
+            f: Vec3::new(x, -x, 0.5 * x),
+            m: Vec3::zeros(),
+            i,
+        };
+        // Three blocks of sums for two walls, with magnitudes that make the order matter.
+        // (Wall 0's x: 1, 1e16, −1e16 — in block order 0; the second piece summed on its
+        // own first would give 1.)
+        let sums = vec![
+            [1.0, 1.0, 0.0],
+            [0.3, 0.0, 0.0],
+            [1e16, 1e-16, 0.0],
+            [0.7, 0.0, 0.0],
+            [-1e16, 3.0, 0.0],
+            [0.1, 0.0, 0.0],
+        ];
+        let piece = |forces: Vec<WallForce>, sums: &[[f64; 3]]| {
+            let mut p = WallPiece {
+                forces,
+                sums: sums.to_vec(),
+                ..Default::default()
+            };
+            // Chunk of each entry (two chunks), stable.
+            p.start = vec![0, 0, 0];
+            for o in &p.forces {
+                p.start[o.i as usize / CHUNK_FOR_TEST + 1] += 1;
+            }
+            p.start[2] += p.start[1];
+            let mut fill = p.start.clone();
+            p.order = vec![0; p.forces.len()];
+            for (e, o) in p.forces.iter().enumerate() {
+                let c = o.i as usize / CHUNK_FOR_TEST;
+                p.order[fill[c] as usize] = e as u32;
+                fill[c] += 1;
+            }
+            p
+        };
+        let one = WallOut {
+            pieces: vec![piece(
+                vec![force(0, 1.0), force(5, 2.0), force(1, 3.0), force(6, 4.0)],
+                &sums,
+            )],
+            on_wall: Vec::new(),
+        };
+        let two = WallOut {
+            pieces: vec![
+                piece(vec![force(0, 1.0), force(5, 2.0)], &sums[..2]),
+                piece(vec![force(1, 3.0), force(6, 4.0)], &sums[2..]),
+            ],
+            on_wall: Vec::new(),
+        };
+        let (mut one, mut two) = (one, two);
+        one.sum_walls(2);
+        two.sum_walls(2);
+        let want_0: f64 = ((0.0 + 1.0) + 1e16) + -1e16;
+        assert_eq!(want_0, 0.0);
+        assert_eq!(one.on_wall[0][0].to_bits(), want_0.to_bits());
+        assert_eq!(one.on_wall, two.on_wall);
+        for c in 0..2 {
+            let xs = |w: &WallOut| w.of_chunk(c).map(|o| o.f.x).collect::<Vec<_>>();
+            assert_eq!(xs(&one), xs(&two), "chunk {c}");
+        }
+        assert_eq!(
+            two.of_chunk(0).map(|o| o.i).collect::<Vec<_>>(),
+            vec![0, 1],
+            "piece after piece"
+        );
+    }
+
+    /// Particles per chunk in [`wall_output_in_pieces_sums_blocks_in_order`].
+    const CHUNK_FOR_TEST: usize = 4;
+
     #[test]
     fn keys_sort_by_ids() {
         // Ids spread over many digits, in a scrambled order; the sort equals a comparison sort.
