@@ -43,28 +43,39 @@ fn one_and_two_threads_give_the_same_bits() {
 
 /// A settling bed built by RGEnerate (Morton numbering, single-cell search), with walls,
 /// friction and restitution damping, dry, moist and with a moving spherical indenter: the
-/// whole saved state after 3000 steps is the same, byte for byte, with 1 and 2 threads.
+/// whole saved state after 3000 steps is the same, byte for byte, with 1, 2 and 3 threads
+/// (three force tasks: one with a neighbour on each side). Then a bed of 6000 spheres
+/// (six chunks of the update: with two threads most are updated by their force task in
+/// the force step's region, `cycle::fused`), after 1000 steps.
 #[test]
 fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
     let dir = std::env::temp_dir().join(format!("trubal_threads_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (name, extra) in [
-        ("dry", ""),
-        ("moist", "liquid 0.1 0.025 0 0.01\n"),
+    for (name, w, n, extra, steps) in [
+        ("dry", 0.02, 1500, "", 3000),
+        ("moist", 0.02, 1500, "liquid 0.1 0.025 0 0.01\n", 3000),
         // A spherical indenter that moves down through the settling particles (the
         // update adds the wall forces of each chunk's particles with several threads).
-        ("indenter", "dwall ob 0.01 0.01 0.09 0.005 v 0 0 -1.2\n"),
+        (
+            "indenter",
+            0.02,
+            1500,
+            "dwall ob 0.01 0.01 0.09 0.005 v 0 0 -1.2\n",
+            3000,
+        ),
+        ("wide", 0.04, 6000, "", 1000),
     ] {
         let deck = format!(
-            "start 0.02 0.02 0.08 3000 3000 6\nset open all\nrad 1e-3 1\ndensity 2500 1\nymd 1e7 1\npra 0.3 1\n\
+            "start {w} {w} 0.08 {cap} {cap} 6\nset open all\nrad 1e-3 1\ndensity 2500 1\nymd 1e7 1\npra 0.3 1\n\
              friction 0.5 1\ndamping restitution 0.5\ngravity 0 0 -9.81\nfraction 0.2\n\
-             dwall p 1 0 0 0\ndwall p -1 0 0 -0.02\ndwall p 0 1 0 0\ndwall p 0 -1 0 -0.02\n\
-             dwall p 0 0 1 0\nrgenerate 1500 1 1 0\nset tangential noslip\n{extra}cycle 3000\n\
-             print info\nsave $f\n"
+             dwall p 1 0 0 0\ndwall p -1 0 0 -{w}\ndwall p 0 1 0 0\ndwall p 0 -1 0 -{w}\n\
+             dwall p 0 0 1 0\nrgenerate {n} 1 1 0\nset tangential noslip\n{extra}cycle {steps}\n\
+             print info\nsave $f\n",
+            cap = 2 * n
         );
         std::fs::write(dir.join(format!("{name}.tru")), deck).unwrap();
         let mut saved = Vec::new();
-        for t in ["1", "2"] {
+        for t in ["1", "2", "3"] {
             let f = format!("{name}_t{t}.sav");
             let deck = format!("{name}.tru");
             let set = format!("f={f}");
@@ -72,7 +83,14 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
             assert!(text.contains("particle-particle"), "{text}");
             saved.push(std::fs::read(dir.join(&f)).unwrap());
         }
-        assert!(saved[0] == saved[1], "{name}: the checkpoints differ");
+        assert!(
+            saved[0] == saved[1],
+            "{name}: the checkpoints differ (1, 2 threads)"
+        );
+        assert!(
+            saved[0] == saved[2],
+            "{name}: the checkpoints differ (1, 3 threads)"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

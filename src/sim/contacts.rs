@@ -310,9 +310,10 @@ impl WallPiece {
 }
 
 impl WallOut {
-    /// The entries of chunk `c`, in pair order.
-    pub fn of_chunk(&self, c: usize) -> impl Iterator<Item = &WallForce> + '_ {
-        self.pieces.iter().flat_map(move |p| p.of_chunk(c))
+    /// The entries of chunk `c` in `pieces` (all of a step's, or those of one task whose
+    /// chunk has no entries in the others), in pair order.
+    pub fn of_chunk(pieces: &[WallPiece], c: usize) -> impl Iterator<Item = &WallForce> + '_ {
+        pieces.iter().flat_map(move |p| p.of_chunk(c))
     }
 
     /// `on_wall` from the pieces' block sums, for `walls` walls.
@@ -1550,11 +1551,17 @@ mod tests {
         assert_eq!(one.on_wall[0][0].to_bits(), want_0.to_bits());
         assert_eq!(one.on_wall, two.on_wall);
         for c in 0..2 {
-            let xs = |w: &WallOut| w.of_chunk(c).map(|o| o.f.x).collect::<Vec<_>>();
+            let xs = |w: &WallOut| {
+                WallOut::of_chunk(&w.pieces, c)
+                    .map(|o| o.f.x)
+                    .collect::<Vec<_>>()
+            };
             assert_eq!(xs(&one), xs(&two), "chunk {c}");
         }
         assert_eq!(
-            two.of_chunk(0).map(|o| o.i).collect::<Vec<_>>(),
+            WallOut::of_chunk(&two.pieces, 0)
+                .map(|o| o.i)
+                .collect::<Vec<_>>(),
             vec![0, 1],
             "piece after piece"
         );

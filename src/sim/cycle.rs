@@ -23,6 +23,9 @@ use super::search;
 use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::{TangentialChoice, WallGeom};
 
+mod fused;
+use fused::View;
+
 /// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
 /// chunk order, so results are bitwise independent of the number of threads.
 pub const CHUNK: usize = 1024;
@@ -336,10 +339,18 @@ pub fn one_step(
         rebuild(scene, tol);
     }
     remove_lost(scene);
+    let conserve = scene.liquid.is_some()
+        && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve;
+    if rayon::current_num_threads() > 1 && !conserve {
+        // Both steps in one parallel region (`fused`): the same bits.
+        let mv = Mover::of(scene, model);
+        let (acc, parts) = forces_fused(scene, model, &mv, keep);
+        let wall_work = move_walls(scene, dt);
+        scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
+        return finish_move(scene, xres, acc, wall_work, &parts, dt);
+    }
     let acc = forces(scene, model, dt);
-    if scene.liquid.is_some()
-        && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve
-    {
+    if conserve {
         super::liquid::settle(scene);
     }
     move_all(scene, model, xres, acc, keep)
@@ -347,16 +358,38 @@ pub fn one_step(
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).
 fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
+    forces_or_fused(scene, model, dt, None).0
+}
+
+/// Steps 1 and 2 of a cycle in one parallel region (several threads, see `fused`): the
+/// energy increments and the update's chunk sums.
+fn forces_fused(scene: &mut Scene, model: &Model, mv: &Mover, keep: bool) -> (Acc, Vec<ChunkSums>) {
+    let (acc, parts) = forces_or_fused(scene, model, model.dt, Some((mv, keep)));
+    (acc, parts.unwrap_or_default())
+}
+
+fn forces_or_fused(
+    scene: &mut Scene,
+    model: &Model,
+    dt: f64,
+    fuse: Option<(&Mover, bool)>,
+) -> (Acc, Option<Vec<ChunkSums>>) {
     // The kernel for what the scene has: adhesion, liquid (see `interact`).
     match (model.adhesion, scene.liquid.is_some()) {
-        (false, false) => forces_with::<false, false>(scene, model, dt),
-        (false, true) => forces_with::<false, true>(scene, model, dt),
-        (true, false) => forces_with::<true, false>(scene, model, dt),
-        (true, true) => forces_with::<true, true>(scene, model, dt),
+        (false, false) => forces_with::<false, false>(scene, model, dt, fuse),
+        (false, true) => forces_with::<false, true>(scene, model, dt, fuse),
+        (true, false) => forces_with::<true, false>(scene, model, dt, fuse),
+        (true, true) => forces_with::<true, true>(scene, model, dt, fuse),
     }
 }
 
-fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
+/// The contact forces (`fuse`: with the update, in one region, see `fused`).
+fn forces_with<const ADH: bool, const LIQ: bool>(
+    scene: &mut Scene,
+    model: &Model,
+    dt: f64,
+    fuse: Option<(&Mover, bool)>,
+) -> (Acc, Option<Vec<ChunkSums>>) {
     let mut acc = Acc::default();
     let liquid = scene.liquid;
     let laws_pp = Laws {
@@ -374,6 +407,21 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     };
 
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    // The same laws for particle–wall contacts; Rayleigh contact damping has its own
+    // particle–wall set.
+    let laws_pw = Laws {
+        beta: scene.damping_pw.beta,
+        ..laws_pp
+    };
+    if let Some((mv, keep)) = fuse {
+        let (acc, parts) = fused::forces_and_moves::<ADH, LIQ>(
+            scene,
+            (model, &laws_pp, &laws_pw, &shapes),
+            mv,
+            keep,
+        );
+        return (acc, Some(parts));
+    }
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
     // done in the pair loop; with several, each task (a range of whole blocks) does it for
@@ -383,9 +431,9 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
     // order (then the wall contacts' per chunk): the result does not depend on the number
     // of threads.
     let ctx = PairCtx {
-        pos: &scene.particles.pos,
-        vel: &scene.particles.vel,
-        spin: &scene.particles.spin,
+        pos: View::of(&scene.particles.pos),
+        vel: View::of(&scene.particles.vel),
+        spin: View::of(&scene.particles.spin),
         radius: &scene.particles.radius,
         mass: &scene.particles.mass,
         material: &scene.particles.material,
@@ -393,12 +441,6 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         laws: &laws_pp,
         size: scene.size,
         periodic: scene.settings.periodic,
-    };
-    // The same laws for particle–wall contacts; Rayleigh contact damping has its own
-    // particle–wall set.
-    let laws_pw = Laws {
-        beta: scene.damping_pw.beta,
-        ..laws_pp
     };
     let wall_ctx = PairCtx {
         laws: &laws_pw,
@@ -432,7 +474,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(scene: &mut Scene, model: &Mode
         w.force = *f;
     }
     scene.contacts.deferred = true;
-    acc
+    (acc, None)
 }
 
 /// What the force step left to the update (see [`ContactStore::deferred`]), for the
@@ -450,37 +492,38 @@ fn finish_chunk(
 ) {
     let lo = c * CHUNK;
     let hi = lo + force.len();
-    let (inc, hot, out) = left.scatter;
-    let list = &inc.shared_list;
-    let first = list.partition_point(|&q| (q as usize) < lo);
-    let last = list.partition_point(|&q| (q as usize) < hi);
-    for (s, &q) in list.iter().enumerate().take(last).skip(first) {
-        let q = q as usize;
-        let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
-        for &k in inc.of_shared(s) {
-            let h = &hot[k as usize];
-            // (A pair not evaluated in this step left its slot at zero, which adds
-            // nothing: the sum starts at +0 and never becomes −0.)
-            let o = &out[inc.slot[k as usize] as usize];
-            // Force −f on the pair's first particle (A), +f on B.
-            if h.i as usize == q {
-                f -= o.f;
-            } else {
-                f += o.f;
+    if let Some((inc, hot, out)) = left.scatter {
+        let list = &inc.shared_list;
+        let first = list.partition_point(|&q| (q as usize) < lo);
+        let last = list.partition_point(|&q| (q as usize) < hi);
+        for (s, &q) in list.iter().enumerate().take(last).skip(first) {
+            let q = q as usize;
+            let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+            for &k in inc.of_shared(s) {
+                let h = &hot[k as usize];
+                // (A pair not evaluated in this step left its slot at zero, which adds
+                // nothing: the sum starts at +0 and never becomes −0.)
+                let o = &out[inc.slot[k as usize] as usize];
+                // Force −f on the pair's first particle (A), +f on B.
+                if h.i as usize == q {
+                    f -= o.f;
+                } else {
+                    f += o.f;
+                }
+                if rotation {
+                    m += o.m;
+                }
             }
-            if rotation {
-                m += o.m;
-            }
+            force[q - lo] = f;
+            moment[q - lo] = m;
         }
-        force[q - lo] = f;
-        moment[q - lo] = m;
     }
     if rotation {
         for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
             *m *= *r;
         }
     }
-    for o in left.wall_out.of_chunk(c) {
+    for o in WallOut::of_chunk(left.walls, c) {
         let i = o.i as usize - lo;
         force[i] -= o.f;
         if rotation {
@@ -496,8 +539,8 @@ fn finish_deferred(scene: &mut Scene, rotation: bool) {
     }
     let contacts = &scene.contacts;
     let left = Left {
-        scatter: (&contacts.scatter, &contacts.hot, &contacts.out),
-        wall_out: &contacts.wall_out,
+        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        walls: &contacts.wall_out.pieces,
     };
     let p = &mut scene.particles;
     let radius = &p.radius;
@@ -567,37 +610,11 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
                 acc.add(&a);
             }
         } else {
-            let threads = rayon::current_num_threads();
-            if scatter.needs_split(np, threads) {
-                // Once per rebuild: one task per thread (measured: more tasks make more
-                // particles shared), balanced on the contacts of this step and on what
-                // the tasks took since the last split.
-                let rates = scatter.balance.rates().unwrap_or_default();
-                let (ranges, costs) = pair_ranges(hot, np, threads, &rates);
-                let n = hot.len().max(1) as f64;
-                scatter.balance = Balance {
-                    tasks: (ranges.iter().zip(costs))
-                        .map(|(r, c)| (r.pairs.end as f64 / n, c, 0.0))
-                        .collect(),
-                };
-                scatter.split(&mut *hot, np, ranges, threads);
-            }
-            // The slots of pairs not evaluated in this step stay zero.
-            // (Each task zeroes its own slots below, in parallel and on the core that
-            // writes them.)
+            split_if_needed(scatter, hot, np);
             out.resize(scatter.slots, PairForce::default());
             let inc = &*scatter;
             let ranges = &inc.ranges;
-            // Each task's stretch of wall pairs: whole blocks, from the block boundary
-            // nearest to the first wall pair of its particle interval (wall pairs are in
-            // id order, which is mostly index order). Where the cut falls changes no sum.
-            let mut wall_cut = vec![0; ranges.len() + 1];
-            for (t, r) in ranges.iter().enumerate().skip(1) {
-                let k = wall_pairs.partition_point(|w| (w.i as usize) < r.parts.start);
-                let k = (k + WALL_BLOCK / 2) / WALL_BLOCK * WALL_BLOCK;
-                wall_cut[t] = k.clamp(wall_cut[t - 1], wall_pairs.len());
-            }
-            wall_cut[ranges.len()] = wall_pairs.len();
+            let wall_cut = wall_cuts(ranges, wall_pairs);
             wall_out
                 .pieces
                 .resize_with(ranges.len(), WallPiece::default);
@@ -640,53 +657,12 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
                     |(r, slot0, hots, pairs, blocks, outs, force, moment, (wp, piece))| {
                         let t0 = std::time::Instant::now();
                         let wall_accs = wall_forces::<ADH, LIQ>(wp, piece, walls, wall_ctx, np);
-                        let lo = r.parts.start;
-                        outs.fill(PairForce::default());
-                        if !zeroed {
-                            force.fill(Vec3::zeros());
-                            moment.fill(Vec3::zeros());
-                        }
-                        let mut accs = Vec::with_capacity(blocks.len());
-                        let mut sc = Scratch::new();
-                        for (b, ((hots, pairs), block)) in hots
-                            .chunks_mut(BLOCK)
-                            .zip(pairs.chunks_mut(BLOCK))
-                            .zip(blocks.iter_mut())
-                            .enumerate()
-                        {
-                            let base = r.pairs.start + b * BLOCK;
-                            let mut a = Acc::default();
-                            block_forces::<ADH, LIQ>(
-                                hots,
-                                pairs,
-                                block,
-                                &ctx,
-                                &mut a,
-                                &mut sc,
-                                |k, h, o| {
-                                    let (i, j) = (h.i as usize, h.j as usize);
-                                    // A particle this task's pairs touch is its own unless
-                                    // shared.
-                                    let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
-                                    if oi {
-                                        force[i - lo] -= o.f;
-                                        if rotation {
-                                            moment[i - lo] += o.m;
-                                        }
-                                    }
-                                    if oj {
-                                        force[j - lo] += o.f;
-                                        if rotation {
-                                            moment[j - lo] += o.m;
-                                        }
-                                    }
-                                    if !(oi && oj) {
-                                        outs[inc.slot[base + k] as usize - slot0] = o;
-                                    }
-                                },
-                            );
-                            accs.push(a);
-                        }
+                        let accs = task_pairs::<ADH, LIQ>(
+                            (&r, slot0, inc),
+                            (hots, pairs, blocks, outs),
+                            (force, moment, zeroed),
+                            &ctx,
+                        );
                         (accs, wall_accs, t0.elapsed().as_secs_f64())
                     },
                 )
@@ -708,6 +684,97 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
     }
 
     (acc, wall_acc)
+}
+
+/// With several threads, once per rebuild: one task per thread (measured: more tasks make
+/// more particles shared), balanced on the contacts of this step and on what the tasks took
+/// since the last split.
+fn split_if_needed(scatter: &mut Incidence, hot: &mut [HotPair], np: usize) {
+    let threads = rayon::current_num_threads();
+    if scatter.needs_split(np, threads) {
+        let rates = scatter.balance.rates().unwrap_or_default();
+        let (ranges, costs) = pair_ranges(hot, np, threads, &rates);
+        let n = hot.len().max(1) as f64;
+        scatter.balance = Balance {
+            tasks: (ranges.iter().zip(costs))
+                .map(|(r, c)| (r.pairs.end as f64 / n, c, 0.0))
+                .collect(),
+        };
+        scatter.split(hot, np, ranges, threads);
+    }
+}
+
+/// Where each task's stretch of wall pairs begins (and, last, their number): whole blocks,
+/// from the block boundary nearest to the first wall pair of its particle interval (wall
+/// pairs are in id order, which is mostly index order). Where the cut falls changes no sum.
+fn wall_cuts(ranges: &[PairRange], wall_pairs: &[WallPair]) -> Vec<usize> {
+    let mut wall_cut = vec![0; ranges.len() + 1];
+    for (t, r) in ranges.iter().enumerate().skip(1) {
+        let k = wall_pairs.partition_point(|w| (w.i as usize) < r.parts.start);
+        let k = (k + WALL_BLOCK / 2) / WALL_BLOCK * WALL_BLOCK;
+        wall_cut[t] = k.clamp(wall_cut[t - 1], wall_pairs.len());
+    }
+    wall_cut[ranges.len()] = wall_pairs.len();
+    wall_cut
+}
+
+/// One task's pairs with several threads (task range `r`, its first force slot `slot0`):
+/// the forces of the particles it owns (those of its interval `force`, `moment` that no
+/// other task's pairs touch) summed in pair order, as with one thread; every other
+/// particle's share left in the pair's slot (`outs`; the slots of pairs not evaluated in this
+/// step stay zero: they are cleared here, on the core that writes them). Returns the energy
+/// increments per block.
+fn task_pairs<const ADH: bool, const LIQ: bool>(
+    (r, slot0, inc): (&PairRange, usize, &Incidence),
+    (hots, pairs, blocks, outs): (
+        &mut [HotPair],
+        &mut [Pair],
+        &mut [Vec<ContactState>],
+        &mut [PairForce],
+    ),
+    (force, moment, zeroed): (&mut [Vec3], &mut [Vec3], bool),
+    ctx: &PairCtx,
+) -> Vec<Acc> {
+    let rotation = ctx.model.rotation;
+    let lo = r.parts.start;
+    outs.fill(PairForce::default());
+    if !zeroed {
+        force.fill(Vec3::zeros());
+        moment.fill(Vec3::zeros());
+    }
+    let mut accs = Vec::with_capacity(blocks.len());
+    let mut sc = Scratch::new();
+    for (b, ((hots, pairs), block)) in hots
+        .chunks_mut(BLOCK)
+        .zip(pairs.chunks_mut(BLOCK))
+        .zip(blocks.iter_mut())
+        .enumerate()
+    {
+        let base = r.pairs.start + b * BLOCK;
+        let mut a = Acc::default();
+        block_forces::<ADH, LIQ>(hots, pairs, block, ctx, &mut a, &mut sc, |k, h, o| {
+            let (i, j) = (h.i as usize, h.j as usize);
+            // A particle this task's pairs touch is its own unless shared.
+            let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
+            if oi {
+                force[i - lo] -= o.f;
+                if rotation {
+                    moment[i - lo] += o.m;
+                }
+            }
+            if oj {
+                force[j - lo] += o.f;
+                if rotation {
+                    moment[j - lo] += o.m;
+                }
+            }
+            if !(oi && oj) {
+                outs[inc.slot[base + k] as usize - slot0] = o;
+            }
+        });
+        accs.push(a);
+    }
+    accs
 }
 
 /// The particle–wall contacts of a stretch of wall pairs (whole blocks of [`WALL_BLOCK`]):
@@ -870,9 +937,9 @@ fn pair_ranges(
 /// What the pair loop reads of the particles and the scene.
 #[derive(Clone, Copy)]
 struct PairCtx<'a> {
-    pos: &'a [Vec3],
-    vel: &'a [Vec3],
-    spin: &'a [Vec3],
+    pos: View<'a>,
+    vel: View<'a>,
+    spin: View<'a>,
     radius: &'a [f64],
     mass: &'a [f64],
     material: &'a [u16],
@@ -1111,8 +1178,8 @@ fn move_all(
     let deferred = std::mem::take(&mut scene.contacts.deferred);
     let contacts = &scene.contacts;
     let left = deferred.then_some(Left {
-        scatter: (&contacts.scatter, &contacts.hot, &contacts.out),
-        wall_out: &contacts.wall_out,
+        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
+        walls: &contacts.wall_out.pieces,
     });
     let p = &mut scene.particles;
     let fixed_arrays = (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]);
@@ -1223,8 +1290,8 @@ struct ChunkArrays<'a> {
 /// pairs and slots (none with one thread), the wall forces.
 #[derive(Clone, Copy)]
 struct Left<'a> {
-    scatter: (&'a Incidence, &'a [HotPair], &'a [PairForce]),
-    wall_out: &'a WallOut,
+    scatter: Option<(&'a Incidence, &'a [HotPair], &'a [PairForce])>,
+    walls: &'a [WallPiece],
 }
 
 /// The constants of the particle update of a step, Lian (5.9)–(5.14).
