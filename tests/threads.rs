@@ -6,11 +6,18 @@ use std::process::Command;
 
 /// Runs trubal with `args` in folder `dir`; its standard output (it must succeed).
 fn trubal(dir: &std::path::Path, args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap();
+    trubal_regions(dir, args, None)
+}
+
+/// As [`trubal`], with the step in `regions` parallel regions (`TRUBAL_STEP_REGIONS`: 1, the
+/// force step and the update together; 2, one after the other) whatever the cores.
+fn trubal_regions(dir: &std::path::Path, args: &[&str], regions: Option<&str>) -> String {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_trubal"));
+    cmd.current_dir(dir).args(args);
+    if let Some(r) = regions {
+        cmd.env("TRUBAL_STEP_REGIONS", r);
+    }
+    let out = cmd.output().unwrap();
     assert!(
         out.status.success(),
         "{}",
@@ -43,10 +50,11 @@ fn one_and_two_threads_give_the_same_bits() {
 
 /// A settling bed built by RGEnerate (Morton numbering, single-cell search), with walls,
 /// friction and restitution damping, dry, moist and with a moving spherical indenter: the
-/// whole saved state after 3000 steps is the same, byte for byte, with 1, 2 and 3 threads
-/// (three force tasks: one with a neighbour on each side). Then a bed of 6000 spheres
-/// (six chunks of the update: with two threads most are updated by their force task in
-/// the force step's region, `cycle::fused`), after 1000 steps.
+/// whole saved state after 3000 steps is the same, byte for byte, with 1 thread, 2 (the
+/// force step and the update in one parallel region, `cycle::fused`, and in two) and 3 (three
+/// force tasks: one with a neighbour on each side; one region). Then a bed of 6000 spheres
+/// (six chunks of the update: with two threads most are updated by their force task in the
+/// force step's region), after 1000 steps.
 #[test]
 fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
     let dir = std::env::temp_dir().join(format!("trubal_threads_{}", std::process::id()));
@@ -75,22 +83,26 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
         );
         std::fs::write(dir.join(format!("{name}.tru")), deck).unwrap();
         let mut saved = Vec::new();
-        for t in ["1", "2", "3"] {
-            let f = format!("{name}_t{t}.sav");
+        let runs = [
+            ("1", None),
+            ("2", Some("1")),
+            ("2", Some("2")),
+            ("3", Some("1")),
+        ];
+        for (t, regions) in runs {
+            let f = format!("{name}_t{t}_{}.sav", regions.unwrap_or("-"));
             let deck = format!("{name}.tru");
             let set = format!("f={f}");
-            let text = trubal(&dir, &[&deck, "--threads", t, "--set", &set]);
+            let text = trubal_regions(&dir, &[&deck, "--threads", t, "--set", &set], regions);
             assert!(text.contains("particle-particle"), "{text}");
             saved.push(std::fs::read(dir.join(&f)).unwrap());
         }
-        assert!(
-            saved[0] == saved[1],
-            "{name}: the checkpoints differ (1, 2 threads)"
-        );
-        assert!(
-            saved[0] == saved[2],
-            "{name}: the checkpoints differ (1, 3 threads)"
-        );
+        for (k, (t, regions)) in runs.iter().enumerate().skip(1) {
+            assert!(
+                saved[0] == saved[k],
+                "{name}: the checkpoints differ (1 thread; {t} threads, regions {regions:?})"
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

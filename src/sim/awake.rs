@@ -16,13 +16,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Idle polls (each 64 spin hints, well under a microsecond) between two `sched_yield`s.
 const POLLS_PER_YIELD: u32 = 16;
 
+/// The number of cores the process may run on (asked once).
+pub fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
 /// Runs `f` on the current thread while the pool's other workers poll for work; they stop
 /// when `f` returns or unwinds. Without effect with one thread, or with more threads than
 /// the machine has cores (a polling worker would then take a core from a working one).
 pub fn while_running<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     let threads = rayon::current_num_threads();
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    if threads < 2 || threads > cores {
+    if threads < 2 || threads > cores() {
         return f();
     }
     let stop = AtomicBool::new(false);

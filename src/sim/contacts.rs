@@ -363,7 +363,8 @@ pub struct Incidence {
 /// Wall-clock times of the multi-thread force loop since the last split, for the cut of
 /// the next one: per task, where its pairs end (as a fraction of the pair list), the pair
 /// cost it was given ([`cycle::pair_ranges`](super::cycle)) and the seconds it took (its
-/// pairs and its stretch of the wall pairs). A task whose pairs took longer per unit of cost
+/// pairs, its stretch of the wall pairs and the update of the chunks only it touches, which
+/// it moves in the same region). A task whose pairs took longer per unit of cost
 /// (denser contacts, walls, other data in its caches) gets fewer at the next split. Timing
 /// chooses only where the pair list is cut; every particle's sum and every energy partial
 /// sum is the same for any cut.

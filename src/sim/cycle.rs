@@ -341,8 +341,15 @@ pub fn one_step(
     remove_lost(scene);
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve;
-    if rayon::current_num_threads() > 1 && !conserve {
-        // Both steps in one parallel region (`fused`): the same bits.
+    let threads = rayon::current_num_threads();
+    let one_region = match step_regions() {
+        Some(n) => n == 1,
+        None => threads <= super::awake::cores(),
+    };
+    if threads > 1 && one_region && !conserve {
+        // Both steps in one parallel region (`fused`): the same bits. (With more threads
+        // than cores the two regions are faster: a task that waits for another holds a
+        // core, 3 threads on 2 cores took 1.3 × the time of two regions.)
         let mv = Mover::of(scene, model);
         let (acc, parts) = forces_fused(scene, model, &mv, keep);
         let wall_work = move_walls(scene, dt);
@@ -354,6 +361,19 @@ pub fn one_step(
         super::liquid::settle(scene);
     }
     move_all(scene, model, xres, acc, keep)
+}
+
+/// `TRUBAL_STEP_REGIONS` = 1 or 2: the step with several threads in one parallel region or
+/// in two (the force step, then the update), whatever the number of cores; otherwise
+/// (`None`) one region unless there are more threads than cores. For measurements and
+/// tests: both give the same bits.
+fn step_regions() -> Option<u8> {
+    static REGIONS: std::sync::OnceLock<Option<u8>> = std::sync::OnceLock::new();
+    *REGIONS.get_or_init(|| match std::env::var("TRUBAL_STEP_REGIONS").as_deref() {
+        Ok("1") => Some(1),
+        Ok("2") => Some(2),
+        _ => None,
+    })
 }
 
 /// Step 1 of a cycle: all contact forces at the current positions (dt = 0: states only).

@@ -79,7 +79,8 @@ impl std::ops::Index<usize> for View<'_> {
 }
 
 /// How long a task that has updated its own chunks waits for the other tasks' pairs, to
-/// share the late chunks with them.
+/// share the late chunks with them (the region is used with no more threads than cores,
+/// so a waiting task holds no core another task needs).
 const MAX_WAIT: std::time::Duration = std::time::Duration::from_millis(2);
 
 /// A chunk no task updates before every task's pairs are done.
