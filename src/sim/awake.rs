@@ -1,7 +1,8 @@
 //! The thread pool's other workers kept awake through a `Cycle`.
 //!
-//! A step has two parallel regions (the force step's tasks, the update's chunks) and short
-//! serial parts between them. A rayon worker that finds no work spins for a few dozen
+//! A step has parallel regions (the force step's tasks with the update of their own
+//! chunks, `cycle::fused`; with two regions, then the update's chunks; the rebuild's loops)
+//! and short serial parts between them. A rayon worker that finds no work spins for a few dozen
 //! `sched_yield`s and then sleeps on a futex; on the project host (a KVM guest) waking it
 //! for the next region took about 24 µs, so the second task of each region started that
 //! late and the region ended that much later (phase timers, S1 10k bed on two threads:
