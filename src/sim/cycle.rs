@@ -353,8 +353,7 @@ pub fn one_step(
         let mv = Mover::of(scene, model);
         let (acc, parts) = forces_fused(scene, model, &mv, keep);
         let wall_work = move_walls(scene, dt);
-        scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
-        return finish_move(scene, xres, acc, wall_work, &parts, dt);
+        return finish_move(scene, (xres, keep), acc, wall_work, &parts, dt);
     }
     let acc = forces(scene, model, dt);
     if conserve {
@@ -410,7 +409,6 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
     dt: f64,
     fuse: Option<(&Mover, bool)>,
 ) -> (Acc, Option<Vec<ChunkSums>>) {
-    let mut acc = Acc::default();
     let liquid = scene.liquid;
     let laws_pp = Laws {
         dt,
@@ -433,15 +431,45 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
         beta: scene.damping_pw.beta,
         ..laws_pp
     };
-    if let Some((mv, keep)) = fuse {
-        let (acc, parts) = fused::forces_and_moves::<ADH, LIQ>(
+    let (pair_acc, wall_acc, parts) = if let Some((mv, keep)) = fuse {
+        let (pair_acc, wall_acc, parts) = fused::forces_and_moves::<ADH, LIQ>(
             scene,
             (model, &laws_pp, &laws_pw, &shapes),
             mv,
             keep,
         );
-        return (acc, Some(parts));
+        (pair_acc, wall_acc, Some(parts))
+    } else {
+        let (pair_acc, wall_acc) =
+            contact_forces::<ADH, LIQ>(scene, model, (&laws_pp, &laws_pw), &shapes);
+        (pair_acc, wall_acc, None)
+    };
+    let mut acc = Acc::default();
+    acc.add(&pair_acc);
+    for a in &wall_acc {
+        acc.add(a);
     }
+    // ---- particle–wall contacts -------------------------------------------------------
+    // The tasks have made the walls' forces (summed per block of wall pairs, then in block
+    // order) and the energy increments (per block). The particles get theirs in the update
+    // (`move_all` or, in one region, `fused`, chunk by chunk), after their moments are
+    // scaled by the radius and, with several threads, after the shared particles' sums.
+    scene.contacts.wall_out.sum_walls(scene.walls.len());
+    for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
+        w.force = *f;
+    }
+    scene.contacts.deferred = parts.is_none();
+    (acc, parts)
+}
+
+/// The contact forces of the two-region step ([`pair_forces`]): the pairs' energy
+/// increments (per block in block order) and the wall pairs' (per block).
+fn contact_forces<const ADH: bool, const LIQ: bool>(
+    scene: &mut Scene,
+    model: &Model,
+    (laws_pp, laws_pw): (&Laws, &Laws),
+    shapes: &[WallShape],
+) -> (Acc, Vec<Acc>) {
     // ---- particle–particle contacts ---------------------------------------------------
     // Each pair's force goes onto its two particles in pair order. With one thread that is
     // done in the pair loop; with several, each task (a range of whole blocks) does it for
@@ -458,43 +486,25 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
         mass: &scene.particles.mass,
         material: &scene.particles.material,
         model,
-        laws: &laws_pp,
+        laws: laws_pp,
         size: scene.size,
         periodic: scene.settings.periodic,
     };
     let wall_ctx = PairCtx {
-        laws: &laws_pw,
+        laws: laws_pw,
         ..ctx
     };
-    {
-        let zeroed = std::mem::take(&mut scene.contacts.zeroed);
-        let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
-        let force = &mut scene.particles.force;
-        let moment = &mut scene.particles.moment;
-        let walls = (&scene.walls[..], &shapes[..]);
-        let (pair_acc, wall_acc) = pair_forces::<ADH, LIQ>(
-            (hot, pairs, blocks, out, scatter),
-            (force, moment, zeroed),
-            &ctx,
-            (wall_pairs, wall_out, walls, &wall_ctx),
-        );
-        acc.add(&pair_acc);
-        for a in &wall_acc {
-            acc.add(a);
-        }
-        wall_out.sum_walls(scene.walls.len());
-    }
-
-    // ---- particle–wall contacts -------------------------------------------------------
-    // The tasks have made the walls' forces (summed per block of wall pairs, then in block
-    // order) and the energy increments (per block). The particles get theirs in the update
-    // (`move_all`, chunk by chunk), after their moments are scaled by the radius and, with
-    // several threads, after the shared particles' sums.
-    for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
-        w.force = *f;
-    }
-    scene.contacts.deferred = true;
-    (acc, None)
+    let zeroed = std::mem::take(&mut scene.contacts.zeroed);
+    let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
+    let force = &mut scene.particles.force;
+    let moment = &mut scene.particles.moment;
+    let walls = (&scene.walls[..], shapes);
+    pair_forces::<ADH, LIQ>(
+        (hot, pairs, blocks, out, scatter),
+        (force, moment, zeroed),
+        &ctx,
+        (wall_pairs, wall_out, walls, &wall_ctx),
+    )
 }
 
 /// What the force step left to the update (see [`ContactStore::deferred`]), for the
@@ -687,22 +697,30 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
                     },
                 )
                 .collect();
-            let mut walls_acc = Vec::new();
-            for (accs, wall_accs, _) in &task_acc {
-                for a in accs {
-                    acc.add(a);
-                }
-                walls_acc.extend_from_slice(wall_accs);
-            }
-            wall_acc = walls_acc;
+            (acc, wall_acc) = task_sums(&task_acc, &mut scatter.balance);
             // The particles no task owned are summed from their pairs' slots by the
             // update (`finish_chunk`).
-            for (t, (_, _, secs)) in scatter.balance.tasks.iter_mut().zip(&task_acc) {
-                t.2 += secs;
-            }
         }
     }
 
+    (acc, wall_acc)
+}
+
+/// The tasks' results (per task: the energy increments of its pair blocks, of its wall
+/// blocks, and its time) as one sum of the pair blocks in block order and the wall blocks'
+/// list in block order; each task's time is added to its share of `balance`.
+fn task_sums(results: &[(Vec<Acc>, Vec<Acc>, f64)], balance: &mut Balance) -> (Acc, Vec<Acc>) {
+    let mut acc = Acc::default();
+    let mut wall_acc = Vec::new();
+    for (accs, wall_accs, _) in results {
+        for a in accs {
+            acc.add(a);
+        }
+        wall_acc.extend_from_slice(wall_accs);
+    }
+    for (t, (_, _, secs)) in balance.tasks.iter_mut().zip(results) {
+        t.2 += secs;
+    }
     (acc, wall_acc)
 }
 
@@ -1241,8 +1259,7 @@ fn move_all(
             },
         )
         .collect();
-    scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
-    finish_move(scene, xres, acc, wall_work, &parts, model.dt)
+    finish_move(scene, (xres, keep), acc, wall_work, &parts, model.dt)
 }
 
 /// The walls' measured forces and the work they put in; then their motion (servo,
@@ -1526,16 +1543,17 @@ impl Mover {
     }
 }
 
-/// The end of a step: the chunks' sums (in chunk order), blow-up check, periodic wrap,
-/// the rebuild flag and the ledger.
+/// The end of a step: the chunks' sums (in chunk order), whether the update cleared the
+/// forces (not with `keep`), blow-up check, periodic wrap, the rebuild flag and the ledger.
 fn finish_move(
     scene: &mut Scene,
-    xres: f64,
+    (xres, keep): (f64, bool),
     acc: Acc,
     wall_work: f64,
     parts: &[ChunkSums],
     dt: f64,
 ) -> Result<(), Blowup> {
+    scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;

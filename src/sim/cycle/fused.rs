@@ -27,8 +27,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::{
     Acc, CHUNK, ChunkArrays, ChunkSums, HotPair, Incidence, Laws, Left, Model, Mover, PairCtx,
-    PairForce, Scene, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs, wall_cuts,
-    wall_forces,
+    PairForce, Scene, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs, task_sums,
+    wall_cuts, wall_forces,
 };
 use rayon::prelude::*;
 
@@ -246,16 +246,15 @@ impl Shared {
 }
 
 /// Both steps of a cycle's time step in one region (several threads): the contact forces
-/// as `forces_with` makes them (the pairs' energy increments per block in block order,
-/// then the wall pairs' per block, added to one sum; the walls' forces set) and each chunk's
-/// update as `move_all` makes it. Returns the energy increments and the chunks' sums in
-/// chunk order.
+/// as `pair_forces` makes them and each chunk's update as `move_all` makes it. Returns the
+/// pairs' energy increments (summed per block in block order), the wall pairs' (per block)
+/// and the chunks' sums in chunk order.
 pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
     scene: &mut Scene,
     (model, laws_pp, laws_pw, shapes): (&Model, &Laws, &Laws, &[WallShape]),
     mv: &Mover,
     keep: bool,
-) -> (Acc, Vec<ChunkSums>) {
+) -> (Acc, Vec<Acc>, Vec<ChunkSums>) {
     let zeroed = std::mem::take(&mut scene.contacts.zeroed);
     let np = scene.particles.len();
     let Scene {
@@ -404,28 +403,8 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
             (accs, wall_accs, secs)
         })
         .collect();
-    // The sums in the order of `forces_with`: the pairs' blocks, then the wall blocks.
-    let mut pair_acc = Acc::default();
-    let mut wall_acc = Vec::new();
-    for (accs, wall_accs, _) in &results {
-        for a in accs {
-            pair_acc.add(a);
-        }
-        wall_acc.extend_from_slice(wall_accs);
-    }
-    let mut acc = Acc::default();
-    acc.add(&pair_acc);
-    for a in &wall_acc {
-        acc.add(a);
-    }
-    for (t, (_, _, secs)) in scatter.balance.tasks.iter_mut().zip(&results) {
-        t.2 += secs;
-    }
-    wall_out.sum_walls(walls.len());
-    for (w, f) in walls.iter_mut().zip(&wall_out.on_wall) {
-        w.force = *f;
-    }
-    (acc, sums)
+    let (pair_acc, wall_acc) = task_sums(&results, &mut scatter.balance);
+    (pair_acc, wall_acc, sums)
 }
 
 #[cfg(test)]
