@@ -358,6 +358,23 @@ pub struct Incidence {
     pub slots: usize,
     /// What the tasks took since the split, for the cut of the next one (kept by `clear`).
     pub balance: Balance,
+    /// The one-region step's plan for this split ([`ChunkPlan`]; made at its first step).
+    pub plan: Option<ChunkPlan>,
+}
+
+/// How the one-region step (`cycle::fused`) shares out the wall pairs and the particle
+/// update for one split: where each task's stretch of wall pairs begins (`wall_cut`), the
+/// task that updates each chunk as soon as its own pairs are done (`owner`) and the chunks
+/// updated after every task's (`late`). It depends on the split and on the wall pairs'
+/// particles, which change only where the incidence is cleared (a merge, particles lost
+/// through an open side, the start of a `Cycle`); `walls`, their number when it was made,
+/// is checked at every step as well.
+#[derive(Clone, Debug, Default)]
+pub struct ChunkPlan {
+    pub walls: usize,
+    pub wall_cut: Vec<usize>,
+    pub owner: Vec<u32>,
+    pub late: Vec<u32>,
 }
 
 /// Wall-clock times of the multi-thread force loop since the last split, for the cut of
@@ -423,6 +440,7 @@ impl Incidence {
         ranges: Vec<PairRange>,
         threads: usize,
     ) {
+        self.plan = None;
         // The particles each task's pairs touch outside its interval.
         let foreign: Vec<Vec<u32>> = ranges
             .par_iter()
@@ -550,6 +568,7 @@ impl Incidence {
         self.slot.clear();
         self.task_slots.clear();
         self.slots = 0;
+        self.plan = None;
     }
 
     /// The pairs of the `s`-th shared particle, in pair order.
