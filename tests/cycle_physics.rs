@@ -151,6 +151,66 @@ fn oblique_impact_regimes() {
     }
 }
 
+/// The same impacts with the no-slip law, friction and the restitution dashpot: the wall
+/// contacts then go through the vectorised steady-contact kernel after their first step. A
+/// normal impact rebounds at e with the loss booked as contact damping; a fast oblique one
+/// slides throughout, its spin ω R = 5/2 Δv_t (the moment of the tangential impulse about the
+/// centre), and the ledger closes (FRAction 0.05: the dashpot's work is integrated to
+/// O(Δt²), 1.5e-3 of the input at 0.2).
+#[test]
+fn wall_impacts_with_the_noslip_law_and_a_dashpot() {
+    let mu = 0.3;
+    for e in [0.3, 0.7] {
+        for (vt, vn) in [(0.0, 2.0), (5.0, 1.0)] {
+            let mut sc = scene(&format!(
+                "start 0.1 0.1 0.1 1000 10 2\nset open all\nrad 0.01 1\nymd 4.8e10 1\npra 0.2 1\n\
+                 density 2800 1\nfraction 0.05\nfriction {mu} 1\ndamping restitution {e}\nset tangential noslip\n\
+                 dwall p 0 0 1 0.02 m 1\ncreate 0.05 0.05 0.03 {vt} 0 -{vn} 0 0 0 1 1\n"
+            ));
+            let _ = run_impact(&mut sc, true);
+            for _ in 0..10 {
+                step(&mut sc);
+            }
+            let v = sc.particles.vel[0];
+            let got = v.z / vn;
+            let tol = 0.01 * e;
+            assert!((got - e).abs() < tol, "e = {e}, vt = {vt}: rebound {got}");
+            let l = &sc.ledger;
+            assert!(l.damping_contact > 0.0, "e = {e}, vt = {vt}");
+            let res = energy::residual(&sc);
+            assert!(
+                res.abs() < 1e-3 * l.input(),
+                "e = {e}, vt = {vt}: residual {res} of input {}",
+                l.input()
+            );
+            if vt > 0.0 {
+                // Sliding throughout under the Coulomb cap μ P_e on the elastic part of the
+                // normal force (Thornton; the dashpot's part of the impulse takes no
+                // friction): 0 < Δv_t < μ (1 + e) v_n.
+                let dvt = vt - v.x;
+                let limit = mu * (1.0 + got) * vn;
+                assert!(
+                    dvt > 0.5 * limit && dvt < limit,
+                    "e = {e}: Δv_t {dvt} vs μ(1+e)v_n {limit}"
+                );
+                let w = sc.particles.spin[0];
+                assert!(
+                    rel(w.y.abs() * 0.01, 2.5 * dvt) < 0.01,
+                    "e = {e}: spin {w:?}"
+                );
+                assert!(l.friction > 0.0);
+            } else {
+                let lost = 0.5 * sc.particles.mass[0] * vn * vn * (1.0 - got * got);
+                assert!(
+                    rel(l.damping_contact, lost) < 1e-2,
+                    "{} vs {lost}",
+                    l.damping_contact
+                );
+            }
+        }
+    }
+}
+
 fn gas(extra: &str) -> trubal::sim::Scene {
     scene(&format!(
         "start 0.2 0.2 0.2 1000 1200 6\nset open all\nrad 0.004 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n{extra}\n\

@@ -9,6 +9,8 @@
 //! can use the processor's vector units. Every operation is the one the scalar kernel does,
 //! in the same order, so the results are bitwise those of [`super::interact`]; the energy
 //! ledger's terms are returned per contact so the caller can add them in pair order.
+//! Used by the pair loop and by the particle–wall contacts (a wall is the pair's other body
+//! with R* and m* those of the wall contact).
 
 use super::contacts::ContactState;
 use super::interact::Kin;
