@@ -19,6 +19,7 @@ use super::scene::Vec3;
 
 /// Contacts per batch.
 pub const SUB: usize = 32;
+const _: () = assert!(SUB % 4 == 0, "the kernel pads batches to whole 4-lane vectors");
 
 /// One batch of steady contacts: inputs (geometry, constants, the state of the last step)
 /// and, after [`hertz_noslip`], the new state and the forces.
@@ -196,8 +197,13 @@ fn hertz_noslip_avx2(b: &mut Batch, dt: f64) {
 
 #[inline(always)]
 fn hertz_noslip_impl(b: &mut Batch, dt: f64) {
-    let n = b.len.min(SUB);
-    for l in 0..n {
+    // The contacts padded to whole 4-lane vectors (SUB is a multiple of 4): the lanes past
+    // `len` compute on what the last batch left there (or zeros; NaN at worst, never read),
+    // which costs less than the scalar remainder loop would (settled S1 10k, one thread:
+    // −13 % of this kernel's instructions, its share of the samples 13.6–14.1 % → 11.0–12.4 %;
+    // a batch holds ~6 contacts on average). The first `len` lanes are unchanged.
+    let n = b.len.min(SUB).div_ceil(4) * 4;
+    for l in 0..n.min(SUB) {
         let (nx, ny, nz) = (b.nx[l], b.ny[l], b.nz[l]);
         let (vx, vy, vz) = (b.vx[l], b.vy[l], b.vz[l]);
         let alpha = -b.gap[l];
