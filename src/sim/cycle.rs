@@ -835,13 +835,7 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
     // The steady Hertz contacts with the no-slip law go through the vectorised kernel, as
     // in the pair loop (`block_forces`): the same arithmetic, so the same bits.
     let laws = c.laws;
-    let batched = !ADH
-        && !LIQ
-        && laws.tangential == TangentialChoice::NoSlip
-        && !(laws.beta > 0.0)
-        && laws.rotation
-        && c.model.rotation
-        && laws.dt > 0.0;
+    let batched = batches_steady::<ADH, LIQ>(c);
     let mut batch = lanes::Batch::new();
     let mut kins = [Kin::ZERO; SUB];
     let mut idx = [0u8; SUB];
@@ -1060,13 +1054,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
 ) {
     use lanes::SUB;
     let laws = c.laws;
-    let batched = !ADH
-        && !LIQ
-        && laws.tangential == TangentialChoice::NoSlip
-        && !(laws.beta > 0.0)
-        && laws.rotation
-        && c.model.rotation
-        && laws.dt > 0.0;
+    let batched = batches_steady::<ADH, LIQ>(c);
     let Scratch {
         batch,
         kins,
@@ -1148,6 +1136,20 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         }
         start = end;
     }
+}
+
+/// Whether the steady contacts of this step go through the vectorised kernel
+/// ([`lanes::hertz_noslip`]): a dry scene without adhesion, the no-slip law with rotation,
+/// no Rayleigh tangential dashpot, a time step (not the states-only pass).
+#[inline(always)]
+fn batches_steady<const ADH: bool, const LIQ: bool>(c: &PairCtx) -> bool {
+    let laws = c.laws;
+    !ADH && !LIQ
+        && laws.tangential == TangentialChoice::NoSlip
+        && !(laws.beta > 0.0)
+        && laws.rotation
+        && c.model.rotation
+        && laws.dt > 0.0
 }
 
 /// Work arrays of the pair loop's sub-batches, made once per task and step and reused by

@@ -19,7 +19,10 @@ use super::scene::Vec3;
 
 /// Contacts per batch.
 pub const SUB: usize = 32;
-const _: () = assert!(SUB % 4 == 0, "the kernel pads batches to whole 4-lane vectors");
+const _: () = assert!(
+    SUB % 4 == 0,
+    "the kernel pads batches to whole 4-lane vectors"
+);
 
 /// One batch of steady contacts: inputs (geometry, constants, the state of the last step)
 /// and, after [`hertz_noslip`], the new state and the forces.
