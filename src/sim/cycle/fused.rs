@@ -448,13 +448,9 @@ mod tests {
         }
     }
 
-    /// 5000 particles in five chunks, two tasks cut at particle 2500: a chunk is its task's
-    /// when it lies inside the task's interval, holds no shared particle and has no wall
-    /// pair in the other task's stretch; the others are late, in order.
-    #[test]
-    fn a_chunk_is_its_tasks_only_when_no_other_task_touches_it() {
-        assert_eq!(CHUNK, 1024, "the chunks below are of 1024 particles");
-        let inc = Incidence {
+    /// Two tasks over 5000 particles, cut at particle 2500.
+    fn two_tasks() -> Incidence {
+        Incidence {
             ranges: vec![
                 PairRange {
                     pairs: 0..10,
@@ -465,9 +461,20 @@ mod tests {
                     parts: 2500..5000,
                 },
             ],
+            ..Default::default()
+        }
+    }
+
+    /// 5000 particles in five chunks, two tasks cut at particle 2500: a chunk is its task's
+    /// when it lies inside the task's interval, holds no shared particle and has no wall
+    /// pair in the other task's stretch; the others are late, in order.
+    #[test]
+    fn a_chunk_is_its_tasks_only_when_no_other_task_touches_it() {
+        assert_eq!(CHUNK, 1024, "the chunks below are of 1024 particles");
+        let inc = Incidence {
             // 2600, 2700: in the chunk at the cut anyway; 3500: chunk 3.
             shared_list: vec![2600, 2700, 3500],
-            ..Default::default()
+            ..two_tasks()
         };
         let late = LATE;
         let walls = [10, 20, 4500, 3000].map(wall_pair);
@@ -496,19 +503,7 @@ mod tests {
     /// those it was made for, and dropped with the split.
     #[test]
     fn the_plan_is_kept_for_its_split_and_wall_pairs_only() {
-        let mut inc = Incidence {
-            ranges: vec![
-                PairRange {
-                    pairs: 0..10,
-                    parts: 0..2500,
-                },
-                PairRange {
-                    pairs: 10..20,
-                    parts: 2500..5000,
-                },
-            ],
-            ..Default::default()
-        };
+        let mut inc = two_tasks();
         // (A few wall pairs all fall in the last task's stretch: the cut is at whole blocks.)
         let walls = [3000].map(wall_pair);
         let first = plan(&mut inc, 5000, &walls);
