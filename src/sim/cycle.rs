@@ -1068,16 +1068,7 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         let end = (start + SUB).min(hots.len());
         // Which pairs are evaluated, without a branch per pair (whether a pair is near is
         // as good as random along the list).
-        let mut m = 0;
-        for k in start..end {
-            // (Nothing is stored in the hot pair: its line stays clean and is not written
-            // back to memory.)
-            let (d, dist2, ev) = pair_reach::<ADH, LIQ>(&hots[k], c);
-            idx[m] = k as u32;
-            ds[m] = d;
-            d2s[m] = dist2;
-            m += ev as usize;
-        }
+        let m = reach_pass::<ADH, LIQ>(&hots[start..end], start, c, (idx, ds, d2s));
         batch.len = 0;
         for q in 0..m {
             let k = idx[q] as usize;
@@ -1178,17 +1169,74 @@ impl Scratch {
     }
 }
 
+/// The reach tests of one sub-batch of candidates `hots` (the first at `start` in its
+/// block): the evaluated pairs' indices, separations and squared distances in pair order;
+/// returns how many. In a function of its own, with the loop for scenes without periodic
+/// axes apart (no call to `round` in it), so that the loop keeps its values in registers:
+/// inlined into the pair loop it spilled them to the stack and reloaded them in every
+/// iteration. Same bits; callgrind, S1 10k one thread: −0.8 % of the instructions over 300
+/// settled steps (4.031 → 3.999 G), −1.4 % over 500 steps mid-fall (4.990 → 4.922 G).
+#[inline(never)]
+fn reach_pass<const ADH: bool, const LIQ: bool>(
+    hots: &[HotPair],
+    start: usize,
+    c: &PairCtx,
+    out: (
+        &mut [u32; lanes::SUB],
+        &mut [Vec3; lanes::SUB],
+        &mut [f64; lanes::SUB],
+    ),
+) -> usize {
+    if c.periodic == [false; 3] {
+        reach_loop::<ADH, LIQ, false>(hots, start, c, out)
+    } else {
+        reach_loop::<ADH, LIQ, true>(hots, start, c, out)
+    }
+}
+
+#[inline(always)]
+fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool>(
+    hots: &[HotPair],
+    start: usize,
+    c: &PairCtx,
+    (idx, ds, d2s): (
+        &mut [u32; lanes::SUB],
+        &mut [Vec3; lanes::SUB],
+        &mut [f64; lanes::SUB],
+    ),
+) -> usize {
+    let mut m = 0;
+    for (k, h) in hots.iter().enumerate().take(lanes::SUB) {
+        // (Nothing is stored in the hot pair: its line stays clean and is not written
+        // back to memory.)
+        let (d, dist2, ev) = pair_reach::<ADH, LIQ, PER>(h, c);
+        idx[m] = (start + k) as u32;
+        ds[m] = d;
+        d2s[m] = dist2;
+        m += ev as usize;
+    }
+    m
+}
+
 /// Separation of a candidate pair: the vector A → B (nearest image), its squared length,
 /// and whether the pair's contact laws run (it is within reach or has something to
 /// remember). With adhesion or liquid the reach includes the round-off allowance of bridge
 /// formation and of JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly
 /// (lattices) are evaluated. Without them the reach is the touching distance: a pair with
 /// a gap gets no force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that
-/// just opened is still evaluated once, being live.
+/// just opened is still evaluated once, being live. `PER`: the scene has a periodic axis
+/// (without one the nearest image is the vector itself).
 #[inline(always)]
-fn pair_reach<const ADH: bool, const LIQ: bool>(h: &HotPair, c: &PairCtx) -> (Vec3, f64, bool) {
+fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool>(
+    h: &HotPair,
+    c: &PairCtx,
+) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
-    let d = nearest_image(c.pos[j] - c.pos[i], c.size, c.periodic);
+    let d = if PER {
+        nearest_image(c.pos[j] - c.pos[i], c.size, c.periodic)
+    } else {
+        c.pos[j] - c.pos[i]
+    };
     let (ri, rj) = (c.radius[i], c.radius[j]);
     let dist2 = d.norm_squared();
     let reach = if ADH || LIQ {
