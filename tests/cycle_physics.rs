@@ -290,6 +290,33 @@ fn search_runs_match_brute_force_on_narrow_grids() {
     }
 }
 
+/// A reach far beyond the work-space on periodic axes (`SET TOL 1e99`, or the rupture
+/// distance of an absurd liquid volume): every pair is a candidate, once. The search used
+/// to compute the cube's span in cells as `hi − lo`, which wrapped for spans near i64::MAX,
+/// so each particle was entered in ~2^64 boxes until the allocation failed.
+#[test]
+fn search_with_a_reach_beyond_the_work_space_on_periodic_axes() {
+    let sc = scene(
+        "start 0.01 0.01 0.01 10 400 0\nrad 5e-4 1\nrad 2e-4 2\nymd 1e7 1\npra 0.3 1\n\
+         density 2500 1\nrge 20 1 1 0\nrge 10 2 1 0\n",
+    );
+    assert_eq!(sc.settings.periodic, [true; 3]);
+    let mut ids = sc.particles.id.clone();
+    ids.sort_unstable();
+    for tol in [1e99, 1e300, f64::MAX] {
+        let (pairs, _, info) = search::candidates(&sc, tol);
+        let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
+        got.sort_unstable();
+        let all: Vec<(u32, u32)> = (0..ids.len())
+            .flat_map(|a| (a + 1..ids.len()).map(move |b| (a, b)))
+            .map(|(a, b)| (ids[a], ids[b]))
+            .collect();
+        assert_eq!(got, all, "tol {tol}");
+        assert_eq!(got, search::brute_force_pairs(&sc, tol), "tol {tol}");
+        assert!(info.entries <= 27 * sc.particles.len(), "{}", info.entries);
+    }
+}
+
 #[test]
 fn search_matches_brute_force() {
     // Polydisperse (size ratio 10: multi-entry search) and near-monodisperse (ratio 1.4 and 1:

@@ -481,7 +481,9 @@ fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
         for k in 0..3 {
             lo[k] = cell_index(p.pos[i][k] - ext, k, &n, &cell, periodic[k]);
             hi[k] = cell_index(p.pos[i][k] + ext, k, &n, &cell, periodic[k]);
-            if periodic[k] && hi[k] - lo[k] >= n[k] as i64 {
+            // (Saturating: with a reach of the order of i64::MAX cells, `hi − lo` would wrap
+            // and the cube would seem to span nothing.)
+            if periodic[k] && hi[k].saturating_sub(lo[k]) >= n[k] as i64 {
                 // The cube spans the whole period: enter each box once.
                 lo[k] = 0;
                 hi[k] = n[k] as i64 - 1;
