@@ -510,6 +510,41 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
     assert_eq!(c.pos[..n1], one.particles.pos[..]);
 }
 
+/// The same agglomerate in a work-space 20 mm wide: AGEnerate examines only the sites in
+/// the region's bounding box — the work-space holds 2.4e7 sites of the lattice, more than
+/// the 1.05e7 it would examine — and gives the same particles, bit for bit. A step far
+/// below the particle size is refused at once, with a reason, and changes nothing (it used
+/// to enumerate every site of the work-space into one list until the allocation failed;
+/// found by fuzzing command files).
+#[test]
+fn agenerate_examines_only_the_regions_sites_and_refuses_an_absurd_lattice() {
+    let big = BCC.replace("start 2.2e-3 2.2e-3 2.2e-3", "start 20e-3 20e-3 20e-3");
+    let small = scene(&format!("{BCC}{SUB1}\n"));
+    let mut s = session(&big);
+    s.run_line(SUB1).unwrap();
+    let p = &s.scene.as_ref().unwrap().particles;
+    assert!(p.len() > 200, "{}", p.len());
+    assert_eq!(p.pos, small.particles.pos);
+    // A step of 1e-30 m: refused, nothing added.
+    let before = p.pos.clone();
+    let e = s
+        .run_line("agen 1 1 1 0 0 0 1e-6 1e-30 4.9e-324")
+        .unwrap_err();
+    assert!(
+        e.message.contains("sites") && e.message.contains("step"),
+        "{}",
+        e.message
+    );
+    let e = s.run_line("agen 1 1 0 0 0 0 1e-6 1e-6 1e-6").unwrap_err();
+    assert!(e.message.contains("work-space"), "{}", e.message);
+    assert_eq!(s.scene.as_ref().unwrap().particles.pos, before);
+    // More sites than free places: refused without filling the list first.
+    let mut f = session(&BCC.replace("27000 5000 2", "27000 100 2"));
+    let e = f.run_line(SUB1).unwrap_err();
+    assert!(e.message.contains("100 free places"), "{}", e.message);
+    assert!(f.scene.as_ref().unwrap().particles.is_empty());
+}
+
 #[test]
 fn few_particles_of_a_bcc_agglomerate_are_shared_between_two_threads() {
     // With two threads each task owns the particles whose pairs all lie in its range; the

@@ -198,7 +198,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         b_agenerate,
-        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (no command in between) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks)."
+        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (no command in between) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks). Only the sites in the region's bounding box are examined (in the work-space without a region); a lattice with more than 10^7 + 100 nball sites there (a step far below the particle size) is refused, as is one with more sites than the free places of nball."
     ),
     def!(
         "AWAll",

@@ -5,7 +5,8 @@
 use crate::lang::command::SizeDist;
 use crate::lang::command::*;
 use crate::sim::generate::{
-    OverlapIndex, first_overlap, inside, lattice_sites, morton_order, sphere_mass,
+    OverlapIndex, first_overlap, inside, lattice_ranges, lattice_sites, max_lattice_sites,
+    morton_order, sphere_mass,
 };
 use crate::sim::scene::{
     LatticeRun, MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall,
@@ -192,23 +193,53 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             } else {
                 None
             };
-            let sites = lattice_sites(scene, *origin, *step);
+            // The sites that can lie in the region (its bounding box) or the work-space.
+            let (lo, hi) = match region {
+                Some(g) => (
+                    std::array::from_fn(|k| (g.centre[k] - g.radius).max(0.0)),
+                    std::array::from_fn(|k| (g.centre[k] + g.radius).min(scene.size[k])),
+                ),
+                None => ([0.0; 3], scene.size),
+            };
+            let (range, count) = lattice_ranges(*origin, *step, lo, hi);
+            let most = max_lattice_sites(scene.nball);
+            if count > most {
+                return Err(format!(
+                    "the lattice has {count:.3e} sites in the {} (at most {most} are examined): \
+                     is the step (dx, dy, dz) far below the particle size?",
+                    if region.is_some() {
+                        "region's bounding box"
+                    } else {
+                        "work-space"
+                    }
+                ));
+            }
+            let free = scene.nball.saturating_sub(scene.particles.len());
             let mut idx = OverlapIndex::new(scene, r);
             let mut accepted = Vec::new();
             let mut skipped = 0;
-            for x in sites {
+            lattice_sites(scene, *origin, *step, range, |x| {
                 if !inside(scene, region.as_ref(), &x, r) {
-                    continue;
+                    return true;
                 }
                 if idx.overlaps(scene, &x, r).is_some() {
                     skipped += 1;
-                    continue;
+                    return true;
                 }
                 idx.insert(&x, r);
                 accepted.push(x);
-            }
+                // One more than fits is enough to refuse (below).
+                accepted.len() <= free
+            });
             // All or nothing: the capacity is checked before anything is added.
-            check_capacity(scene, accepted.len())?;
+            if accepted.len() > free {
+                return Err(format!(
+                    "too many particles: the lattice has more than the {free} free places \
+                     ({} particles, nball = {} given to Start)",
+                    scene.particles.len(),
+                    scene.nball
+                ));
+            }
             let made = accepted.len();
             let first_new = scene.particles.len();
             for x in accepted {

@@ -134,16 +134,58 @@ pub fn sphere_mass(rho: f64, r: f64) -> f64 {
     rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
 }
 
-/// Sites of an orthorhombic lattice with the given origin and step that fall in the
-/// work-space, in x-fastest order (`AGEnerate`).
-pub fn lattice_sites(scene: &Scene, origin: [f64; 3], step: [f64; 3]) -> Vec<Vec3> {
+/// Most lattice sites `AGEnerate` examines: 10 million, and 100 more per particle the scene
+/// can hold (a step far below the particle size would otherwise make it loop for hours).
+pub fn max_lattice_sites(nball: usize) -> u128 {
+    10_000_000 + 100 * nball as u128
+}
+
+/// The index ranges (i, j, k, inclusive) of the sites of an orthorhombic lattice with the
+/// given origin and step (positive) that can fall in the box `lo..hi` (the work-space, or
+/// a region's bounding box: one site more on each side, for round-off; the caller keeps
+/// only the sites inside), and their number.
+pub fn lattice_ranges(
+    origin: [f64; 3],
+    step: [f64; 3],
+    lo: [f64; 3],
+    hi: [f64; 3],
+) -> ([(i64, i64); 3], u128) {
     let mut range = [(0i64, 0i64); 3];
+    let mut count: u128 = 1;
     for k in 0..3 {
-        let lo = ((0.0 - origin[k]) / step[k] - 1e-9).ceil() as i64;
-        let hi = ((scene.size[k] - origin[k]) / step[k] - 1e-9).ceil() as i64 - 1;
-        range[k] = (lo, hi);
+        let (qa, qb) = (
+            ((lo[k] - origin[k]) / step[k] - 1e-9).ceil(),
+            ((hi[k] - origin[k]) / step[k] - 1e-9).ceil(),
+        );
+        // (`as i64` saturates: both ends of a huge range can saturate to one value, so the
+        // number of sites is also taken from the unrounded ends; NaN counts as too many.)
+        let (a, b) = (qa as i64, qb as i64);
+        range[k] = (a.saturating_sub(1), b);
+        let n = (range[k].1 as i128 - range[k].0 as i128 + 1).max(0) as u128;
+        let span = qb - qa + 2.0;
+        let n = if span.is_nan() || span >= 1e30 {
+            u128::MAX
+        } else {
+            n.max(span.max(0.0) as u128)
+        };
+        count = count.saturating_mul(n);
     }
-    let mut v = Vec::new();
+    (range, count)
+}
+
+/// The sites of `ranges` ([`lattice_ranges`]) in the work-space, in x-fastest order
+/// (`AGEnerate`), each given to `f`; `f` returns false to stop.
+pub fn lattice_sites(
+    scene: &Scene,
+    origin: [f64; 3],
+    step: [f64; 3],
+    range: [(i64, i64); 3],
+    mut f: impl FnMut(Vec3) -> bool,
+) {
+    // (An axis without sites: none at all, whatever the width of the others.)
+    if range.iter().any(|r| r.0 > r.1) {
+        return;
+    }
     for k in range[2].0..=range[2].1 {
         for j in range[1].0..=range[1].1 {
             for i in range[0].0..=range[0].1 {
@@ -155,13 +197,13 @@ pub fn lattice_sites(scene: &Scene, origin: [f64; 3], step: [f64; 3]) -> Vec<Vec
                 if x.iter()
                     .enumerate()
                     .all(|(a, &c)| c >= 0.0 && c < scene.size[a])
+                    && !f(x)
                 {
-                    v.push(x);
+                    return;
                 }
             }
         }
     }
-    v
 }
 
 /// Spreads the low 21 bits of `v` to every third bit (Morton interleaving).
