@@ -1,5 +1,6 @@
-//! Random command files through the binary: every command with extreme, odd or missing
-//! arguments (0, ±1e300, 1e-300, the smallest subnormal, NaN, `x`, ...), in random order on
+//! Random command files through the binary (one or two threads, every fourth with `--json`):
+//! every command with extreme, odd or missing arguments (0, ±1e300, 1e-300, the smallest
+//! subnormal, NaN, `x`, ...), in random order on
 //! a small scene with walls, a region and cycles in between. Whatever the input, trubal must
 //! not panic, abort (an allocation failure) or hang: each file either runs or gets its
 //! errors. The seeds are fixed, so a failure names a file that can be replayed: the test
@@ -306,8 +307,12 @@ fn run(seed: u64, dir: &std::path::Path) -> Result<(), String> {
     let text = deck(seed);
     std::fs::write(sub.join("d.tru"), &text).unwrap();
     let threads = if seed % 2 == 0 { "1" } else { "2" };
+    // Every fourth file with machine-readable output.
+    let json: &[&str] = if seed % 4 == 1 { &["--json"] } else { &[] };
     let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
-        .args(["--threads", threads, "--keep-going", "d.tru"])
+        .args(["--threads", threads, "--keep-going"])
+        .args(json)
+        .arg("d.tru")
         .current_dir(&sub)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
