@@ -545,6 +545,59 @@ fn agenerate_examines_only_the_regions_sites_and_refuses_an_absurd_lattice() {
     assert!(f.scene.as_ref().unwrap().particles.is_empty());
 }
 
+/// A run of CReate commands keeps one overlap index and the kinetic total between them
+/// (N CReate lines were O(N²)); the same lines with a PRint after each (which drops both)
+/// must give the same particles, the same refusals and the same ledger, to the bit.
+#[test]
+fn a_run_of_creates_gives_what_creates_one_by_one_give() {
+    let setup = "start 0.01 0.01 0.01 10 2000 0\nrad 5e-4 1\nrad 3e-4 2\ndensity 2500 1\n\
+                 ymd 1e7 1\npra 0.3 1";
+    let mut rng = trubal::sim::rng::Rng::new(11);
+    let mut lines = Vec::new();
+    for k in 0..600 {
+        let mut u = || rng.uniform();
+        let (x, y, z) = (0.01 * u(), 0.01 * u(), 0.01 * u());
+        let (vx, vy, vz, wx) = (u() - 0.5, u() - 0.5, u() - 0.5, 100.0 * (u() - 0.5));
+        lines.push(format!(
+            "create {x} {y} {z} {vx} {vy} {vz} {wx} 0 3 {} 1",
+            1 + k % 2
+        ));
+    }
+    let run = |between: Option<&str>| {
+        let mut s = session(setup);
+        let mut refused = Vec::new();
+        for l in &lines {
+            if let Err(e) = s.run_line(l) {
+                refused.push(e.message);
+            }
+            if let Some(b) = between {
+                s.run_line(b).unwrap();
+            }
+        }
+        (s, refused)
+    };
+    let (a, ra) = run(None);
+    let (b, rb) = run(Some("print info"));
+    let (sa, sb) = (a.scene.as_ref().unwrap(), b.scene.as_ref().unwrap());
+    assert!(sa.create_index.is_some() && sb.create_index.is_none());
+    let n = sa.particles.len();
+    assert!(n > 300 && ra.len() > 50, "{n} placed, {} refused", ra.len());
+    assert_eq!(ra, rb);
+    assert!(
+        ra.iter().all(|m| m.contains("would overlap particle")),
+        "{ra:?}"
+    );
+    assert_eq!(sa.particles.pos, sb.particles.pos);
+    assert_eq!(
+        sa.ledger.commands.to_bits(),
+        sb.ledger.commands.to_bits(),
+        "{} {}",
+        sa.ledger.commands,
+        sb.ledger.commands
+    );
+    assert!(sa.ledger.commands > 0.0);
+}
+
 #[test]
 fn few_particles_of_a_bcc_agglomerate_are_shared_between_two_threads() {
     // With two threads each task owns the particles whose pairs all lie in its range; the

@@ -68,7 +68,7 @@ case " $SCENES " in *" s1 "*)
     [ -f "$OUT/bed$n.data" ] || python3 "$PEERS_DIR/s1_settle/gen_bed.py" "$n" "$OUT/bed$n.data" 12345
     # trubal: CReate the bed once and save it (CReate is O(N) per particle); timed runs RESTart it.
     if [ ! -f "$OUT/bed$n.sav" ] || [ "$TRUBAL" -nt "$OUT/bed$n.sav" ]; then
-      echo "building trubal checkpoint bed$n.sav (N=$n, CReate lines; takes a while for large N)"
+      echo "building trubal checkpoint bed$n.sav (N=$n, CReate lines)"
       python3 "$here/bed2tru.py" "$OUT/bed$n.data" "$OUT/build_bed$n.tru" 0 "bed$n.sav"
       (cd "$OUT" && /usr/bin/time -f "  build: %e s wall, %M kB" "$TRUBAL" build_bed$n.tru > "$OUT/logs/build_bed$n.out" 2>&1) \
         || { echo "building bed$n.sav failed: see $OUT/logs/build_bed$n.out" >&2; exit 1; }

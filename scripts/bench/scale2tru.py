@@ -3,8 +3,9 @@
 S1's material in S1's 40 mm x 40 mm box with 5 walls; R = 1 mm, rho = 2500,
 E = 1e7, nu = 0.3, mu = 0.5, restitution 0.5, gravity -9.81 z, fraction 0.2).
 
-Generated inside trubal (one command, O(N)) rather than by N CReate lines, which
-cost O(N) each (O(N^2) in all: minutes at 5e4, hours at 1e6):
+Generated inside trubal by one command (N CReate lines cost O(N^2) in all until the
+second session of 2026-12-03: minutes at 5e4, hours at 1e6; a run of CReates is O(N)
+now, but one command keeps these files small):
 
   loose    RGEnerate N random non-overlapping spheres, solid fraction 0.30 of the
            box (the loose bed before it settles: few contacts in a short run)

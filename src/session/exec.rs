@@ -5,8 +5,8 @@
 use crate::lang::command::SizeDist;
 use crate::lang::command::*;
 use crate::sim::generate::{
-    OverlapIndex, first_overlap, inside, lattice_ranges, lattice_sites, max_lattice_sites,
-    morton_order, sphere_mass,
+    CreateIndex, OverlapIndex, first_overlap, inside, lattice_ranges, lattice_sites,
+    max_lattice_sites, morton_order, sphere_mass,
 };
 use crate::sim::scene::{
     LatticeRun, MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall,
@@ -75,6 +75,10 @@ fn refresh_masses(scene: &mut Scene, m: usize) {
 
 /// Applies a scene command. Returns a message to print (possibly empty).
 pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
+    // (Also dropped by `Session::execute` for the commands handled there.)
+    if !matches!(cmd, Command::Create { .. }) {
+        scene.create_index = None;
+    }
     match cmd {
         Command::Radius { r, size, dist } => {
             if *size > MAX_SIZES {
@@ -157,11 +161,29 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     pos[0], pos[1], pos[2]
                 ));
             }
-            if let Some(j) = first_overlap(scene, &x, r) {
-                return Err(format!(
-                    "the particle would overlap particle {}",
-                    scene.particles.id[j]
-                ));
+            // A run of CReate commands (a command file of an assembly) keeps one overlap
+            // index of the scene's particles instead of scanning them all for each new one
+            // (N CReate lines were O(N²): 12.5 s for 50,000). The index decides only "no
+            // overlap", and only while it can (`OverlapIndex::decides`); an overlap is
+            // confirmed and named by the plain scan, so the message is the scan's.
+            let (mut idx, kinetic) = match scene.create_index.take() {
+                Some(c) if c.n == scene.particles.len() => (c.index, c.kinetic),
+                _ => (OverlapIndex::new(scene, r), None),
+            };
+            if !idx.decides(scene) || idx.overlaps(scene, &x, r).is_some() {
+                if let Some(j) = first_overlap(scene, &x, r) {
+                    let n = scene.particles.len();
+                    // (Nothing changed: the index and the kinetic total stay valid.)
+                    scene.create_index = Some(CreateIndex {
+                        n,
+                        index: idx,
+                        kinetic,
+                    });
+                    return Err(format!(
+                        "the particle would overlap particle {}",
+                        scene.particles.id[j]
+                    ));
+                }
             }
             let id = scene.next_id;
             scene.next_id += 1;
@@ -176,6 +198,14 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 *material,
                 0,
             );
+            idx.insert(&x, r);
+            let n = scene.particles.len();
+            // (The session books the kinetic energy and keeps the new total.)
+            scene.create_index = Some(CreateIndex {
+                n,
+                index: idx,
+                kinetic: None,
+            });
             scene.contacts.stale = true;
             Ok(String::new())
         }

@@ -184,6 +184,13 @@ impl Session {
 
     /// Executes one command.
     pub fn execute(&mut self, cmd: &Command) -> Result<Flow, String> {
+        // Only a CReate after another keeps the overlap index of the run (`exec::apply`);
+        // dropped before any other command runs, so no snapshot or saved state carries it.
+        if !matches!(cmd, Command::Create { .. }) {
+            if let Some(s) = self.scene.as_mut() {
+                s.create_index = None;
+            }
+        }
         let r = self.execute_one(cmd);
         // Only an AGEnerate right after another joins its lattice (`exec::layer_order`).
         if r.is_ok() && !matches!(cmd, Command::Agenerate { .. }) {
@@ -431,7 +438,15 @@ fn scene_command(
             // command changes nothing. The kinetic energy the command adds or removes (new
             // particles, VELocity, Zero, ...) is booked; strain energy of new overlaps is
             // booked when the next Cycle evaluates the contacts (cycle::prime).
-            let before = energy::kinetic(scene);
+            let create = matches!(cmd, Command::Create { .. });
+            // (A run of CReate commands keeps the total: one particle more at the end adds
+            // its own term, the same bits as the sum over all; see `CreateIndex`.)
+            let kept = |scene: &Scene| match &scene.create_index {
+                Some(c) if create && c.n == scene.particles.len() => c.kinetic,
+                _ => None,
+            };
+            let n0 = scene.particles.len();
+            let before = kept(scene).unwrap_or_else(|| energy::kinetic(scene));
             let text = exec::apply(scene, cmd)?;
             // Warnings go to standard error with the others.
             for line in text.lines() {
@@ -443,7 +458,16 @@ fn scene_command(
                     }
                 }
             }
-            scene.ledger.commands += energy::kinetic(scene) - before;
+            let after = match &scene.create_index {
+                Some(c) if create && c.n == n0 + 1 && scene.particles.len() == n0 + 1 => {
+                    before + energy::kinetic_of(scene, n0)
+                }
+                _ => energy::kinetic(scene),
+            };
+            if let Some(c) = scene.create_index.as_mut().filter(|_| create) {
+                c.kinetic = Some(after);
+            }
+            scene.ledger.commands += after - before;
         }
     }
     Ok((out, warnings))

@@ -64,13 +64,17 @@ impl Ledger {
 
 /// Kinetic energy (translation + rotation) with the half-step velocities.
 pub fn kinetic(scene: &Scene) -> f64 {
-    let p = &scene.particles;
-    (0..p.len())
-        .map(|i| {
-            0.5 * p.mass[i] * p.vel[i].norm_squared()
-                + 0.5 * p.inertia(i) * p.spin[i].norm_squared()
-        })
+    (0..scene.particles.len())
+        .map(|i| kinetic_of(scene, i))
         .sum()
+}
+
+/// Particle `i`'s term of [`kinetic`] (summed in particle order, so the total with one more
+/// particle at the end is the total before plus its term, to the bit).
+#[inline]
+pub fn kinetic_of(scene: &Scene, i: usize) -> f64 {
+    let p = &scene.particles;
+    0.5 * p.mass[i] * p.vel[i].norm_squared() + 0.5 * p.inertia(i) * p.spin[i].norm_squared()
 }
 
 /// Kinetic energy with the half-step velocities of the leap-frog scheme.

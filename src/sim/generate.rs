@@ -15,7 +15,7 @@ use super::scene::{Region, Scene, Vec3};
 
 /// A multiplicative hash for the index's integer cell keys (the standard SipHash took over
 /// half of `RGEnerate`'s time; the keys are not chosen by an adversary).
-#[derive(Default)]
+#[derive(Clone, Copy, Debug, Default)]
 struct CellHasher(u64);
 
 impl Hasher for CellHasher {
@@ -37,6 +37,7 @@ impl Hasher for CellHasher {
 
 /// Spatial hash of particles (the scene's, then the ones being generated) for the overlap
 /// check. Entry k is particle k of the scene for k < the scene's count at creation.
+#[derive(Clone, Debug)]
 pub struct OverlapIndex {
     h: f64,
     cells: HashMap<(i64, i64, i64), Vec<usize>, BuildHasherDefault<CellHasher>>,
@@ -76,8 +77,21 @@ impl OverlapIndex {
         )
     }
 
-    /// Adds a sphere; returns its entry number.
+    /// Whether [`Self::overlaps`] answers as the minimum-image scan [`first_overlap`]
+    /// does: every indexed centre lies in [0, L] along the periodic axes (the index looks
+    /// at the images one period away only).
+    pub fn decides(&self, scene: &Scene) -> bool {
+        (0..3).all(|k| {
+            !scene.settings.periodic[k]
+                || (self.lo[k] >= 0.0 && self.hi[k] <= scene.size[k])
+                || self.pos.is_empty()
+        })
+    }
+
+    /// Adds a sphere; returns its entry number (a sphere larger than those indexed so far
+    /// widens the search, which stays correct with the cells it has).
     pub fn insert(&mut self, x: &Vec3, r: f64) -> usize {
+        self.rmax = self.rmax.max(r);
         let k = self.key(x);
         let i = self.pos.len();
         self.pos.push(*x);
@@ -133,6 +147,19 @@ impl OverlapIndex {
         }
         None
     }
+}
+
+/// The overlap index of a run of `CReate` commands, for the scene of `n` particles it was
+/// last brought up to date with (kept in [`Scene::create_index`]; any other command drops
+/// it, so it never sees particles moved, removed or changed).
+#[derive(Clone, Debug)]
+pub struct CreateIndex {
+    pub n: usize,
+    pub index: OverlapIndex,
+    /// The scene's kinetic energy ([`super::energy::kinetic`]) with these `n` particles, for
+    /// the ledger's booking of the next CReate (a sum over all particles per command made N
+    /// CReate lines O(N²) as well).
+    pub kinetic: Option<f64>,
 }
 
 /// The first particle of the scene that a sphere (x, r) would overlap: a plain scan (no

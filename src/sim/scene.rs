@@ -306,6 +306,10 @@ pub struct Scene {
     /// AGEnerate commands; see `session::exec::layer_order`).
     #[serde(skip)]
     pub lattice_run: Option<LatticeRun>,
+    /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
+    /// dropped by any other command before it runs: `Session::execute`).
+    #[serde(skip)]
+    pub create_index: Option<super::generate::CreateIndex>,
 }
 
 /// A run of particles placed by AGEnerate: `start..` of the particle list, agglomerate
@@ -353,6 +357,7 @@ impl Scene {
             history: Default::default(),
             maybe_outside: true,
             lattice_run: None,
+            create_index: None,
         }
     }
 
