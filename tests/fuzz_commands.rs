@@ -73,20 +73,12 @@ const BASE: &str = "start 0.01 0.01 0.01 10 400 6\nset open z\nrad 5e-4 1\nrad 3
 fn command(g: &mut Lcg) -> String {
     let e = |g: &mut Lcg| g.pick(EXTREME).to_string();
     let p = |g: &mut Lcg| format!("{}", 0.01 * g.unit());
+    // `n` of them, drawn in order, separated by spaces.
+    let es = |g: &mut Lcg, n: usize| (0..n).map(|_| e(g)).collect::<Vec<_>>().join(" ");
+    let ps = |g: &mut Lcg, n: usize| (0..n).map(|_| p(g)).collect::<Vec<_>>().join(" ");
     let mat = |g: &mut Lcg| g.pick(&["1", "2", "0", "9"]).to_string();
     match g.below(40) {
-        0 => format!(
-            "create {} {} {} {} {} {} {} {} {} 1 1",
-            p(g),
-            p(g),
-            p(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g)
-        ),
+        0 => format!("create {} {} 1 1", ps(g, 3), es(g, 6)),
         1 => format!("rad {} {}", e(g), mat(g)),
         2 => format!(
             "rad 5e-4 1 {} {} {}",
@@ -104,7 +96,7 @@ fn command(g: &mut Lcg) -> String {
         7 => format!("cohesion {} {}", e(g), mat(g)),
         8 => format!("damping restitution {} {}", e(g), mat(g)),
         9 => format!("damping {} {} 0 0 {}", e(g), e(g), g.pick(&["0", "1"])),
-        10 => format!("gravity {} {} {}", e(g), e(g), e(g)),
+        10 => format!("gravity {}", es(g, 3)),
         11 => format!("fraction {}", e(g)),
         12 => format!("{} {}", g.pick(&["fmm", "vmu", "zero", "mode"]), e(g)),
         13 => format!(
@@ -150,61 +142,30 @@ fn command(g: &mut Lcg) -> String {
                 "nonsense 3",
             ])
         ),
-        16 => format!("dwall p {} {} {} {}", e(g), e(g), e(g), e(g)),
-        17 => format!("dwall sp {} {} {} {}", p(g), p(g), p(g), e(g)),
-        18 => format!(
-            "dwall ob {} {} {} {} V {} {} {} M {}",
-            p(g),
-            p(g),
-            p(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g),
-            mat(g)
-        ),
-        19 => format!(
-            "dwall p 0 0 -1 -0.009 V 0 0 {} SE {} {} {}",
-            e(g),
-            e(g),
-            e(g),
-            e(g)
-        ),
+        16 => format!("dwall p {}", es(g, 4)),
+        17 => format!("dwall sp {} {}", ps(g, 3), e(g)),
+        18 => format!("dwall ob {} {} V {} M {}", ps(g, 3), e(g), es(g, 3), mat(g)),
+        19 => format!("dwall p 0 0 -1 -0.009 V 0 0 {} SE {}", e(g), es(g, 3)),
         20 => format!(
-            "awall {} {} {} {} {} {}",
+            "awall {} {} {}",
             g.pick(&["1", "2", "0", "99"]),
             g.pick(&["V", "SP", "P", "M", "SE"]),
-            e(g),
-            e(g),
-            e(g),
-            e(g)
+            es(g, 4)
         ),
-        21 => format!(
-            "velocity {} {} {} {}",
-            e(g),
-            e(g),
-            e(g),
-            g.pick(&["0", "1"])
-        ),
+        21 => format!("velocity {} {}", es(g, 3), g.pick(&["0", "1"])),
         22 => format!("cgravity {} {}", g.pick(&["1", "2", "0"]), e(g)),
-        23 => format!("move {} {} {} {}", g.pick(&["1", "2"]), e(g), e(g), e(g)),
+        23 => format!("move {} {}", g.pick(&["1", "2"]), es(g, 3)),
         24 => format!(
-            "agglomerate {} {} {} {} {}",
+            "agglomerate {} {} {}",
             g.pick(&["1", "2", "3"]),
-            p(g),
-            p(g),
-            p(g),
+            ps(g, 3),
             e(g)
         ),
         25 => format!(
-            "agenerate 1 1 {} {} {} {} {} {} {}",
+            "agenerate 1 1 {} {} {}",
             g.pick(&["0", "1", "2"]),
-            p(g),
-            p(g),
-            p(g),
-            e(g),
-            e(g),
-            e(g)
+            ps(g, 3),
+            es(g, 3)
         ),
         26 => format!(
             "rgenerate {} {} 1 {}",
@@ -225,15 +186,7 @@ fn command(g: &mut Lcg) -> String {
                 "rset 1 2",
             ])
             .into(),
-        30 => format!(
-            "window {} {} {} {} {} {}",
-            e(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g),
-            e(g)
-        ),
+        30 => format!("window {}", es(g, 6)),
         31 => format!(
             "print {}",
             g.pick(&[

@@ -75,10 +75,6 @@ fn refresh_masses(scene: &mut Scene, m: usize) {
 
 /// Applies a scene command. Returns a message to print (possibly empty).
 pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
-    // (Also dropped by `Session::execute` for the commands handled there.)
-    if !matches!(cmd, Command::Create { .. }) {
-        scene.create_index = None;
-    }
     match cmd {
         Command::Radius { r, size, dist } => {
             if *size > MAX_SIZES {
@@ -163,7 +159,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             }
             // A run of CReate commands (a command file of an assembly) keeps one overlap
             // index of the scene's particles instead of scanning them all for each new one
-            // (N CReate lines were O(N²): 12.5 s for 50,000). The index decides only "no
+            // (N CReate lines were O(N²): 16 s for 50,000). The index decides only "no
             // overlap", and only while it can (`OverlapIndex::decides`); an overlap is
             // confirmed and named by the plain scan, so the message is the scan's.
             let (mut idx, kinetic) = match scene.create_index.take() {

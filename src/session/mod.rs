@@ -438,15 +438,16 @@ fn scene_command(
             // command changes nothing. The kinetic energy the command adds or removes (new
             // particles, VELocity, Zero, ...) is booked; strain energy of new overlaps is
             // booked when the next Cycle evaluates the contacts (cycle::prime).
+            // A CReate appends one particle: the total after it is the total before plus its
+            // term, the same bits as the sum over all (`energy::kinetic_of`), and a run of
+            // CReates keeps the total between them (`CreateIndex`).
             let create = matches!(cmd, Command::Create { .. });
-            // (A run of CReate commands keeps the total: one particle more at the end adds
-            // its own term, the same bits as the sum over all; see `CreateIndex`.)
-            let kept = |scene: &Scene| match &scene.create_index {
-                Some(c) if create && c.n == scene.particles.len() => c.kinetic,
-                _ => None,
-            };
             let n0 = scene.particles.len();
-            let before = kept(scene).unwrap_or_else(|| energy::kinetic(scene));
+            let before = match &scene.create_index {
+                Some(c) if create && c.n == n0 => c.kinetic,
+                _ => None,
+            }
+            .unwrap_or_else(|| energy::kinetic(scene));
             let text = exec::apply(scene, cmd)?;
             // Warnings go to standard error with the others.
             for line in text.lines() {
@@ -458,15 +459,15 @@ fn scene_command(
                     }
                 }
             }
-            let after = match &scene.create_index {
-                Some(c) if create && c.n == n0 + 1 && scene.particles.len() == n0 + 1 => {
-                    before + energy::kinetic_of(scene, n0)
+            let after = if create {
+                let after = before + energy::kinetic_of(scene, n0);
+                if let Some(c) = scene.create_index.as_mut() {
+                    c.kinetic = Some(after);
                 }
-                _ => energy::kinetic(scene),
+                after
+            } else {
+                energy::kinetic(scene)
             };
-            if let Some(c) = scene.create_index.as_mut().filter(|_| create) {
-                c.kinetic = Some(after);
-            }
             scene.ledger.commands += after - before;
         }
     }

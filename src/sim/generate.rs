@@ -82,9 +82,8 @@ impl OverlapIndex {
     /// at the images one period away only).
     pub fn decides(&self, scene: &Scene) -> bool {
         (0..3).all(|k| {
-            !scene.settings.periodic[k]
-                || (self.lo[k] >= 0.0 && self.hi[k] <= scene.size[k])
-                || self.pos.is_empty()
+            // (Empty: lo = +∞, hi = −∞, which passes.)
+            !scene.settings.periodic[k] || (self.lo[k] >= 0.0 && self.hi[k] <= scene.size[k])
         })
     }
 
@@ -162,8 +161,9 @@ pub struct CreateIndex {
     pub kinetic: Option<f64>,
 }
 
-/// The first particle of the scene that a sphere (x, r) would overlap: a plain scan (no
-/// index to build), for single particles (`CReate`).
+/// The first particle of the scene that a sphere (x, r) would overlap: a plain scan, which
+/// `CReate` uses to confirm and name an overlap its index found (and where the index cannot
+/// decide, [`OverlapIndex::decides`]).
 pub fn first_overlap(scene: &Scene, x: &Vec3, r: f64) -> Option<usize> {
     let p = &scene.particles;
     (0..p.len()).find(|&j| {
