@@ -124,6 +124,13 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.delta = Vec3::zeros();
         e.tang = Default::default();
         e.tdelta = 0.0;
+        // Nothing left that differs from the defaults `ext()` reads for a contact without
+        // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
+        // with a state that once touched for every touching one).
+        let zero = |x: f64| x.to_bits() == 0;
+        if zero(e.a_s) && zero(e.gamma) && zero(e.released[0]) && zero(e.released[1]) {
+            s.ext = None;
+        }
     }
     s.overlap = 0.0;
 }
@@ -471,4 +478,85 @@ fn tangential_step(
         s.tdamp = td;
     }
     ft
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::contacts::ContactExt;
+
+    fn laws() -> Laws<'static> {
+        Laws {
+            dt: 1e-6,
+            tangential: TangentialChoice::Md,
+            rotation: true,
+            beta: 0.0,
+            liquid: None,
+            bridge: BridgeChoice::Fit,
+            smin: None,
+            impact: false,
+            liquid_share: None,
+            goldman: false,
+        }
+    }
+
+    fn kin(gap: f64) -> Kin {
+        Kin {
+            n: Vec3::new(0.0, 0.0, 1.0),
+            gap,
+            v_rel: Vec3::new(0.1, 0.0, 0.0),
+            r_star: 5e-4,
+            m_star: 1e-5,
+            r1: 1e-3,
+            r2: 1e-3,
+        }
+    }
+
+    /// Loads a contact with the Mindlin–Deresiewicz law (which keeps its displacement in the
+    /// law-specific part), then separates it; returns the state after each.
+    fn load_and_separate(gamma: f64) -> (ContactState, ContactState) {
+        let pc = PairConst {
+            e_star: 1e9,
+            g_star: 4e8,
+            mu: 0.3,
+            gamma,
+            gamma_base: gamma,
+            zeta: 0.0,
+        };
+        let mut s = ContactState::default();
+        let mut acc = Acc::default();
+        for _ in 0..3 {
+            interact::<true, false>(&kin(-1e-7), &pc, &laws(), &mut s, &mut acc);
+        }
+        let loaded = s.clone();
+        interact::<true, false>(&kin(1e-3), &pc, &laws(), &mut s, &mut acc);
+        (loaded, s)
+    }
+
+    /// A Hertz contact that separates gives its law-specific part back: nothing in it
+    /// differs from the defaults read for a contact without one, so it is freed (memory of a
+    /// Mindlin–Deresiewicz bed), and reading it gives what it held, bit for bit.
+    #[test]
+    fn a_separated_hertz_contact_frees_its_law_specific_part() {
+        let (loaded, s) = load_and_separate(0.0);
+        assert!(loaded.touching && loaded.ext.is_some());
+        assert!(loaded.ext().tdelta != 0.0, "the law kept a displacement");
+        assert!(!s.touching);
+        assert!(s.ext.is_none(), "{:?}", s.ext);
+        assert_eq!(
+            format!("{:?}", s.ext()),
+            format!("{:?}", ContactExt::default())
+        );
+    }
+
+    /// An adhesive contact keeps it after detachment: its surface energy and a_s stay.
+    #[test]
+    fn a_detached_jkr_contact_keeps_its_law_specific_part() {
+        let (loaded, s) = load_and_separate(0.1);
+        assert!(loaded.touching && loaded.ext().gamma == 0.1);
+        assert!(!s.touching);
+        let e = s.ext.as_ref().expect("kept");
+        assert_eq!(e.gamma, 0.1);
+        assert!(e.a_s > 0.0);
+    }
 }

@@ -72,6 +72,39 @@ pub struct Particles {
 }
 
 impl Particles {
+    /// Frees the arrays' spare capacity (a decoded checkpoint's arrays grew by doubling:
+    /// up to twice the room their particles need).
+    pub fn shrink_to_fit(&mut self) {
+        let Particles {
+            id,
+            pos,
+            vel,
+            spin,
+            rot,
+            force,
+            moment,
+            radius,
+            mass,
+            size,
+            material,
+            agg,
+            fixed,
+            disp,
+            liquid,
+        } = self;
+        id.shrink_to_fit();
+        for v in [pos, vel, spin, rot, force, moment, disp] {
+            v.shrink_to_fit();
+        }
+        for v in [radius, mass, liquid] {
+            v.shrink_to_fit();
+        }
+        for v in [size, material] {
+            v.shrink_to_fit();
+        }
+        agg.shrink_to_fit();
+        fixed.shrink_to_fit();
+    }
     pub fn len(&self) -> usize {
         self.id.len()
     }
