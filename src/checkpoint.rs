@@ -4,6 +4,9 @@
 //! the magic, the version, the length, the checksum or the consistency of the decoded state
 //! does not match, and the current state is untouched. Saving writes a temporary file next to
 //! the target and renames it over the target, so an existing file survives a failed save.
+//! Neither direction holds the file in memory: [`save`] encodes the state twice (once for the
+//! header's length and checksum, once into the file), [`load`] reads the file twice (the
+//! checksum, then the state), and the contact pairs go into their blocks as they are decoded.
 //!
 //! # Format evolution
 //!
