@@ -305,10 +305,10 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
             return Err("the wall contacts are not sorted by ids".into());
         }
     }
-    if let Some(r) = &scene.reference {
-        if r.pos.len() != r.ids.len() || r.rot.len() != r.ids.len() {
-            return Err("the reference state (PLot SAve) has arrays of unequal length".into());
-        }
+    if let Some(r) = &scene.reference
+        && (r.pos.len() != r.ids.len() || r.rot.len() != r.ids.len())
+    {
+        return Err("the reference state (PLot SAve) has arrays of unequal length".into());
     }
     let cols = crate::sim::history::COLUMNS.len();
     if scene.history.rows.iter().any(|r| r.len() != cols) {

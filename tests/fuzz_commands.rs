@@ -259,7 +259,7 @@ fn run(seed: u64, dir: &std::path::Path) -> Result<(), String> {
     std::fs::create_dir_all(&sub).unwrap();
     let text = deck(seed);
     std::fs::write(sub.join("d.tru"), &text).unwrap();
-    let threads = if seed % 2 == 0 { "1" } else { "2" };
+    let threads = if seed.is_multiple_of(2) { "1" } else { "2" };
     // Every fourth file with machine-readable output.
     let json: &[&str] = if seed % 4 == 1 { &["--json"] } else { &[] };
     let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))

@@ -105,7 +105,7 @@ fn viscous_approach_matches_the_analytic_decay() {
         let s_mid = gap - 0.5 * sc.particles.vel[1].x * sc.time / sc.cycle as f64;
         let v_th = v0 + c * (s0 / s_mid).ln();
         let v = sc.particles.vel[1].x;
-        if sc.cycle % 50 == 0 {
+        if sc.cycle.is_multiple_of(50) {
             assert!(
                 (v - v_th).abs() < 0.01 * v0.abs(),
                 "S {s_mid}: v {v} vs {v_th}"

@@ -48,10 +48,7 @@ fn comment(input: &str) -> IResult<&str, &str> {
 pub fn tokenize(line: &str) -> Vec<Token> {
     let mut out = Vec::new();
     let mut input = line;
-    loop {
-        let Ok((after_sep, _)) = separators(input) else {
-            break;
-        };
+    while let Ok((after_sep, _)) = separators(input) {
         input = after_sep;
         if input.is_empty() {
             break;

@@ -44,26 +44,26 @@ pub fn parse_line(line: &str) -> Result<Vec<Parsed>, ParseError> {
             end,
         });
         pos = args.pos;
-        if let Some(next) = toks.get(pos) {
-            if match_keyword(&next.text, &keywords).is_err() {
-                // A slash separates words (TRUBAL's syntax), so a path must be quoted.
-                let between = line.get(toks[pos - 1].end..next.start).unwrap_or("");
-                let hint = if between.contains('/') && def.syntax.contains("file") {
-                    ": a file name with `/` must be quoted, e.g. \"dir/name\""
-                } else {
-                    ""
-                };
-                return Err(ParseError::at(
-                    next,
-                    format!(
-                        "unexpected `{}`: {} takes `{} {}`{hint}",
-                        next.text,
-                        def.name,
-                        minimal(def.name).to_lowercase(),
-                        def.syntax
-                    ),
-                ));
-            }
+        if let Some(next) = toks.get(pos)
+            && match_keyword(&next.text, &keywords).is_err()
+        {
+            // A slash separates words (TRUBAL's syntax), so a path must be quoted.
+            let between = line.get(toks[pos - 1].end..next.start).unwrap_or("");
+            let hint = if between.contains('/') && def.syntax.contains("file") {
+                ": a file name with `/` must be quoted, e.g. \"dir/name\""
+            } else {
+                ""
+            };
+            return Err(ParseError::at(
+                next,
+                format!(
+                    "unexpected `{}`: {} takes `{} {}`{hint}",
+                    next.text,
+                    def.name,
+                    minimal(def.name).to_lowercase(),
+                    def.syntax
+                ),
+            ));
         }
     }
     Ok(out)

@@ -637,7 +637,7 @@ fn pair_line(
 /// conventions documented on `ContactState` and `BridgeState` (static: attractive positive;
 /// viscous: positive = resisting approach, as `physics::bridge::viscous_normal` returns it).
 pub fn contact_force(s: &crate::sim::contacts::ContactState, set: ForceSet) -> Option<f64> {
-    let solid = s.touching.then(|| s.normal_force + s.damp_force);
+    let solid = s.touching.then_some(s.normal_force + s.damp_force);
     let bridge = s.bridge.as_ref().map(|b| b.f_visc - b.f_static);
     match set {
         ForceSet::Solid => solid,

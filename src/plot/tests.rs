@@ -260,7 +260,7 @@ fn total_forces_add_solid_and_bridge() {
     let s = force_scene();
     let l = force_lines(&s, PlotItem::Forces);
     assert_eq!(l.len(), 3, "{l:?}");
-    let f = |t: Tag| l.iter().find(|x| x.0 == t).expect("line").clone();
+    let f = |t: Tag| *l.iter().find(|x| x.0 == t).expect("line");
     let (a, b, c) = (f(Tag::Pair(1, 2)), f(Tag::Pair(2, 3)), f(Tag::Pair(3, 4)));
     assert!(close(a.1, 2.5) && a.3 == colour::COMPRESSIVE);
     assert!(close(b.1, -1.0) && b.3 == colour::TENSILE);

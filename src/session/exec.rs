@@ -166,20 +166,20 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 Some(c) if c.n == scene.particles.len() => (c.index, c.kinetic),
                 _ => (OverlapIndex::new(scene, r), None),
             };
-            if !idx.decides(scene) || idx.overlaps(scene, &x, r).is_some() {
-                if let Some(j) = first_overlap(scene, &x, r) {
-                    let n = scene.particles.len();
-                    // (Nothing changed: the index and the kinetic total stay valid.)
-                    scene.create_index = Some(CreateIndex {
-                        n,
-                        index: idx,
-                        kinetic,
-                    });
-                    return Err(format!(
-                        "the particle would overlap particle {}",
-                        scene.particles.id[j]
-                    ));
-                }
+            if (!idx.decides(scene) || idx.overlaps(scene, &x, r).is_some())
+                && let Some(j) = first_overlap(scene, &x, r)
+            {
+                let n = scene.particles.len();
+                // (Nothing changed: the index and the kinetic total stay valid.)
+                scene.create_index = Some(CreateIndex {
+                    n,
+                    index: idx,
+                    kinetic,
+                });
+                return Err(format!(
+                    "the particle would overlap particle {}",
+                    scene.particles.id[j]
+                ));
             }
             let id = scene.next_id;
             scene.next_id += 1;
@@ -740,10 +740,10 @@ fn index_of(scene: &Scene, id: usize) -> Result<usize, String> {
 }
 
 fn check_geom(g: &WallGeom) -> Result<(), String> {
-    if let WallGeom::Plane { normal, .. } = g {
-        if normal.iter().all(|&x| x == 0.0) {
-            return Err("a plane wall needs a non-zero normal (a, b, c)".into());
-        }
+    if let WallGeom::Plane { normal, .. } = g
+        && normal.iter().all(|&x| x == 0.0)
+    {
+        return Err("a plane wall needs a non-zero normal (a, b, c)".into());
     }
     Ok(())
 }

@@ -151,10 +151,10 @@ impl Session {
         } else {
             raw.to_string()
         };
-        if self.echo {
-            if let Some(f) = &mut self.log {
-                let _ = writeln!(f, "> {line}");
-            }
+        if self.echo
+            && let Some(f) = &mut self.log
+        {
+            let _ = writeln!(f, "> {line}");
         }
         let parsed = parse_line(&line).map_err(|e| LineError {
             start: e.start,
@@ -186,17 +186,18 @@ impl Session {
     pub fn execute(&mut self, cmd: &Command) -> Result<Flow, String> {
         // Only a CReate after another keeps the overlap index of the run (`exec::apply`);
         // dropped before any other command runs, so no snapshot or saved state carries it.
-        if !matches!(cmd, Command::Create { .. }) {
-            if let Some(s) = self.scene.as_mut() {
-                s.create_index = None;
-            }
+        if !matches!(cmd, Command::Create { .. })
+            && let Some(s) = self.scene.as_mut()
+        {
+            s.create_index = None;
         }
         let r = self.execute_one(cmd);
         // Only an AGEnerate right after another joins its lattice (`exec::layer_order`).
-        if r.is_ok() && !matches!(cmd, Command::Agenerate { .. }) {
-            if let Some(s) = self.scene.as_mut() {
-                s.lattice_run = None;
-            }
+        if r.is_ok()
+            && !matches!(cmd, Command::Agenerate { .. })
+            && let Some(s) = self.scene.as_mut()
+        {
+            s.lattice_run = None;
         }
         r
     }

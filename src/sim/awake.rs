@@ -63,7 +63,7 @@ fn poll_until(stop: &AtomicBool) {
             std::hint::spin_loop();
         }
         idle = idle.wrapping_add(1);
-        if idle % POLLS_PER_YIELD == 0 {
+        if idle.is_multiple_of(POLLS_PER_YIELD) {
             std::thread::yield_now();
         }
     }

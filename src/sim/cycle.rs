@@ -65,25 +65,25 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
             }
         }
     }
-    if let Some(l) = &scene.liquid {
-        if l.pvol > 0.0 {
-            for c in scene.contacts.iter() {
-                if let Some(b) = &c.s.bridge {
-                    need = need.max(b.s_c);
-                }
+    if let Some(l) = &scene.liquid
+        && l.pvol > 0.0
+    {
+        for c in scene.contacts.iter() {
+            if let Some(b) = &c.s.bridge {
+                need = need.max(b.s_c);
             }
-            // Bridges not formed yet: the largest possible volume (two largest spheres).
-            let rmax = scene.max_radius();
-            let v = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * rmax.powi(3);
-            let b = crate::physics::bridge::Bridge {
-                r1: rmax,
-                r2: rmax,
-                volume: v,
-                gamma: l.gamma,
-                theta: l.theta,
-            };
-            need = need.max(crate::physics::bridge::rupture_distance(&b));
         }
+        // Bridges not formed yet: the largest possible volume (two largest spheres).
+        let rmax = scene.max_radius();
+        let v = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * rmax.powi(3);
+        let b = crate::physics::bridge::Bridge {
+            r1: rmax,
+            r2: rmax,
+            volume: v,
+            gamma: l.gamma,
+            theta: l.theta,
+        };
+        need = need.max(crate::physics::bridge::rupture_distance(&b));
     }
     let auto = (0.35 * rmean).max(1.5 * need);
     let tol = scene.settings.tol.unwrap_or(auto).max(1.5 * need);
@@ -247,7 +247,7 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     let scale = |s: &Scene| super::energy::stored(s).total().max(s.ledger.input().abs());
     let mut e_ref = scale(scene);
     // A snapshot is taken before step `s` (of this Cycle) when this holds.
-    let snapshot_before = |s: u64| s > 0 && s % every == 0;
+    let snapshot_before = |s: u64| s > 0 && s.is_multiple_of(every);
     for step in 0..n {
         if snapshot_before(step) {
             let e_now = super::energy::stored(scene).total();
@@ -298,7 +298,9 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
             *scene = snapshot;
             return Err(e);
         }
-        if scene.settings.history_every > 0 && scene.cycle % scene.settings.history_every == 0 {
+        if scene.settings.history_every > 0
+            && scene.cycle.is_multiple_of(scene.settings.history_every)
+        {
             super::record_history(scene);
         }
     }
@@ -1600,13 +1602,14 @@ impl Mover {
             let m = mass[i];
             let mut body = g;
             let a = agg[i] as usize;
-            if a > 0 && cg[a - 1] > 0.0 {
-                if let Some(c) = centres[a - 1] {
-                    let e = c - pos[l];
-                    let len = e.norm();
-                    if len > 0.0 {
-                        body += e * (cg[a - 1] / len);
-                    }
+            if a > 0
+                && cg[a - 1] > 0.0
+                && let Some(c) = centres[a - 1]
+            {
+                let e = c - pos[l];
+                let len = e.norm();
+                if len > 0.0 {
+                    body += e * (cg[a - 1] / len);
                 }
             }
             let fb = body * (m * fmm);

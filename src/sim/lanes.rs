@@ -20,7 +20,7 @@ use super::scene::Vec3;
 /// Contacts per batch.
 pub const SUB: usize = 32;
 const _: () = assert!(
-    SUB % 4 == 0,
+    SUB.is_multiple_of(4),
     "the kernel pads batches to whole 4-lane vectors"
 );
 
@@ -67,6 +67,12 @@ pub struct Batch {
     pub e_damp_n: [f64; SUB],
     pub e_friction: [f64; SUB],
     pub e_damp_t: [f64; SUB],
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl Batch {

@@ -38,54 +38,54 @@ pub fn settle(scene: &mut Scene) {
     let p = &mut scene.particles;
     scene.contacts.for_each_state_mut(|c, s| {
         let (i, j) = (c.i as usize, c.j as usize);
-        if let Some(e) = s.ext.as_deref_mut() {
-            if e.released != [0.0; 2] {
-                p.liquid[i] += e.released[0];
-                p.liquid[j] += e.released[1];
-                e.released = [0.0; 2];
-            }
+        if let Some(e) = s.ext.as_deref_mut()
+            && e.released != [0.0; 2]
+        {
+            p.liquid[i] += e.released[0];
+            p.liquid[j] += e.released[1];
+            e.released = [0.0; 2];
         }
-        if let Some(b) = s.bridge.as_deref_mut() {
-            if b.fresh {
-                let d = [b.share[0].min(p.liquid[i]), b.share[1].min(p.liquid[j])];
-                p.liquid[i] -= d[0];
-                p.liquid[j] -= d[1];
+        if let Some(b) = s.bridge.as_deref_mut()
+            && b.fresh
+        {
+            let d = [b.share[0].min(p.liquid[i]), b.share[1].min(p.liquid[j])];
+            p.liquid[i] -= d[0];
+            p.liquid[j] -= d[1];
+            b.fresh = false;
+            if d != b.share {
+                b.share = d;
+                let mut br = *b.coeffs.bridge();
+                br.volume = d[0] + d[1];
+                *b = BridgeState {
+                    work: b.work,
+                    ..BridgeState::new(model, br, b.gap, d)
+                };
                 b.fresh = false;
-                if d != b.share {
-                    b.share = d;
-                    let mut br = *b.coeffs.bridge();
-                    br.volume = d[0] + d[1];
-                    *b = BridgeState {
-                        work: b.work,
-                        ..BridgeState::new(model, br, b.gap, d)
-                    };
-                    b.fresh = false;
-                }
             }
         }
     });
     for c in scene.contacts.wall_pairs.iter_mut() {
         let i = c.i as usize;
-        if let Some(e) = c.s.ext.as_deref_mut() {
-            if e.released != [0.0; 2] {
-                p.liquid[i] += e.released[0];
-                e.released = [0.0; 2];
-            }
+        if let Some(e) = c.s.ext.as_deref_mut()
+            && e.released != [0.0; 2]
+        {
+            p.liquid[i] += e.released[0];
+            e.released = [0.0; 2];
         }
-        if let Some(b) = c.s.bridge.as_deref_mut() {
-            if b.fresh {
-                let d = [b.share[0].min(p.liquid[i]), 0.0];
-                p.liquid[i] -= d[0];
+        if let Some(b) = c.s.bridge.as_deref_mut()
+            && b.fresh
+        {
+            let d = [b.share[0].min(p.liquid[i]), 0.0];
+            p.liquid[i] -= d[0];
+            b.fresh = false;
+            if d != b.share {
+                let mut br = *b.coeffs.bridge();
+                br.volume = d[0];
+                *b = BridgeState {
+                    work: b.work,
+                    ..BridgeState::new(model, br, b.gap, d)
+                };
                 b.fresh = false;
-                if d != b.share {
-                    let mut br = *b.coeffs.bridge();
-                    br.volume = d[0];
-                    *b = BridgeState {
-                        work: b.work,
-                        ..BridgeState::new(model, br, b.gap, d)
-                    };
-                    b.fresh = false;
-                }
             }
         }
     }

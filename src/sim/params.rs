@@ -123,21 +123,22 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     let mut dt = fraction * dt_r;
     // Stability of the strongest viscous bridge dashpot (explicit update of a dashpot c on a
     // particle of mass m with up to 14 such neighbours: dt < 2 m / (14 c)); half of it.
-    if let Some(l) = &scene.liquid {
-        if l.eta > 0.0 && !p.is_empty() {
-            // The strongest dashpot: the largest R*²/S_min, i.e. the largest pair (R*/100
-            // by default) or a wall contact (R* = R).
-            let rmax = scene.max_radius();
-            let rstar = if scene.walls.is_empty() {
-                0.5 * rmax
-            } else {
-                rmax
-            };
-            let smin = scene.settings.smin.unwrap_or(rstar / 100.0);
-            let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
-            let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
-            dt = dt.min(mmin / (14.0 * c));
-        }
+    if let Some(l) = &scene.liquid
+        && l.eta > 0.0
+        && !p.is_empty()
+    {
+        // The strongest dashpot: the largest R*²/S_min, i.e. the largest pair (R*/100
+        // by default) or a wall contact (R* = R).
+        let rmax = scene.max_radius();
+        let rstar = if scene.walls.is_empty() {
+            0.5 * rmax
+        } else {
+            rmax
+        };
+        let smin = scene.settings.smin.unwrap_or(rstar / 100.0);
+        let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
+        let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
+        dt = dt.min(mmin / (14.0 * c));
     }
     // Rayleigh contact damping: the stiffness term β k adds a dashpot; keep β ≤ dt/2... by
     // shrinking dt when β is large: the explicit limit of a damped spring needs dt ≤ 2/ω·(√(1+ζ²)−ζ).
