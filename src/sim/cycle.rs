@@ -500,6 +500,7 @@ fn contact_forces<const ADH: bool, const LIQ: bool>(
         laws: laws_pp,
         size: scene.size,
         periodic: scene.settings.periodic,
+        uni: UniPair::of(model),
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,
@@ -1043,6 +1044,47 @@ struct PairCtx<'a> {
     laws: &'a Laws<'a>,
     size: [f64; 3],
     periodic: [bool; 3],
+    /// The particles are all alike: their radius, mass and pair constants.
+    uni: Option<UniPair>,
+}
+
+/// The constants of a scene whose particles all have the same radius, mass and material
+/// ([`params::Uniform`]), for the pair loop: R* and m* computed once, as the pair loop
+/// computes them (`r r / (r + r)`), so they have the same bits.
+#[derive(Clone, Copy)]
+struct UniPair {
+    r: f64,
+    r_star: f64,
+    m_star: f64,
+    pc: params::PairConst,
+}
+
+impl UniPair {
+    fn of(model: &Model) -> Option<UniPair> {
+        let u = model.uniform?;
+        let (r, m, k) = (u.radius, u.mass, u.material as usize);
+        Some(UniPair {
+            r,
+            r_star: r * r / (r + r),
+            m_star: m * m / (m + m),
+            pc: *model.pair(k, k),
+        })
+    }
+
+    /// Read only by the specialisation for uniform scenes.
+    const NONE: UniPair = UniPair {
+        r: 0.0,
+        r_star: 0.0,
+        m_star: 0.0,
+        pc: params::PairConst {
+            e_star: 0.0,
+            g_star: 0.0,
+            mu: 0.0,
+            gamma: 0.0,
+            gamma_base: 0.0,
+            zeta: 0.0,
+        },
+    };
 }
 
 /// The pair loop over one block, in sub-batches of [`lanes::SUB`] pairs and four passes:
@@ -1053,8 +1095,28 @@ struct PairCtx<'a> {
 /// evaluated pair. The arithmetic and its order are those of one pass
 /// with the general kernel, and `emit` gets each force (with the pair's index in the block)
 /// in pair order.
+/// A scene whose particles are all alike (`c.uni`) gets the loop with their radius, mass and
+/// pair constants as constants: no per-pair loads of radii, masses and materials and no
+/// divisions for R* and m* (settled S1 10k bed, one thread: see doc/performance.md).
 #[inline(always)]
 fn block_forces<const ADH: bool, const LIQ: bool>(
+    hots: &mut [HotPair],
+    pairs: &mut [Pair],
+    block: &mut Vec<ContactState>,
+    c: &PairCtx,
+    acc: &mut Acc,
+    sc: &mut Scratch,
+    emit: impl FnMut(usize, &HotPair, PairForce),
+) {
+    if c.uni.is_some() {
+        block_forces_of::<ADH, LIQ, true>(hots, pairs, block, c, acc, sc, emit)
+    } else {
+        block_forces_of::<ADH, LIQ, false>(hots, pairs, block, c, acc, sc, emit)
+    }
+}
+
+#[inline(always)]
+fn block_forces_of<const ADH: bool, const LIQ: bool, const UNI: bool>(
     hots: &mut [HotPair],
     pairs: &mut [Pair],
     block: &mut Vec<ContactState>,
@@ -1065,6 +1127,11 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
 ) {
     use lanes::SUB;
     let laws = c.laws;
+    let u = if UNI {
+        c.uni.unwrap_or(UniPair::NONE)
+    } else {
+        UniPair::NONE
+    };
     let batched = batches_steady::<ADH, LIQ>(c);
     let Scratch {
         batch,
@@ -1079,20 +1146,24 @@ fn block_forces<const ADH: bool, const LIQ: bool>(
         let end = (start + SUB).min(hots.len());
         // Which pairs are evaluated, without a branch per pair (whether a pair is near is
         // as good as random along the list).
-        let m = reach_pass::<ADH, LIQ>(&hots[start..end], start, c, (idx, ds, d2s));
+        let m = reach_pass::<ADH, LIQ, UNI>(&hots[start..end], start, c, (idx, ds, d2s));
         batch.len = 0;
         for q in 0..m {
             let k = idx[q] as usize;
             let h = &mut hots[k];
             {
-                let kin = pair_kin(h, &mut pairs[k].slot, block, c, ds[q], d2s[q]);
+                let kin = pair_kin::<UNI>(h, &mut pairs[k].slot, block, c, &u, ds[q], d2s[q]);
                 lane[q] = u8::MAX;
                 if batched {
                     let s = &block[h.slot as usize];
-                    let pc = c.model.pair(
-                        c.material[h.i as usize] as usize,
-                        c.material[h.j as usize] as usize,
-                    );
+                    let pc = if UNI {
+                        &u.pc
+                    } else {
+                        c.model.pair(
+                            c.material[h.i as usize] as usize,
+                            c.material[h.j as usize] as usize,
+                        )
+                    };
                     if lanes::Batch::takes(&kin, pc, s) {
                         lane[q] = batch.push(&kin, pc, s) as u8;
                     }
@@ -1188,7 +1259,7 @@ impl Scratch {
 /// iteration. Same bits; callgrind, S1 10k one thread: −0.8 % of the instructions over 300
 /// settled steps (4.031 → 3.999 G), −1.4 % over 500 steps mid-fall (4.990 → 4.922 G).
 #[inline(never)]
-fn reach_pass<const ADH: bool, const LIQ: bool>(
+fn reach_pass<const ADH: bool, const LIQ: bool, const UNI: bool>(
     hots: &[HotPair],
     start: usize,
     c: &PairCtx,
@@ -1199,14 +1270,14 @@ fn reach_pass<const ADH: bool, const LIQ: bool>(
     ),
 ) -> usize {
     if c.periodic == [false; 3] {
-        reach_loop::<ADH, LIQ, false>(hots, start, c, out)
+        reach_loop::<ADH, LIQ, false, UNI>(hots, start, c, out)
     } else {
-        reach_loop::<ADH, LIQ, true>(hots, start, c, out)
+        reach_loop::<ADH, LIQ, true, UNI>(hots, start, c, out)
     }
 }
 
 #[inline(always)]
-fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool>(
+fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool, const UNI: bool>(
     hots: &[HotPair],
     start: usize,
     c: &PairCtx,
@@ -1217,10 +1288,11 @@ fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool>(
     ),
 ) -> usize {
     let mut m = 0;
+    let ur = if UNI { c.uni.map_or(0.0, |u| u.r) } else { 0.0 };
     for (k, h) in hots.iter().enumerate().take(lanes::SUB) {
         // (Nothing is stored in the hot pair: its line stays clean and is not written
         // back to memory.)
-        let (d, dist2, ev) = pair_reach::<ADH, LIQ, PER>(h, c);
+        let (d, dist2, ev) = pair_reach::<ADH, LIQ, PER, UNI>(h, c, ur);
         idx[m] = (start + k) as u32;
         ds[m] = d;
         d2s[m] = dist2;
@@ -1236,11 +1308,12 @@ fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool>(
 /// (lattices) are evaluated. Without them the reach is the touching distance: a pair with
 /// a gap gets no force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that
 /// just opened is still evaluated once, being live. `PER`: the scene has a periodic axis
-/// (without one the nearest image is the vector itself).
+/// (without one the nearest image is the vector itself). `UNI`: every radius is `ur`.
 #[inline(always)]
-fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool>(
+fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool, const UNI: bool>(
     h: &HotPair,
     c: &PairCtx,
+    ur: f64,
 ) -> (Vec3, f64, bool) {
     let (i, j) = (h.i as usize, h.j as usize);
     let d = if PER {
@@ -1248,7 +1321,11 @@ fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool>(
     } else {
         c.pos[j] - c.pos[i]
     };
-    let (ri, rj) = (c.radius[i], c.radius[j]);
+    let (ri, rj) = if UNI {
+        (ur, ur)
+    } else {
+        (c.radius[i], c.radius[j])
+    };
     let dist2 = d.norm_squared();
     let reach = if ADH || LIQ {
         (ri + rj) * (1.0 + 1e-6)
@@ -1259,13 +1336,14 @@ fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool>(
 }
 
 /// The geometry of an evaluated pair. A pair that comes within reach for the first time
-/// gets its state appended to its block.
+/// gets its state appended to its block. `UNI`: the particles are all alike (`u`).
 #[inline(always)]
-fn pair_kin(
+fn pair_kin<const UNI: bool>(
     h: &mut HotPair,
     slot: &mut u32,
     block: &mut Vec<ContactState>,
     c: &PairCtx,
+    u: &UniPair,
     d: Vec3,
     dist2: f64,
 ) -> Kin {
@@ -1276,17 +1354,26 @@ fn pair_kin(
         contacts::grow_block(block);
         block.push(ContactState::default());
     }
-    let (ri, rj) = (c.radius[i], c.radius[j]);
+    let (ri, rj) = if UNI {
+        (u.r, u.r)
+    } else {
+        (c.radius[i], c.radius[j])
+    };
     let dist = dist2.sqrt();
     let n = d / dist;
     let v_rel = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(&n);
-    let (mi, mj) = (c.mass[i], c.mass[j]);
+    let (r_star, m_star) = if UNI {
+        (u.r_star, u.m_star)
+    } else {
+        let (mi, mj) = (c.mass[i], c.mass[j]);
+        (ri * rj / (ri + rj), mi * mj / (mi + mj))
+    };
     Kin {
         n,
         gap: dist - ri - rj,
         v_rel,
-        r_star: ri * rj / (ri + rj),
-        m_star: mi * mj / (mi + mj),
+        r_star,
+        m_star,
         r1: ri,
         r2: rj,
     }

@@ -20,6 +20,32 @@ pub struct PairConst {
     pub zeta: f64,
 }
 
+/// All particles have the same radius, mass and material, bit for bit (a monodisperse bed,
+/// a lattice agglomerate): the pair loop takes them as constants instead of loading them
+/// per pair (`cycle::block_forces`; the same arithmetic on the same values, so the same bits).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Uniform {
+    pub radius: f64,
+    pub mass: f64,
+    pub material: u16,
+}
+
+impl Uniform {
+    /// The particles' common radius, mass and material, if they have one.
+    pub fn of(p: &super::scene::Particles) -> Option<Uniform> {
+        let (&radius, &mass, &material) = (p.radius.first()?, p.mass.first()?, p.material.first()?);
+        let same = |a: &[f64], x: f64| a.iter().all(|y| y.to_bits() == x.to_bits());
+        (same(&p.radius, radius)
+            && same(&p.mass, mass)
+            && p.material.iter().all(|&m| m == material))
+        .then_some(Uniform {
+            radius,
+            mass,
+            material,
+        })
+    }
+}
+
 /// The table for all material pairs, plus what the scene needs.
 #[derive(Clone, Debug, Default)]
 pub struct Model {
@@ -31,6 +57,9 @@ pub struct Model {
     pub dt: f64,
     /// Rayleigh critical step of the scene.
     pub dt_rayleigh: f64,
+    /// The particles' common radius, mass and material (no command changes them during a
+    /// `Cycle`; particles lost through an open side leave the rest uniform).
+    pub uniform: Option<Uniform>,
 }
 
 impl Model {
@@ -157,5 +186,6 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         adhesion,
         dt,
         dt_rayleigh: dt_r,
+        uniform: Uniform::of(p),
     })
 }

@@ -27,8 +27,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::{
     Acc, CHUNK, ChunkArrays, ChunkSums, HotPair, Incidence, Laws, Left, Model, Mover, PairCtx,
-    PairForce, Scene, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs, task_sums,
-    wall_cuts, wall_forces,
+    PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs,
+    task_sums, wall_cuts, wall_forces,
 };
 use crate::sim::contacts::ChunkPlan;
 use rayon::prelude::*;
@@ -333,6 +333,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         laws: laws_pp,
         size: *size,
         periodic: settings.periodic,
+        uni: UniPair::of(model),
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,
