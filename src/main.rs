@@ -33,10 +33,10 @@ const USAGE: &str = "usage: trubal [FILE | -] [--json] [--keep-going] [--set NAM
 /// own, and memory freed into a worker's heap serves only that heap: the rebuilds' parallel
 /// tasks (search blocks, merged state blocks) left the two-thread runs ~2 MB above the
 /// one-thread peak in fragments. Measured on the S1 50k bed, 5000 steps, two threads, nine
-/// runs each: peak 63.5–65.2 MB (median 64.5) with one arena, 63.9–68.4 MB (median 66.4)
-/// with the default (doc/performance.md). The time step allocates nothing, so the shared
+/// runs each: peak 63,508–65,152 kB (median 64,476) with one arena, 63,868–68,376 kB
+/// (median 66,112) with the default (doc/performance.md). The time step allocates nothing, so the shared
 /// heap's lock is taken only by the rebuilds. Not with one thread (the whole session then
-/// runs on the pool's one worker, in a heap of its own, and its peak was 0.3–0.7 MB lower
+/// runs on the pool's one worker, in a heap of its own, and its peak was 0.3–0.9 MB lower
 /// without the setting). Called before the pool's threads exist.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn one_malloc_arena() {
