@@ -28,49 +28,6 @@ const USAGE: &str = "usage: trubal [FILE | -] [--json] [--keep-going] [--set NAM
   --set N=V     replace $N / ${N} in the commands by V
   --threads N   worker threads (default: RAYON_NUM_THREADS or all cores)";
 
-/// With several worker threads, one malloc arena for the whole process (glibc; unless the
-/// user sets `MALLOC_ARENA_MAX`). glibc gives every thread that allocates a heap of its
-/// own, and memory freed into a worker's heap serves only that heap: the rebuilds' parallel
-/// tasks (search blocks, merged state blocks) left the two-thread runs ~2 MB above the
-/// one-thread peak in fragments. Measured on the S1 50k bed, 5000 steps, two threads, nine
-/// runs each: peak 63,508–65,152 kB (median 64,476) with one arena, 63,868–68,376 kB
-/// (median 66,112) with the default (doc/performance.md). The time step allocates nothing, so the shared
-/// heap's lock is taken only by the rebuilds. Not with one thread (the whole session then
-/// runs on the pool's one worker, in a heap of its own, and its peak was 0.3–0.9 MB lower
-/// without the setting). Called before the pool's threads exist.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn one_malloc_arena() {
-    if std::env::var_os("MALLOC_ARENA_MAX").is_some() {
-        return;
-    }
-    unsafe extern "C" {
-        fn mallopt(param: i32, value: i32) -> i32;
-    }
-    const M_ARENA_MAX: i32 = -8;
-    // SAFETY: `mallopt` is glibc's documented tuning call (malloc.h), with plain integer
-    // arguments; called before any other thread exists. Its result (0 on failure) only says
-    // whether the setting took, which changes nothing else.
-    unsafe {
-        mallopt(M_ARENA_MAX, 1);
-    }
-}
-
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn one_malloc_arena() {}
-
-/// The number of threads the pool will have: `--threads`, else rayon's rule
-/// (`RAYON_NUM_THREADS` if a positive number, else the available parallelism).
-fn pool_threads(threads: Option<usize>) -> usize {
-    threads
-        .or_else(|| {
-            std::env::var("RAYON_NUM_THREADS")
-                .ok()
-                .and_then(|s| s.parse().ok())
-                .filter(|&n: &usize| n > 0)
-        })
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-}
-
 fn main() -> ExitCode {
     let mut file: Option<String> = None;
     let mut json = false;
@@ -127,9 +84,6 @@ fn main() -> ExitCode {
     let mut builder = rayon::ThreadPoolBuilder::new().stack_size(16 << 20);
     if let Some(n) = threads {
         builder = builder.num_threads(n);
-    }
-    if pool_threads(threads) > 1 {
-        one_malloc_arena();
     }
     match builder.build() {
         Ok(pool) => pool.install(|| session_main(file, json, keep_going, vars)),
