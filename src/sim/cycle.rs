@@ -622,7 +622,7 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
     let ctx = *ctx;
     let rotation = ctx.model.rotation;
     let np = force.len();
-    let mut acc = Acc::default();
+    let acc;
     let wall_acc;
     {
         if rayon::current_num_threads() == 1 {
@@ -633,24 +633,13 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
                 force.fill(Vec3::zeros());
                 moment.fill(Vec3::zeros());
             }
-            let mut sc = Scratch::new();
-            for ((hots, pairs), block) in hot
-                .chunks_mut(BLOCK)
-                .zip(pairs.chunks_mut(BLOCK))
-                .zip(blocks.iter_mut())
-            {
-                let mut a = Acc::default();
-                block_forces::<ADH, LIQ>(hots, pairs, block, &ctx, &mut a, &mut sc, |_, h, o| {
-                    let (i, j) = (h.i as usize, h.j as usize);
-                    force[i] -= o.f;
-                    force[j] += o.f;
-                    if rotation {
-                        moment[i] += o.m;
-                        moment[j] += o.m;
-                    }
-                });
-                acc.add(&a);
-            }
+            // (The blocks' increments are the whole of `acc` on one thread.)
+            let parts = (hot, pairs, blocks);
+            acc = if ctx.uni.is_some() {
+                serial_pairs::<ADH, LIQ, true>(parts, (force, moment), &ctx, rotation)
+            } else {
+                serial_pairs::<ADH, LIQ, false>(parts, (force, moment), &ctx, rotation)
+            };
         } else {
             split_if_needed(scatter, hot, np);
             out.resize(scatter.slots, PairForce::default());
@@ -721,6 +710,38 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
 /// The tasks' results (per task: the energy increments of its pair blocks, of its wall
 /// blocks, and its time) as one sum of the pair blocks in block order and the wall blocks'
 /// list in block order; each task's time is added to its share of `balance`.
+/// The pair loop on one thread: each pair's force onto its two particles in pair order; the
+/// energy increments per block, added in block order. `UNI`: the particles are all alike
+/// (chosen here, once, so that the loop and its force closure are compiled once per choice
+/// and stay inlined).
+fn serial_pairs<const ADH: bool, const LIQ: bool, const UNI: bool>(
+    (hot, pairs, blocks): (&mut [HotPair], &mut [Pair], &mut [Vec<ContactState>]),
+    (force, moment): (&mut [Vec3], &mut [Vec3]),
+    ctx: &PairCtx,
+    rotation: bool,
+) -> Acc {
+    let mut acc = Acc::default();
+    let mut sc = Scratch::new();
+    for ((hots, pairs), block) in hot
+        .chunks_mut(BLOCK)
+        .zip(pairs.chunks_mut(BLOCK))
+        .zip(blocks.iter_mut())
+    {
+        let mut a = Acc::default();
+        block_forces::<ADH, LIQ, UNI>(hots, pairs, block, ctx, &mut a, &mut sc, |_, h, o| {
+            let (i, j) = (h.i as usize, h.j as usize);
+            force[i] -= o.f;
+            force[j] += o.f;
+            if rotation {
+                moment[i] += o.m;
+                moment[j] += o.m;
+            }
+        });
+        acc.add(&a);
+    }
+    acc
+}
+
 fn task_sums(results: &[(Vec<Acc>, Vec<Acc>, f64)], balance: &mut Balance) -> (Acc, Vec<Acc>) {
     let mut acc = Acc::default();
     let mut wall_acc = Vec::new();
@@ -775,6 +796,27 @@ fn wall_cuts(ranges: &[PairRange], wall_pairs: &[WallPair]) -> Vec<usize> {
 /// step stay zero: they are cleared here, on the core that writes them). Returns the energy
 /// increments per block.
 fn task_pairs<const ADH: bool, const LIQ: bool>(
+    task: (&PairRange, usize, &Incidence),
+    lists: (
+        &mut [HotPair],
+        &mut [Pair],
+        &mut [Vec<ContactState>],
+        &mut [PairForce],
+    ),
+    sums: (&mut [Vec3], &mut [Vec3], bool),
+    ctx: &PairCtx,
+) -> Vec<Acc> {
+    // The choice for uniform scenes once per task (not per block: two copies of the block
+    // loop in one function left its force closure out of line, a call per pair, 15 % slower
+    // on two threads).
+    if ctx.uni.is_some() {
+        task_pairs_of::<ADH, LIQ, true>(task, lists, sums, ctx)
+    } else {
+        task_pairs_of::<ADH, LIQ, false>(task, lists, sums, ctx)
+    }
+}
+
+fn task_pairs_of<const ADH: bool, const LIQ: bool, const UNI: bool>(
     (r, slot0, inc): (&PairRange, usize, &Incidence),
     (hots, pairs, blocks, outs): (
         &mut [HotPair],
@@ -802,7 +844,7 @@ fn task_pairs<const ADH: bool, const LIQ: bool>(
     {
         let base = r.pairs.start + b * BLOCK;
         let mut a = Acc::default();
-        block_forces::<ADH, LIQ>(hots, pairs, block, ctx, &mut a, &mut sc, |k, h, o| {
+        block_forces::<ADH, LIQ, UNI>(hots, pairs, block, ctx, &mut a, &mut sc, |k, h, o| {
             let (i, j) = (h.i as usize, h.j as usize);
             // A particle this task's pairs touch is its own unless shared.
             let (oi, oj) = (h.shared & 1 == 0, h.shared & 2 == 0);
@@ -1095,28 +1137,8 @@ impl UniPair {
 /// evaluated pair. The arithmetic and its order are those of one pass
 /// with the general kernel, and `emit` gets each force (with the pair's index in the block)
 /// in pair order.
-/// A scene whose particles are all alike (`c.uni`) gets the loop with their radius, mass and
-/// pair constants as constants: no per-pair loads of radii, masses and materials and no
-/// divisions for R* and m* (settled S1 10k bed, one thread: see doc/performance.md).
 #[inline(always)]
-fn block_forces<const ADH: bool, const LIQ: bool>(
-    hots: &mut [HotPair],
-    pairs: &mut [Pair],
-    block: &mut Vec<ContactState>,
-    c: &PairCtx,
-    acc: &mut Acc,
-    sc: &mut Scratch,
-    emit: impl FnMut(usize, &HotPair, PairForce),
-) {
-    if c.uni.is_some() {
-        block_forces_of::<ADH, LIQ, true>(hots, pairs, block, c, acc, sc, emit)
-    } else {
-        block_forces_of::<ADH, LIQ, false>(hots, pairs, block, c, acc, sc, emit)
-    }
-}
-
-#[inline(always)]
-fn block_forces_of<const ADH: bool, const LIQ: bool, const UNI: bool>(
+fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     hots: &mut [HotPair],
     pairs: &mut [Pair],
     block: &mut Vec<ContactState>,
