@@ -377,6 +377,13 @@ pub fn save(scene: &Scene, path: &Path) -> Result<(), String> {
 /// `RESTart` peaked at 89 MB against the 61 MB of the run that saved it). The second pass is
 /// checked against the checksum too: a file that changed between the passes is refused.
 pub fn load(path: &Path) -> Result<Scene, String> {
+    load_between(path, || {})
+}
+
+/// [`load`] with `between` run after the checksum pass and before the decoding pass (for
+/// the test of a file that changes between them).
+#[doc(hidden)]
+pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String> {
     let at = |e: String| format!("{}: {e}", path.display());
     let cannot = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
     let mut f = File::open(path).map_err(cannot)?;
@@ -400,6 +407,7 @@ pub fn load(path: &Path) -> Result<Scene, String> {
     if check.hash.0 != sum {
         return Err(at("the checkpoint is corrupt (checksum mismatch)".into()));
     }
+    between();
     f.seek(SeekFrom::Start(HEADER as u64)).map_err(cannot)?;
     let mut r = Hashing::new(BufReader::with_capacity(1 << 16, (&mut f).take(len)));
     let scene = decode_payload(version, &mut r).map_err(at)?;

@@ -743,3 +743,45 @@ fn a_failed_save_keeps_the_old_file() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A file that changes between `load`'s checksum pass and its decoding pass (another
+/// program rewriting it) is refused with a reason, not decoded into a scene that matches
+/// neither version: one bit of a particle's x coordinate flipped after the first pass still
+/// decodes, and only the second pass's checksum can tell.
+#[test]
+fn a_checkpoint_that_changes_while_it_is_read_is_refused() {
+    let sc = session(
+        "start 1 1 1 10 10 0\nrad 0.01 1\nymd 1e7 1\npra 0.3 1\ndensity 2500 1\n\
+         create 0.123456789 0.5 0.5 0 0 0 0 0 0 1 1\n",
+    )
+    .scene
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("trubal-ckpt-changed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("state.sav");
+    checkpoint::save(&sc, &path).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let x = 0.123456789f64.to_le_bytes();
+    let at = bytes
+        .windows(8)
+        .position(|w| w == x)
+        .expect("the x coordinate's bytes are in the file");
+    let mut changed = bytes.clone();
+    changed[at] ^= 1;
+    // The changed bytes differ from a valid checkpoint only in their checksum.
+    assert!(
+        from_bytes(&changed)
+            .unwrap_err()
+            .contains("checksum mismatch")
+    );
+    // Unchanged, it loads.
+    assert!(checkpoint::load_between(&path, || {}).is_ok());
+    let e =
+        checkpoint::load_between(&path, || std::fs::write(&path, &changed).unwrap()).unwrap_err();
+    assert!(
+        e.contains("the checkpoint changed while it was read"),
+        "{e}"
+    );
+    assert!(e.starts_with(&format!("{}: ", path.display())), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
