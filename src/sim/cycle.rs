@@ -707,9 +707,6 @@ fn pair_forces<const ADH: bool, const LIQ: bool>(
     (acc, wall_acc)
 }
 
-/// The tasks' results (per task: the energy increments of its pair blocks, of its wall
-/// blocks, and its time) as one sum of the pair blocks in block order and the wall blocks'
-/// list in block order; each task's time is added to its share of `balance`.
 /// The pair loop on one thread: each pair's force onto its two particles in pair order; the
 /// energy increments per block, added in block order. `UNI`: the particles are all alike
 /// (chosen here, once, so that the loop and its force closure are compiled once per choice
@@ -742,6 +739,9 @@ fn serial_pairs<const ADH: bool, const LIQ: bool, const UNI: bool>(
     acc
 }
 
+/// The tasks' results (per task: the energy increments of its pair blocks, of its wall
+/// blocks, and its time) as one sum of the pair blocks in block order and the wall blocks'
+/// list in block order; each task's time is added to its share of `balance`.
 fn task_sums(results: &[(Vec<Acc>, Vec<Acc>, f64)], balance: &mut Balance) -> (Acc, Vec<Acc>) {
     let mut acc = Acc::default();
     let mut wall_acc = Vec::new();
@@ -1093,7 +1093,7 @@ struct PairCtx<'a> {
 /// The constants of a scene whose particles all have the same radius, mass and material
 /// ([`params::Uniform`]), for the pair loop: R* and m* computed once, as the pair loop
 /// computes them (`r r / (r + r)`), so they have the same bits.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct UniPair {
     r: f64,
     r_star: f64,
@@ -1112,21 +1112,6 @@ impl UniPair {
             pc: *model.pair(k, k),
         })
     }
-
-    /// Read only by the specialisation for uniform scenes.
-    const NONE: UniPair = UniPair {
-        r: 0.0,
-        r_star: 0.0,
-        m_star: 0.0,
-        pc: params::PairConst {
-            e_star: 0.0,
-            g_star: 0.0,
-            mu: 0.0,
-            gamma: 0.0,
-            gamma_base: 0.0,
-            zeta: 0.0,
-        },
-    };
 }
 
 /// The pair loop over one block, in sub-batches of [`lanes::SUB`] pairs and four passes:
@@ -1149,11 +1134,8 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
 ) {
     use lanes::SUB;
     let laws = c.laws;
-    let u = if UNI {
-        c.uni.unwrap_or(UniPair::NONE)
-    } else {
-        UniPair::NONE
-    };
+    // (Read only when `UNI`.)
+    let u = c.uni.unwrap_or_default();
     let batched = batches_steady::<ADH, LIQ>(c);
     let Scratch {
         batch,
@@ -1310,7 +1292,7 @@ fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool, const UNI: bool
     ),
 ) -> usize {
     let mut m = 0;
-    let ur = if UNI { c.uni.map_or(0.0, |u| u.r) } else { 0.0 };
+    let ur = c.uni.map_or(0.0, |u| u.r);
     for (k, h) in hots.iter().enumerate().take(lanes::SUB) {
         // (Nothing is stored in the hot pair: its line stays clean and is not written
         // back to memory.)
