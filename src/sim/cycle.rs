@@ -1143,6 +1143,7 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
         idx,
         ds,
         d2s,
+        dists,
         lane,
     } = sc;
     let mut start = 0;
@@ -1151,12 +1152,21 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
         // Which pairs are evaluated, without a branch per pair (whether a pair is near is
         // as good as random along the list).
         let m = reach_pass::<ADH, LIQ, UNI>(&hots[start..end], start, c, (idx, ds, d2s));
+        prefetch_states(hots, block, &idx[..m]);
+        // The distances and normals of the evaluated pairs in a loop of their own: its
+        // square roots and divisions overlap, where inside the loop below each pair's
+        // waited for the one before.
+        for q in 0..m {
+            let dist = d2s[q].sqrt();
+            dists[q] = dist;
+            ds[q] /= dist;
+        }
         batch.len = 0;
         for q in 0..m {
             let k = idx[q] as usize;
             let h = &mut hots[k];
             {
-                let kin = pair_kin::<UNI>(h, &mut pairs[k].slot, block, c, &u, ds[q], d2s[q]);
+                let kin = pair_kin::<UNI>(h, &mut pairs[k].slot, block, c, &u, (ds[q], dists[q]));
                 lane[q] = u8::MAX;
                 if batched {
                     let s = &block[h.slot as usize];
@@ -1215,6 +1225,33 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     }
 }
 
+/// Asks the processor to fetch the contact states of a sub-batch's evaluated pairs (`idx`)
+/// before their geometry is worked out: the loads of the states then overlap with each
+/// other and with the geometry instead of each waiting in turn. Measured on the AMD EPYC
+/// host of the fifth session of 2026-12-03: S1 10k one thread 0.914 × the time (paired,
+/// 8 runs); prefetching the next sub-batch's states instead (found one sub-batch ahead)
+/// was 1.04 × slower, prefetching the particles' velocities and spins no gain.
+#[inline(always)]
+fn prefetch_states(hots: &[HotPair], block: &[ContactState], idx: &[u32]) {
+    #[cfg(target_arch = "x86_64")]
+    for &k in idx {
+        let s = hots[k as usize].slot as usize;
+        if s < block.len() {
+            let p = (&block[s]) as *const ContactState as *const i8;
+            // SAFETY: `p` points into `block`, and `p + 64` at most one state past it; a
+            // prefetch reads no value and never faults, whatever the address.
+            unsafe {
+                use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+                _mm_prefetch::<_MM_HINT_T0>(p);
+                _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64));
+                _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(size_of::<ContactState>() - 1));
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (hots, block, idx);
+}
+
 /// Whether the steady contacts of this step go through the vectorised kernel
 /// ([`lanes::hertz_noslip`]): a dry scene without adhesion, the no-slip law with rotation,
 /// no Rayleigh tangential dashpot, a time step (not the states-only pass).
@@ -1238,6 +1275,8 @@ struct Scratch {
     idx: [u32; lanes::SUB],
     ds: [Vec3; lanes::SUB],
     d2s: [f64; lanes::SUB],
+    /// The evaluated pairs' distances (`ds` then holds their normals).
+    dists: [f64; lanes::SUB],
     /// Lane of each evaluated pair in the batch (u8::MAX: general kernel).
     lane: [u8; lanes::SUB],
 }
@@ -1250,6 +1289,7 @@ impl Scratch {
             idx: [0; lanes::SUB],
             ds: [Vec3::zeros(); lanes::SUB],
             d2s: [0.0; lanes::SUB],
+            dists: [0.0; lanes::SUB],
             lane: [u8::MAX; lanes::SUB],
         }
     }
@@ -1348,8 +1388,7 @@ fn pair_kin<const UNI: bool>(
     block: &mut Vec<ContactState>,
     c: &PairCtx,
     u: &UniPair,
-    d: Vec3,
-    dist2: f64,
+    (n, dist): (Vec3, f64),
 ) -> Kin {
     let (i, j) = (h.i as usize, h.j as usize);
     if h.slot == NO_STATE {
@@ -1363,8 +1402,6 @@ fn pair_kin<const UNI: bool>(
     } else {
         (c.radius[i], c.radius[j])
     };
-    let dist = dist2.sqrt();
-    let n = d / dist;
     let v_rel = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(&n);
     let (r_star, m_star) = if UNI {
         (u.r_star, u.m_star)
