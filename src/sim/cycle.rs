@@ -1182,7 +1182,10 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                         lane[q] = batch.push(&kin, pc, s) as u8;
                     }
                 }
-                kins[q] = kin;
+                // (Only the general kernel reads it back.)
+                if lane[q] == u8::MAX {
+                    kins[q] = kin;
+                }
             }
         }
         if batch.len > 0 {
