@@ -914,7 +914,10 @@ fn wall_forces<const ADH: bool, const LIQ: bool>(
                     } else {
                         u8::MAX
                     };
-                    kins[m] = kin;
+                    // (Only the general kernel reads it back.)
+                    if lane[m] == u8::MAX {
+                        kins[m] = kin;
+                    }
                     m += 1;
                 }
                 if batch.len > 0 {
