@@ -1233,10 +1233,11 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
 
 /// Asks the processor to fetch the contact states of a sub-batch's evaluated pairs (`idx`)
 /// before their geometry is worked out: the loads of the states then overlap with each
-/// other and with the geometry instead of each waiting in turn. Measured on the AMD EPYC
-/// host of the fifth session of 2026-12-03: S1 10k one thread 0.914 × the time (paired,
-/// 8 runs); prefetching the next sub-batch's states instead (found one sub-batch ahead)
-/// was 1.04 × slower, prefetching the particles' velocities and spins no gain.
+/// other and with the geometry instead of each waiting in turn (all three cache lines a
+/// 112-byte state can span). Measured on the AMD EPYC host of the fifth session of
+/// 2026-12-03: S1 10k one thread 0.914 × the time (side by side, 8 pairs; doc/performance.md);
+/// prefetching the next sub-batch's states instead (found one sub-batch ahead) was 1.04 ×
+/// slower, prefetching the particles' velocities and spins too no gain.
 #[inline(always)]
 fn prefetch_states(hots: &[HotPair], block: &[ContactState], idx: &[u32]) {
     #[cfg(target_arch = "x86_64")]
@@ -1244,7 +1245,7 @@ fn prefetch_states(hots: &[HotPair], block: &[ContactState], idx: &[u32]) {
         let s = hots[k as usize].slot as usize;
         if s < block.len() {
             let p = (&block[s]) as *const ContactState as *const i8;
-            // SAFETY: `p` points into `block`, and `p + 64` at most one state past it; a
+            // SAFETY: `p`, `p + 64` and `p + 111` lie inside the state `block[s]`; and a
             // prefetch reads no value and never faults, whatever the address.
             unsafe {
                 use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
