@@ -1620,6 +1620,15 @@ impl Mover {
                 rotation,
                 lo: [f64::NEG_INFINITY; 3],
                 hi: [f64::INFINITY; 3],
+                uniform: model.uniform.map(|u| {
+                    let (mut sv, mut sw) = ([0.0], [0.0]);
+                    step_factors(&[u.mass], &[u.radius], dt, inv, &mut sv, &mut sw);
+                    leapfrog::UniformSteps {
+                        mass: u.mass,
+                        step_v: sv[0],
+                        step_w: sw[0],
+                    }
+                }),
             };
             for k in 0..3 {
                 if !periodic[k] {
@@ -1688,34 +1697,43 @@ impl Mover {
         let mut max_disp = 0.0f64;
         let mut bad: Option<usize> = None;
         let mut outside = false;
-        // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
-        // the compiler vectorises (the divisions then do not stall the update below).
         let lo = chunk * CHUNK;
-        let mut step_v = [0.0; CHUNK];
-        let mut step_w = [0.0; CHUNK];
-        step_factors(
-            &mass[lo..lo + vel.len()],
-            &radius[lo..lo + vel.len()],
-            dt,
-            inv,
-            &mut step_v,
-            &mut step_w,
-        );
         let hi = lo + vel.len();
+        let n = vel.len();
         // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
         // mass damping): the component update, bitwise the same as the loop below.
         let plain_chunk = plain.is_some()
             && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
                 fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
             });
+        // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
+        // the compiler vectorises (the divisions then do not stall the update below); not
+        // needed by the plain update of alike particles (`Plain::uniform`).
+        let mut step_v = [0.0; CHUNK];
+        let mut step_w = [0.0; CHUNK];
+        let alike = plain_chunk && plain.is_some_and(|c| c.uniform.is_some());
+        if !alike {
+            step_factors(
+                &mass[lo..hi],
+                &radius[lo..hi],
+                dt,
+                inv,
+                &mut step_v,
+                &mut step_w,
+            );
+        }
         if let (Some(c), true) = (&plain, plain_chunk) {
-            let n = vel.len();
+            let (mass, step_v, step_w) = if alike {
+                (&[][..], &[][..], &[][..])
+            } else {
+                (&mass[lo..hi], &step_v[..n], &step_w[..n])
+            };
             let s = leapfrog::update(
                 c,
                 leapfrog::Run {
-                    mass: &mass[lo..hi],
-                    step_v: &step_v[..n],
-                    step_w: &step_w[..n],
+                    mass,
+                    step_v,
+                    step_w,
                     force,
                     moment,
                     vel: &mut *vel,

@@ -29,6 +29,21 @@ pub struct Plain {
     /// Lower and upper bounds of the work-space per axis (±∞ along periodic axes).
     pub lo: [f64; 3],
     pub hi: [f64; 3],
+    /// All particles alike (`Model::uniform`): the body force m g fmm, Δt/m and Δt/I (each
+    /// divided by 1 + α Δt/2) are the same for every particle, worked out once per run of
+    /// the update with the very operations of the per-particle path (so the same bits), and
+    /// `Run::mass`, `step_v`, `step_w` are not read.
+    pub uniform: Option<UniformSteps>,
+}
+
+/// The per-particle factors of a scene whose particles are all alike.
+#[derive(Clone, Copy, Debug)]
+pub struct UniformSteps {
+    /// The common mass m.
+    pub mass: f64,
+    /// Δt/m·inv and Δt/I·inv, as `cycle::step_factors` computes them.
+    pub step_v: f64,
+    pub step_w: f64,
 }
 
 /// Sums of a run: the work of gravity, the largest displacement component since the last
@@ -43,7 +58,8 @@ pub struct RunSums {
 }
 
 /// The particle arrays of a run, sliced alike (`step_v` = Δt/m, `step_w` = Δt/I, each
-/// already divided by 1 + α Δt/2).
+/// already divided by 1 + α Δt/2; `mass`, `step_v` and `step_w` may be empty when
+/// `Plain::uniform` is set).
 pub struct Run<'a> {
     pub mass: &'a [f64],
     pub step_v: &'a [f64],
@@ -80,7 +96,7 @@ fn update_avx2(c: &Plain, r: Run<'_>) -> RunSums {
 
 #[inline(always)]
 fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
-    let n = r.mass.len();
+    let n = r.vel.len();
     let mut sums = RunSums {
         w_grav: 0.0,
         max_disp: 0.0,
@@ -107,16 +123,29 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
         }
     }
     let mut work = [0.0; 3 * RUN];
+    // Alike particles: the factors once (the same operations as per particle below).
+    if let Some(u) = c.uniform {
+        let s = u.mass * c.fmm;
+        for l in 0..RUN {
+            for k in 0..3 {
+                fb[3 * l + k] = c.g[k] * s;
+                sv[3 * l + k] = u.step_v;
+                sw[3 * l + k] = u.step_w;
+            }
+        }
+    }
     let mut start = 0;
     while start < n {
         let m = (n - start).min(RUN);
         let (a, b) = (3 * start, 3 * (start + m));
-        for l in 0..m {
-            let s = r.mass[start + l] * c.fmm;
-            for k in 0..3 {
-                fb[3 * l + k] = c.g[k] * s;
-                sv[3 * l + k] = r.step_v[start + l];
-                sw[3 * l + k] = r.step_w[start + l];
+        if c.uniform.is_none() {
+            for l in 0..m {
+                let s = r.mass[start + l] * c.fmm;
+                for k in 0..3 {
+                    fb[3 * l + k] = c.g[k] * s;
+                    sv[3 * l + k] = r.step_v[start + l];
+                    sw[3 * l + k] = r.step_w[start + l];
+                }
             }
         }
         // Translation, component by component: v = v_old·damp + (F + m g fmm)·Δt/m,
@@ -201,6 +230,17 @@ mod tests {
     /// (the general path of `cycle::move_all`): bitwise equal state and work of gravity.
     #[test]
     fn matches_the_vector_update_bit_for_bit() {
+        check_against_vector_update(false);
+    }
+
+    /// The same with alike particles and the factors given once (`Plain::uniform`), the
+    /// per-particle arrays left empty.
+    #[test]
+    fn alike_particles_match_the_vector_update_bit_for_bit() {
+        check_against_vector_update(true);
+    }
+
+    fn check_against_vector_update(alike: bool) {
         let n = 301; // more than two runs, not a multiple of 4
         let mut s = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = || {
@@ -222,10 +262,15 @@ mod tests {
         let spin0 = v3(10.0);
         let rot0 = v3(1.0);
         let mass: Vec<f64> = (0..n)
-            .map(|i| 1e-5 * (1.0 + (i % 7) as f64 * 0.1))
+            .map(|i| 1e-5 * (1.0 + if alike { 0.3 } else { (i % 7) as f64 * 0.1 }))
             .collect();
         let step_v: Vec<f64> = mass.iter().map(|m| 1.7e-5 / m).collect();
         let step_w: Vec<f64> = mass.iter().map(|m| 1.7e-5 / (0.4 * m * 1e-6)).collect();
+        let uniform = alike.then(|| UniformSteps {
+            mass: mass[0],
+            step_v: step_v[0],
+            step_w: step_w[0],
+        });
         let c = Plain {
             g: [0.1, -0.2, -9.81],
             fmm: 1.0,
@@ -234,6 +279,7 @@ mod tests {
             rotation: true,
             lo: [0.0, f64::NEG_INFINITY, 0.0],
             hi: [0.04, f64::INFINITY, 0.05],
+            uniform,
         };
         let (mut vel, mut pos, mut disp, mut spin, mut rot) = (
             vel0.clone(),
@@ -242,12 +288,13 @@ mod tests {
             spin0.clone(),
             rot0.clone(),
         );
+        let per_particle = if alike { 0 } else { n };
         let got = update(
             &c,
             Run {
-                mass: &mass,
-                step_v: &step_v,
-                step_w: &step_w,
+                mass: &mass[..per_particle],
+                step_v: &step_v[..per_particle],
+                step_w: &step_w[..per_particle],
                 force: &force,
                 moment: &moment,
                 vel: &mut vel,
@@ -297,6 +344,7 @@ mod tests {
             rotation: false,
             lo: [0.0; 3],
             hi: [1.0; 3],
+            uniform: None,
         };
         let run = |bad_force: bool, pos_x: f64| {
             let mut force = vec![Vec3::zeros(); n];
