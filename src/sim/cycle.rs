@@ -18,12 +18,13 @@ use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
 use super::leapfrog;
 use super::params::{self, Model};
-use super::scene::{Scene, Vec3, Wall, nearest_image};
+use super::scene::{Scene, Vec3, Wall};
 use super::search;
 use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::{TangentialChoice, WallGeom};
 
 mod fused;
+mod reach;
 use fused::View;
 
 /// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
@@ -1140,6 +1141,7 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     // (Read only when `UNI`.)
     let u = c.uni.unwrap_or_default();
     let batched = batches_steady::<ADH, LIQ>(c);
+    let vector_reach = vector_reach(c);
     let Scratch {
         batch,
         kins,
@@ -1154,7 +1156,13 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
         let end = (start + SUB).min(hots.len());
         // Which pairs are evaluated, without a branch per pair (whether a pair is near is
         // as good as random along the list).
-        let m = reach_pass::<ADH, LIQ, UNI>(&hots[start..end], start, c, (idx, ds, d2s));
+        let m = reach::evaluated::<ADH, LIQ, UNI>(&hots[start..end], start, c, vector_reach, idx);
+        // The evaluated pairs' separations and squared distances.
+        for q in 0..m {
+            let d = reach::separation(&hots[idx[q] as usize], c);
+            ds[q] = d;
+            d2s[q] = d.norm_squared();
+        }
         prefetch_states(hots, block, &idx[..m]);
         // The distances and normals of the evaluated pairs in a loop of their own: its
         // square roots and divisions overlap, where inside the loop below each pair's
@@ -1259,6 +1267,21 @@ fn prefetch_states(hots: &[HotPair], block: &[ContactState], idx: &[u32]) {
     let _ = (hots, block, idx);
 }
 
+/// Whether the reach tests run four candidates at a time ([`reach::evaluated_avx2`]): the
+/// processor has AVX2 and the scene no periodic axis.
+#[inline(always)]
+fn vector_reach(c: &PairCtx) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        c.periodic == [false; 3] && std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = c;
+        false
+    }
+}
+
 /// Whether the steady contacts of this step go through the vectorised kernel
 /// ([`lanes::hertz_noslip`]): a dry scene without adhesion, the no-slip law with rotation,
 /// no Rayleigh tangential dashpot, a time step (not the states-only pass).
@@ -1300,90 +1323,6 @@ impl Scratch {
             lane: [u8::MAX; lanes::SUB],
         }
     }
-}
-
-/// The reach tests of one sub-batch of candidates `hots` (the first at `start` in its
-/// block): the evaluated pairs' indices, separations and squared distances in pair order;
-/// returns how many. In a function of its own, with the loop for scenes without periodic
-/// axes apart (no call to `round` in it), so that the loop keeps its values in registers:
-/// inlined into the pair loop it spilled them to the stack and reloaded them in every
-/// iteration. Same bits; callgrind, S1 10k one thread: −0.8 % of the instructions over 300
-/// settled steps (4.031 → 3.999 G), −1.4 % over 500 steps mid-fall (4.990 → 4.922 G).
-#[inline(never)]
-fn reach_pass<const ADH: bool, const LIQ: bool, const UNI: bool>(
-    hots: &[HotPair],
-    start: usize,
-    c: &PairCtx,
-    out: (
-        &mut [u32; lanes::SUB],
-        &mut [Vec3; lanes::SUB],
-        &mut [f64; lanes::SUB],
-    ),
-) -> usize {
-    if c.periodic == [false; 3] {
-        reach_loop::<ADH, LIQ, false, UNI>(hots, start, c, out)
-    } else {
-        reach_loop::<ADH, LIQ, true, UNI>(hots, start, c, out)
-    }
-}
-
-#[inline(always)]
-fn reach_loop<const ADH: bool, const LIQ: bool, const PER: bool, const UNI: bool>(
-    hots: &[HotPair],
-    start: usize,
-    c: &PairCtx,
-    (idx, ds, d2s): (
-        &mut [u32; lanes::SUB],
-        &mut [Vec3; lanes::SUB],
-        &mut [f64; lanes::SUB],
-    ),
-) -> usize {
-    let mut m = 0;
-    let ur = c.uni.map_or(0.0, |u| u.r);
-    for (k, h) in hots.iter().enumerate().take(lanes::SUB) {
-        // (Nothing is stored in the hot pair: its line stays clean and is not written
-        // back to memory.)
-        let (d, dist2, ev) = pair_reach::<ADH, LIQ, PER, UNI>(h, c, ur);
-        idx[m] = (start + k) as u32;
-        ds[m] = d;
-        d2s[m] = dist2;
-        m += ev as usize;
-    }
-    m
-}
-
-/// Separation of a candidate pair: the vector A → B (nearest image), its squared length,
-/// and whether the pair's contact laws run (it is within reach or has something to
-/// remember). With adhesion or liquid the reach includes the round-off allowance of bridge
-/// formation and of JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly
-/// (lattices) are evaluated. Without them the reach is the touching distance: a pair with
-/// a gap gets no force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that
-/// just opened is still evaluated once, being live. `PER`: the scene has a periodic axis
-/// (without one the nearest image is the vector itself). `UNI`: every radius is `ur`.
-#[inline(always)]
-fn pair_reach<const ADH: bool, const LIQ: bool, const PER: bool, const UNI: bool>(
-    h: &HotPair,
-    c: &PairCtx,
-    ur: f64,
-) -> (Vec3, f64, bool) {
-    let (i, j) = (h.i as usize, h.j as usize);
-    let d = if PER {
-        nearest_image(c.pos[j] - c.pos[i], c.size, c.periodic)
-    } else {
-        c.pos[j] - c.pos[i]
-    };
-    let (ri, rj) = if UNI {
-        (ur, ur)
-    } else {
-        (c.radius[i], c.radius[j])
-    };
-    let dist2 = d.norm_squared();
-    let reach = if ADH || LIQ {
-        (ri + rj) * (1.0 + 1e-6)
-    } else {
-        ri + rj
-    };
-    (d, dist2, h.live | !(dist2 > reach * reach))
 }
 
 /// The geometry of an evaluated pair. A pair that comes within reach for the first time

@@ -58,6 +58,13 @@ impl<'a> View<'a> {
         }
     }
 
+    /// The first element and the number of elements, for the vector reach tests
+    /// (`reach::evaluated_avx2`, which load only elements below `len`, under the view's
+    /// contract).
+    pub(super) fn parts(&self) -> (*const Vec3, usize) {
+        (self.ptr, self.len)
+    }
+
     /// # Safety
     /// `ptr` points to `len` initialised elements that live for `'a`, and no element is
     /// written while the view reads it.

@@ -1,0 +1,220 @@
+//! The pair loop's reach tests: which candidate pairs of a sub-batch are evaluated —
+//! within reach, or live (a solid contact or a bridge to remember).
+//!
+//! The tests of a sub-batch first make a bit mask (bit k: candidate k is evaluated), then
+//! the mask is turned into the list of evaluated candidates. Writing each candidate's index
+//! at the position counted so far (the earlier form) made every store's address wait for
+//! the comparison before it, and the loop ran at ~13 cycles a candidate with its data in L1;
+//! with the mask the tests are independent of each other. Without a periodic axis and with
+//! AVX2 four candidates share the arithmetic: a candidate's two positions are one masked
+//! vector load each (x, y, z; the fourth lane is not read), the separations are transposed
+//! into x, y, z of four pairs, and the squared distances and the comparisons are vector
+//! operations — the same operations in the same order on each lane as the scalar test, so
+//! the same pairs are evaluated. In the falling S1 50k bed the scalar tests were a quarter
+//! of the one-thread run (a second pass over the same, cached candidates took 1.27 × the
+//! time; doc/performance.md).
+//!
+//! Only the evaluated pairs' separations are then worked out, by [`separation`] (the
+//! pair loop), which is the separation the tests used, bit for bit.
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
+use super::super::contacts::HotPair;
+use super::super::lanes::SUB;
+use super::super::scene::{Vec3, nearest_image};
+use super::PairCtx;
+
+// One bit a candidate of a sub-batch.
+const _: () = assert!(SUB <= 32);
+
+/// The separation A → B of a candidate pair (the nearest image along periodic axes).
+#[inline(always)]
+pub(super) fn separation(h: &HotPair, c: &PairCtx) -> Vec3 {
+    let d = c.pos[h.j as usize] - c.pos[h.i as usize];
+    if c.periodic == [false; 3] {
+        d
+    } else {
+        nearest_image(d, c.size, c.periodic)
+    }
+}
+
+/// The reach tests of one sub-batch of candidates `hots` (at most [`SUB`], the first at
+/// `start` in its block): the evaluated pairs' indices in pair order into `idx`; returns
+/// how many. `vector`: the four-lane tests may be used (the processor has AVX2 and the
+/// scene no periodic axis, `cycle::vector_reach`). A pair is evaluated when it is live or
+/// !(d² > reach²) (so also when d² is NaN, whose force then shows the blow-up). With
+/// adhesion or liquid the reach includes the round-off allowance of bridge formation and of
+/// JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly (lattices) are
+/// evaluated. Without them the reach is the touching distance: a pair with a gap gets no
+/// force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that just opened
+/// is still evaluated once, being live. `UNI`: every radius is the scene's common one.
+#[inline(never)]
+pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
+    hots: &[HotPair],
+    start: usize,
+    c: &PairCtx,
+    vector: bool,
+    idx: &mut [u32; SUB],
+) -> usize {
+    let hots = &hots[..hots.len().min(SUB)];
+    let ur = c.uni.map_or(0.0, |u| u.r);
+    let allow = if ADH || LIQ { 1.0 + 1e-6 } else { 1.0 };
+    let radius = (!UNI).then_some(c.radius);
+    #[cfg(target_arch = "x86_64")]
+    let mask = if vector {
+        // SAFETY: `vector` says the processor has AVX2.
+        unsafe { mask_avx2(hots, c, radius, (ur, allow)) }
+    } else if c.periodic == [false; 3] {
+        mask_scalar::<false>(hots, c, radius, (ur, allow))
+    } else {
+        mask_scalar::<true>(hots, c, radius, (ur, allow))
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let mask = {
+        let _ = vector;
+        if c.periodic == [false; 3] {
+            mask_scalar::<false>(hots, c, radius, (ur, allow))
+        } else {
+            mask_scalar::<true>(hots, c, radius, (ur, allow))
+        }
+    };
+    let mut m = 0;
+    for k in 0..hots.len() {
+        idx[m] = (start + k) as u32;
+        m += ((mask >> k) & 1) as usize;
+    }
+    m
+}
+
+/// The reach (R_A + R_B, times `allow`) of a pair, squared.
+#[inline(always)]
+fn reach2(h: &HotPair, radius: Option<&[f64]>, (ur, allow): (f64, f64)) -> f64 {
+    let reach = match radius {
+        Some(r) => (r[h.i as usize] + r[h.j as usize]) * allow,
+        None => (ur + ur) * allow,
+    };
+    reach * reach
+}
+
+/// Bit k: candidate k is evaluated (`PER`: the scene has a periodic axis).
+#[inline(always)]
+fn mask_scalar<const PER: bool>(
+    hots: &[HotPair],
+    c: &PairCtx,
+    radius: Option<&[f64]>,
+    ur_allow: (f64, f64),
+) -> u32 {
+    let mut mask = 0u32;
+    for (k, h) in hots.iter().enumerate() {
+        // (Nothing is stored in the hot pair: its line stays clean and is not written
+        // back to memory.)
+        let d = c.pos[h.j as usize] - c.pos[h.i as usize];
+        let d = if PER {
+            nearest_image(d, c.size, c.periodic)
+        } else {
+            d
+        };
+        let near = h.live | !(d.norm_squared() > reach2(h, radius, ur_allow));
+        mask |= (near as u32) << k;
+    }
+    mask
+}
+
+/// [`mask_scalar`] without a periodic axis, four candidates at a time.
+///
+/// # Safety
+/// The processor has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn mask_avx2(
+    hots: &[HotPair],
+    c: &PairCtx,
+    radius: Option<&[f64]>,
+    ur_allow: (f64, f64),
+) -> u32 {
+    let (base, len) = c.pos.parts();
+    let base = base as *const f64;
+    // x, y, z of a particle; the fourth lane is not read (so no neighbour's element is
+    // touched, which another task may be writing in the one-region step).
+    let xyz = _mm256_set_epi64x(0, -1, -1, -1);
+    let (ur, allow) = ur_allow;
+    let uni_reach = (ur + ur) * allow;
+    let uni_r2 = _mm256_set1_pd(uni_reach * uni_reach);
+    let full = hots.len() / 4 * 4;
+    let mut mask = 0u32;
+    for (g, four) in hots[..full].chunks_exact(4).enumerate() {
+        let mut d = [_mm256_setzero_pd(); 4];
+        let mut live = 0u32;
+        let mut reach = [0.0f64; 4];
+        for (l, h) in four.iter().enumerate() {
+            let (i, j) = (h.i as usize, h.j as usize);
+            assert!(i < len && j < len, "pair ({i}, {j}) of {len} particles");
+            // SAFETY: i, j < len (just checked): the three elements loaded are particle
+            // i's (j's) x, y, z, inside the array the view reads (its contract: not
+            // written while read).
+            let (a, b) = unsafe {
+                (
+                    _mm256_maskload_pd(base.add(3 * i), xyz),
+                    _mm256_maskload_pd(base.add(3 * j), xyz),
+                )
+            };
+            d[l] = _mm256_sub_pd(b, a);
+            live |= (h.live as u32) << l;
+            if let Some(r) = radius {
+                reach[l] = (r[i] + r[j]) * allow;
+            }
+        }
+        let r2 = if radius.is_some() {
+            let r = _mm256_set_pd(reach[3], reach[2], reach[1], reach[0]);
+            _mm256_mul_pd(r, r)
+        } else {
+            uni_r2
+        };
+        // Transpose [x y z 0] × 4 into x, y, z of the four pairs.
+        let t0 = _mm256_unpacklo_pd(d[0], d[1]); // x0 x1 z0 z1
+        let t1 = _mm256_unpackhi_pd(d[0], d[1]); // y0 y1 0 0
+        let t2 = _mm256_unpacklo_pd(d[2], d[3]); // x2 x3 z2 z3
+        let t3 = _mm256_unpackhi_pd(d[2], d[3]); // y2 y3 0 0
+        let x = _mm256_permute2f128_pd::<0x20>(t0, t2);
+        let y = _mm256_permute2f128_pd::<0x20>(t1, t3);
+        let z = _mm256_permute2f128_pd::<0x31>(t0, t2);
+        // (x² + y²) + z², as nalgebra's norm_squared; no fused multiply-add.
+        let d2 = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)),
+            _mm256_mul_pd(z, z),
+        );
+        // !(d² > reach²): true for NaN too, as in the scalar test.
+        let near = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_NGT_UQ>(d2, r2)) as u32 | live;
+        mask |= near << (4 * g);
+    }
+    let rest = mask_scalar::<false>(&hots[full..], c, radius, ur_allow);
+    mask | rest.checked_shl(full as u32).unwrap_or(0)
+}
+
+/// Prefetch: the hot pairs four sub-batches ahead, the positions of the next sub-batch's.
+#[inline(always)]
+pub(super) fn prefetch_ahead(hots: &[HotPair], start: usize, c: &PairCtx) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let ahead = start + 4 * SUB;
+        if ahead < hots.len() {
+            let p = hots[ahead..].as_ptr() as *const i8;
+            let bytes = (hots.len() - ahead).min(SUB) * size_of::<HotPair>();
+            let mut o = 0;
+            while o < bytes {
+                // SAFETY: a prefetch reads no value and never faults.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(o)) };
+                o += 64;
+            }
+        }
+        let next = (start + SUB).min(hots.len());
+        let (base, _) = c.pos.parts();
+        for h in &hots[next..(next + SUB).min(hots.len())] {
+            // SAFETY: as above.
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(h.j as usize) as *const i8);
+            }
+        }
+    }
+}
