@@ -181,8 +181,8 @@ fn dry_frictional_scene_with_walls_continues_bitwise() {
     let short = check_continuation(
         "dry-short",
         &format!("{DRY}\ncycle 2500"),
-        60,
-        &(1..60).step_by(3).collect::<Vec<_>>(),
+        150,
+        &(1..150).step_by(2).collect::<Vec<_>>(),
     );
     more += short;
     assert!(
@@ -302,6 +302,47 @@ fn a_save_and_restart_between_two_agenerates_changes_nothing() {
         a.scene.as_ref().unwrap(),
         b.scene.as_ref().unwrap(),
         "and 20 cycles on",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With automatic TOL and XRES the rebuilds of a fast scene use a larger TOL (up to twice
+/// the automatic one, cycle::rebuild_tol) and so happen less often; the forces, positions
+/// and the ledger do not depend on it: the same bits as the fixed automatic TOL (`SEt XRES`
+/// to a large value keeps TOL fixed and XRES at its limit, the search of earlier versions).
+#[test]
+fn a_grown_tol_changes_the_rebuilds_and_nothing_else() {
+    let dir = scratch("tol");
+    let mut grown = session_in(&dir, DRY);
+    run(&mut grown, "cycle 3000");
+    let mut fixed = session_in(&dir, &format!("{DRY}\nset xres 1"));
+    run(&mut fixed, "cycle 3000");
+    let (a, b) = (grown.scene.unwrap(), fixed.scene.unwrap());
+    let (p, q) = (&a.particles, &b.particles);
+    assert_eq!(p.id, q.id);
+    for i in 0..p.len() {
+        for (x, y) in [
+            (&p.pos[i], &q.pos[i]),
+            (&p.vel[i], &q.vel[i]),
+            (&p.spin[i], &q.spin[i]),
+        ] {
+            for k in 0..3 {
+                assert_eq!(x[k].to_bits(), y[k].to_bits(), "particle {}", p.id[i]);
+            }
+        }
+    }
+    assert_eq!(a.ledger, b.ledger);
+    let base = b.contacts.tol;
+    assert!(
+        a.contacts.tol > base && a.contacts.tol <= 2.0 * base,
+        "TOL {} (automatic {base})",
+        a.contacts.tol
+    );
+    assert!(
+        a.contacts.rebuilds < b.contacts.rebuilds,
+        "{} rebuilds with the grown TOL, {} without",
+        a.contacts.rebuilds,
+        b.contacts.rebuilds
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

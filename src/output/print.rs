@@ -312,12 +312,24 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
         walls.len(),
         scene.contacts.rebuilds
     );
+    // The list in use may have been made with a larger TOL (automatic TOL, fast particles:
+    // cycle::rebuild_tol).
+    let list_tol = scene.contacts.tol;
+    let s = if list_tol > tol && scene.contacts.rebuilds > 0 {
+        format!(
+            "{s}the candidate list in use was made with TOL {:.4e} m, XRES {:.4e} m (grown for fast particles)\n",
+            list_tol,
+            cycle::xres_of(list_tol)
+        )
+    } else {
+        s
+    };
     let j = json!({
         "print": if map { "map" } else { "entries" }, "boxes": g.n, "box_size": g.cell,
         "entries": g.entries, "max_entries_per_box": g.max_entries_per_box,
         "empty_boxes": g.empty_boxes, "tol": tol, "xres": xres,
         "candidate_pairs": pairs.len(), "wall_candidates": walls.len(),
-        "rebuilds": scene.contacts.rebuilds,
+        "rebuilds": scene.contacts.rebuilds, "list_tol": list_tol,
     });
     (s, j)
 }

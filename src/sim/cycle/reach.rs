@@ -191,30 +191,3 @@ unsafe fn mask_avx2(
     let rest = mask_scalar::<false>(&hots[full..], c, radius, ur_allow);
     mask | rest.checked_shl(full as u32).unwrap_or(0)
 }
-
-/// Prefetch: the hot pairs four sub-batches ahead, the positions of the next sub-batch's.
-#[inline(always)]
-pub(super) fn prefetch_ahead(hots: &[HotPair], start: usize, c: &PairCtx) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let ahead = start + 4 * SUB;
-        if ahead < hots.len() {
-            let p = hots[ahead..].as_ptr() as *const i8;
-            let bytes = (hots.len() - ahead).min(SUB) * size_of::<HotPair>();
-            let mut o = 0;
-            while o < bytes {
-                // SAFETY: a prefetch reads no value and never faults.
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(o)) };
-                o += 64;
-            }
-        }
-        let next = (start + SUB).min(hots.len());
-        let (base, _) = c.pos.parts();
-        for h in &hots[next..(next + SUB).min(hots.len())] {
-            // SAFETY: as above.
-            unsafe {
-                _mm_prefetch::<_MM_HINT_T0>(base.wrapping_add(h.j as usize) as *const i8);
-            }
-        }
-    }
-}
