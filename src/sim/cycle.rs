@@ -1214,7 +1214,6 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
         kins,
         idx,
         ds,
-        d2s,
         dists,
         lane,
     } = sc;
@@ -1224,20 +1223,15 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
         // Which pairs are evaluated, without a branch per pair (whether a pair is near is
         // as good as random along the list).
         let m = reach::evaluated::<ADH, LIQ, UNI>(&hots[start..end], start, c, vector_reach, idx);
-        // The evaluated pairs' separations and squared distances.
-        for q in 0..m {
-            let d = reach::separation(&hots[idx[q] as usize], c);
-            ds[q] = d;
-            d2s[q] = d.norm_squared();
-        }
         prefetch_states(hots, block, &idx[..m]);
         // The distances and normals of the evaluated pairs in a loop of their own: its
         // square roots and divisions overlap, where inside the loop below each pair's
         // waited for the one before.
         for q in 0..m {
-            let dist = d2s[q].sqrt();
+            let d = reach::separation(&hots[idx[q] as usize], c);
+            let dist = d.norm_squared().sqrt();
             dists[q] = dist;
-            ds[q] /= dist;
+            ds[q] = d / dist;
         }
         batch.len = 0;
         for q in 0..m {
@@ -1334,7 +1328,7 @@ fn prefetch_states(hots: &[HotPair], block: &[ContactState], idx: &[u32]) {
     let _ = (hots, block, idx);
 }
 
-/// Whether the reach tests run four candidates at a time ([`reach::evaluated_avx2`]): the
+/// Whether the reach tests run four candidates at a time (`reach::mask_avx2`): the
 /// processor has AVX2 and the scene no periodic axis.
 #[inline(always)]
 fn vector_reach(c: &PairCtx) -> bool {
@@ -1370,9 +1364,8 @@ struct Scratch {
     batch: lanes::Batch,
     kins: [Kin; lanes::SUB],
     idx: [u32; lanes::SUB],
+    /// The evaluated pairs' normals and distances.
     ds: [Vec3; lanes::SUB],
-    d2s: [f64; lanes::SUB],
-    /// The evaluated pairs' distances (`ds` then holds their normals).
     dists: [f64; lanes::SUB],
     /// Lane of each evaluated pair in the batch (u8::MAX: general kernel).
     lane: [u8; lanes::SUB],
@@ -1385,7 +1378,6 @@ impl Scratch {
             kins: [Kin::ZERO; lanes::SUB],
             idx: [0; lanes::SUB],
             ds: [Vec3::zeros(); lanes::SUB],
-            d2s: [0.0; lanes::SUB],
             dists: [0.0; lanes::SUB],
             lane: [u8::MAX; lanes::SUB],
         }

@@ -30,8 +30,8 @@ pub struct Plain {
     pub lo: [f64; 3],
     pub hi: [f64; 3],
     /// All particles alike (`Model::uniform`): the body force m g fmm, Δt/m and Δt/I (each
-    /// divided by 1 + α Δt/2) are the same for every particle, worked out once per run of
-    /// the update with the very operations of the per-particle path (so the same bits), and
+    /// divided by 1 + α Δt/2) are the same for every particle, filled in once per call of
+    /// [`update`] with the very operations of the per-particle path (so the same bits), and
     /// `Run::mass`, `step_v`, `step_w` are not read.
     pub uniform: Option<UniformSteps>,
 }

@@ -59,7 +59,7 @@ impl<'a> View<'a> {
     }
 
     /// The first element and the number of elements, for the vector reach tests
-    /// (`reach::evaluated_avx2`, which load only elements below `len`, under the view's
+    /// (`reach::mask_avx2`, which loads only elements below `len`, under the view's
     /// contract).
     pub(super) fn parts(&self) -> (*const Vec3, usize) {
         (self.ptr, self.len)

@@ -61,23 +61,24 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
     let ur = c.uni.map_or(0.0, |u| u.r);
     let allow = if ADH || LIQ { 1.0 + 1e-6 } else { 1.0 };
     let radius = (!UNI).then_some(c.radius);
-    #[cfg(target_arch = "x86_64")]
-    let mask = if vector {
-        // SAFETY: `vector` says the processor has AVX2.
-        unsafe { mask_avx2(hots, c, radius, (ur, allow)) }
-    } else if c.periodic == [false; 3] {
-        mask_scalar::<false>(hots, c, radius, (ur, allow))
-    } else {
-        mask_scalar::<true>(hots, c, radius, (ur, allow))
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let mask = {
-        let _ = vector;
+    let scalar = || {
         if c.periodic == [false; 3] {
             mask_scalar::<false>(hots, c, radius, (ur, allow))
         } else {
             mask_scalar::<true>(hots, c, radius, (ur, allow))
         }
+    };
+    #[cfg(target_arch = "x86_64")]
+    let mask = if vector {
+        // SAFETY: `vector` says the processor has AVX2.
+        unsafe { mask_avx2(hots, c, radius, (ur, allow)) }
+    } else {
+        scalar()
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let mask = {
+        let _ = vector;
+        scalar()
     };
     let mut m = 0;
     for k in 0..hots.len() {
