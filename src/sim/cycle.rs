@@ -311,7 +311,7 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         // Only the search distance changed: re-map, keep the states of the last step.
         scene.contacts.remap = true;
     }
-    let mut snapshot = scene.clone();
+    let mut snapshot = snapshot_of(scene);
     let every = scene.settings.snapshot_every.max(1);
     // Energy runaway: the stored energy may not grow far beyond what was put in.
     let scale = |s: &Scene| super::energy::stored(s).total().max(s.ledger.input().abs());
@@ -329,14 +329,14 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
                     "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
                     snapshot.cycle
                 ));
-                *scene = snapshot;
+                restore(scene, snapshot);
                 return Err(e);
             }
             e_ref = e_ref.max(scale(scene));
             // The old snapshot goes before the new one is made (never three copies at once).
             snapshot.particles = Default::default();
             snapshot.contacts = Default::default();
-            snapshot = scene.clone();
+            snapshot = snapshot_of(scene);
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
         let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);
@@ -365,7 +365,7 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
                 "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
                 snapshot.cycle
             ));
-            *scene = snapshot;
+            restore(scene, snapshot);
             return Err(e);
         }
         if scene.settings.history_every > 0
@@ -375,6 +375,28 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         }
     }
     Ok(model)
+}
+
+/// The blow-up snapshot: the scene without what a restore can make anew, the particles'
+/// displacements since the last rebuild and the candidate pairs without a state
+/// ([`ContactStore::lean_clone`]; the list is marked for re-mapping). At S1 50k this is
+/// 11.9 MB instead of 17.7 MB, held through the whole `Cycle`.
+pub fn snapshot_of(scene: &mut Scene) -> Scene {
+    let contacts = std::mem::take(&mut scene.contacts);
+    let disp = std::mem::take(&mut scene.particles.disp);
+    let mut s = scene.clone();
+    scene.contacts = contacts;
+    scene.particles.disp = disp;
+    s.contacts = scene.contacts.lean_clone();
+    s
+}
+
+/// Puts the snapshot back: the displacements since the last rebuild are zero, as the
+/// re-mapping that the restored list is marked for leaves them.
+pub fn restore(scene: &mut Scene, snapshot: Scene) {
+    *scene = snapshot;
+    let n = scene.particles.len();
+    scene.particles.disp = vec![Vec3::zeros(); n];
 }
 
 /// Describes an energy runaway: which particle carries the most kinetic energy.
