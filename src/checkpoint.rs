@@ -39,7 +39,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -198,8 +198,9 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         VERSION => decode_all::<Scene, R>(r, version),
-        // Version 1 differs only in the layout of the contact state (sim::contacts::v1).
-        1 => crate::sim::contacts::v1::reading(|| decode_all::<Scene, R>(r, version)),
+        // Versions 1 and 2 differ only in the layout of the contact state
+        // (sim::contacts::old).
+        1 | 2 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Older versions: decode with their frozen types and convert (see "Format evolution").
         v => Err(format!(
             "the checkpoint has format version {v}, for which this program (format version {VERSION}) has no reader"

@@ -406,11 +406,19 @@ fn a_scene_restored_from_the_blow_up_snapshot_goes_on_as_the_original() {
         assert_eq!(original.ledger, restored.ledger, "{tag}");
         // The same contacts with the same states (the candidate lists may differ in pairs
         // that never came within reach).
+        // (Particle pairs, then particle–wall pairs with the wall's number as the second id.)
         let live = |sc: &Scene| {
+            let walls = sc
+                .contacts
+                .wall_pairs
+                .iter()
+                .map(|w| (w.id, u32::MAX - w.wall, &w.s));
             sc.contacts
                 .iter()
-                .filter(|p| p.s.touching || p.s.bridge.is_some())
-                .map(|p| (p.ida, p.idb, p.s.clone()))
+                .map(|p| (p.ida, p.idb, p.s))
+                .chain(walls)
+                .filter(|(_, _, s)| s.touching || s.bridge.is_some())
+                .map(|(a, b, s)| (a, b, s.clone()))
                 .collect::<Vec<_>>()
         };
         let live_now = live(&original);

@@ -1,6 +1,7 @@
 //! Contact laws as pure functions of plain numbers, each with closed-form unit tests.
 
 pub mod bridge;
+pub mod dashpot;
 pub mod hertz;
 pub mod jkr;
 pub mod restitution;

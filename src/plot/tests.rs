@@ -330,6 +330,7 @@ fn wall_contacts_end_on_the_wall() {
         force: [0.0; 3],
         normal_force: 0.0,
         disp: [0.0; 3],
+        travel: 0.0,
     });
     s.contacts.wall_pairs.push(WallPair {
         i: 0,
@@ -378,6 +379,7 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
         force: [0.0; 3],
         normal_force: 0.0,
         disp: [0.0; 3],
+        travel: 0.0,
     };
     s.walls.push(wall(WallGeom::Plane {
         normal: [1.0, 0.0, 0.0],

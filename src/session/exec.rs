@@ -424,6 +424,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 force: [0.0; 3],
                 normal_force: 0.0,
                 disp: [0.0; 3],
+                travel: 0.0,
             });
             scene.contacts.stale = true;
             Ok(format!("wall {} defined", scene.walls.len()))

@@ -70,8 +70,8 @@ impl BridgeState {
 /// State of one contact: the part every contact law reads and writes at every step, kept
 /// small (the force loop streams it), with the state of the laws only some scenes use (JKR,
 /// Mindlin–Deresiewicz, liquid bridges) behind pointers that stay empty otherwise ("model
-/// only what a scene needs": a Hertz contact with the no-slip law is 112 bytes).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// only what a scene needs": a Hertz contact with the no-slip law is 120 bytes).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactState {
     /// A solid contact is active (Hertz: overlap > 0; JKR: made and not yet detached).
     pub touching: bool,
@@ -79,8 +79,11 @@ pub struct ContactState {
     pub overlap: f64,
     /// Elastic normal force P (compressive positive).
     pub normal_force: f64,
-    /// Dashpot normal force of the last step.
+    /// Dashpot normal force of the last step (restitution and Rayleigh).
     pub damp_force: f64,
+    /// Separation rate of the last step if it had a velocity-dependent normal force (the
+    /// history of `physics::dashpot::others`); +∞ otherwise.
+    pub v_prev: f64,
     /// Stored tangential elastic energy.
     pub tang_energy: f64,
     /// Contact radius a.
@@ -115,6 +118,24 @@ pub struct ContactExt {
     pub released: [f64; 2],
 }
 
+impl Default for ContactState {
+    fn default() -> ContactState {
+        ContactState {
+            touching: false,
+            overlap: 0.0,
+            normal_force: 0.0,
+            damp_force: 0.0,
+            v_prev: f64::INFINITY,
+            tang_energy: 0.0,
+            a: 0.0,
+            tforce: Vec3::zeros(),
+            tdamp: Vec3::zeros(),
+            ext: None,
+            bridge: None,
+        }
+    }
+}
+
 static DEFAULT_EXT: std::sync::LazyLock<ContactExt> = std::sync::LazyLock::new(ContactExt::default);
 
 impl ContactState {
@@ -125,6 +146,14 @@ impl ContactState {
     /// The law-specific state, allocated (at its defaults) if the contact had none.
     pub fn ext_mut(&mut self) -> &mut ContactExt {
         self.ext.get_or_insert_with(Box::default)
+    }
+    /// The pair must be evaluated in the next step whether or not it is within reach: a
+    /// solid contact, a bridge, or a dashpot force or separation rate of the last step to
+    /// pair with (an approach that turned away books the second half of its force and drops
+    /// its rate).
+    #[inline(always)]
+    pub fn live(&self) -> bool {
+        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite()
     }
     /// Surface energy of the contact (0: Hertz).
     pub fn gamma(&self) -> f64 {
@@ -167,7 +196,7 @@ pub struct PairWithState {
     pub j: u32,
     pub ida: u32,
     pub idb: u32,
-    #[serde(deserialize_with = "v1::deserialize_state")]
+    #[serde(deserialize_with = "old::deserialize_state")]
     pub s: ContactState,
 }
 
@@ -222,7 +251,7 @@ pub struct WallPair {
     pub i: u32,
     pub id: u32,
     pub wall: u32,
-    #[serde(deserialize_with = "v1::deserialize_state")]
+    #[serde(deserialize_with = "old::deserialize_state")]
     pub s: ContactState,
 }
 
@@ -243,7 +272,8 @@ pub struct HotPair {
     pub j: u32,
     /// Index of the pair's state in its block (`u32::MAX`: none yet).
     pub slot: u32,
-    /// The pair had a solid contact or a bridge after its last evaluation.
+    /// The pair had a solid contact, a bridge or a dashpot's history after its last
+    /// evaluation (`ContactState::live`).
     pub live: bool,
     /// Set by [`Incidence::split`]: bit 0 if the first particle is shared between tasks,
     /// bit 1 if the second is (the multi-thread loop's ownership test, without a lookup).
@@ -629,6 +659,12 @@ pub struct ContactStore {
     pub tol: f64,
     /// Number of rebuilds so far (for PRint Entries).
     pub rebuilds: u64,
+    /// How far beyond touching particle pairs and particle–wall pairs are evaluated in the
+    /// current step (`interact::Laws::margin`; derived, set by `cycle::one_step`).
+    pub margins: [f64; 2],
+    /// The largest displacement component of a particle since the last rebuild, as the last
+    /// update left it (derived; `None`: not known, worked out from the displacements).
+    pub max_disp: Option<f64>,
 }
 
 impl Clone for ContactStore {
@@ -1327,6 +1363,8 @@ impl ContactStore {
 
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
+        self.max_disp = None;
+        self.margins = [0.0; 2];
         self.out.clear();
         self.wall_out = WallOut::default();
         self.deferred = false;
@@ -1351,10 +1389,7 @@ impl ContactStore {
             .zip(self.blocks.par_iter())
             .for_each(|((hot, pairs), states)| {
                 for (h, p) in hot.iter_mut().zip(pairs) {
-                    let live = p.slot != NO_STATE && {
-                        let s = &states[p.slot as usize];
-                        s.touching || s.bridge.is_some()
-                    };
+                    let live = p.slot != NO_STATE && states[p.slot as usize].live();
                     *h = HotPair {
                         i: p.i,
                         j: p.j,
@@ -1405,9 +1440,12 @@ impl ContactStore {
     }
 }
 
-/// Checkpoint format version 1 stored every contact state in one flat layout (with a contact
-/// normal that was written and never read); this reads it into the current state.
-pub mod v1 {
+/// The contact state as older checkpoint formats laid it out, read into the current state:
+/// version 1 stored every contact state in one flat layout (with a contact normal that was
+/// written and never read); version 2 had no `v_prev` (the velocity-dependent forces were
+/// evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
+/// pair as isolated).
+pub mod old {
     use std::cell::Cell;
 
     use serde::{Deserialize, Deserializer};
@@ -1415,21 +1453,27 @@ pub mod v1 {
     use super::{BridgeState, ContactExt, TangentialState, Vec3};
 
     thread_local! {
-        static READING_V1: Cell<bool> = const { Cell::new(false) };
+        /// The format version being decoded (0: the current one).
+        static READING: Cell<u32> = const { Cell::new(0) };
     }
 
     /// Runs `f` (a decoding of a whole checkpoint payload) with contact states read in the
-    /// version-1 layout.
-    pub fn reading<R>(f: impl FnOnce() -> R) -> R {
-        READING_V1.with(|r| r.set(true));
+    /// layout of format `version`.
+    pub fn reading<R>(version: u32, f: impl FnOnce() -> R) -> R {
+        READING.with(|r| r.set(version));
         let out = f();
-        READING_V1.with(|r| r.set(false));
+        READING.with(|r| r.set(0));
         out
+    }
+
+    /// The format version being decoded (0: the current one).
+    pub fn version() -> u32 {
+        READING.with(|r| r.get())
     }
 
     /// The contact state as format version 1 wrote it (frozen: never change).
     #[derive(Deserialize)]
-    struct ContactState {
+    struct V1 {
         touching: bool,
         overlap: f64,
         normal_force: f64,
@@ -1449,8 +1493,8 @@ pub mod v1 {
         released: [f64; 2],
     }
 
-    impl From<ContactState> for super::ContactState {
-        fn from(o: ContactState) -> Self {
+    impl From<V1> for super::ContactState {
+        fn from(o: V1) -> Self {
             let ext = ContactExt {
                 a_s: o.a_s,
                 gamma: o.gamma,
@@ -1464,6 +1508,7 @@ pub mod v1 {
                 overlap: o.overlap,
                 normal_force: o.normal_force,
                 damp_force: o.damp_force,
+                v_prev: f64::INFINITY,
                 tang_energy: o.tang_energy,
                 a: o.a,
                 tforce: o.tforce,
@@ -1474,14 +1519,47 @@ pub mod v1 {
         }
     }
 
+    /// The contact state as format version 2 wrote it (frozen: never change).
+    #[derive(Deserialize)]
+    struct V2 {
+        touching: bool,
+        overlap: f64,
+        normal_force: f64,
+        damp_force: f64,
+        tang_energy: f64,
+        a: f64,
+        tforce: Vec3,
+        tdamp: Vec3,
+        ext: Option<Box<ContactExt>>,
+        bridge: Option<Box<BridgeState>>,
+    }
+
+    impl From<V2> for super::ContactState {
+        fn from(o: V2) -> Self {
+            super::ContactState {
+                touching: o.touching,
+                overlap: o.overlap,
+                normal_force: o.normal_force,
+                damp_force: o.damp_force,
+                v_prev: f64::INFINITY,
+                tang_energy: o.tang_energy,
+                a: o.a,
+                tforce: o.tforce,
+                tdamp: o.tdamp,
+                ext: o.ext,
+                bridge: o.bridge,
+            }
+        }
+    }
+
     /// Reads a contact state in the layout of the checkpoint being decoded.
     pub fn deserialize_state<'de, D: Deserializer<'de>>(
         de: D,
     ) -> Result<super::ContactState, D::Error> {
-        if READING_V1.with(|r| r.get()) {
-            ContactState::deserialize(de).map(Into::into)
-        } else {
-            super::ContactState::deserialize(de)
+        match version() {
+            1 => V1::deserialize(de).map(Into::into),
+            2 => V2::deserialize(de).map(Into::into),
+            _ => super::ContactState::deserialize(de),
         }
     }
 }
@@ -1584,10 +1662,12 @@ mod tests {
     }
 
     /// The state every contact reads and writes at every step stays small (the force loop
-    /// streams it): law-specific state belongs in `ContactExt` or `BridgeState`.
+    /// streams it): law-specific state belongs in `ContactExt` or `BridgeState`. (120 bytes
+    /// since the separation rate of the last step, `v_prev`, that the second-order dashpot
+    /// needs; 112 before.)
     #[test]
     fn the_per_step_contact_state_stays_small() {
-        assert!(std::mem::size_of::<ContactState>() <= 112);
+        assert!(std::mem::size_of::<ContactState>() <= 120);
         assert!(std::mem::size_of::<Pair>() <= 20);
         assert!(std::mem::size_of::<HotPair>() <= 16);
     }

@@ -177,6 +177,10 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
         .disp
         .par_chunks_mut(CHUNK)
         .for_each(|d| d.fill(Vec3::zeros()));
+    for w in scene.walls.iter_mut() {
+        w.travel = 0.0;
+    }
+    scene.contacts.max_disp = Some(0.0);
     info
 }
 
@@ -284,7 +288,11 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
 pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    super::awake::while_running(|| run_steps(scene, n))
+    let r = super::awake::while_running(|| run_steps(scene, n));
+    // (Derived per step; not kept between commands.)
+    scene.reach_ext = Vec::new();
+    scene.contacts.margins = [0.0; 2];
+    r
 }
 
 /// The body of [`run`].
@@ -438,12 +446,19 @@ pub fn one_step(
     keep: bool,
 ) -> Result<(), Blowup> {
     let dt = model.dt;
+    if !set_margins(scene, model, dt) {
+        scene.contacts.remap = true;
+    }
     if scene.contacts.stale || scene.contacts.remap {
         let tol = rebuild_tol(scene, tol, dt);
         rebuild(scene, tol);
+        set_margins(scene, model, dt);
     }
     let xres = xres_in_use(scene, xres);
-    remove_lost(scene);
+    if remove_lost(scene) {
+        // (The particles' numbering changed: their margins again.)
+        set_margins(scene, model, dt);
+    }
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve;
     let threads = rayon::current_num_threads();
@@ -527,6 +542,12 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
         liquid_share: (scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve)
             .then_some(super::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
+        // (Only in a step, with the margins of its particles: not while priming.)
+        margin: if dt > 0.0 && scene.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP) {
+            scene.contacts.margins[0]
+        } else {
+            0.0
+        },
     };
 
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
@@ -534,6 +555,11 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
     // particle–wall set.
     let laws_pw = Laws {
         beta: scene.damping_pw.beta,
+        margin: if laws_pp.margin > 0.0 {
+            scene.contacts.margins[1]
+        } else {
+            0.0
+        },
         ..laws_pp
     };
     let (pair_acc, wall_acc, parts) = if let Some((mv, keep)) = fuse {
@@ -567,6 +593,81 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
     (acc, parts)
 }
 
+/// Particles per entry of [`Scene::reach_ext`]: the margin of reach is kept per group of
+/// consecutive particles (neighbours in space, the numbering follows it), so that the reach
+/// tests read it from a table that stays in the cache.
+pub const EXT_GROUP: usize = 64;
+
+/// Each group's margin of reach `Δt × its particles' largest velocity component` into `ext`
+/// ([`EXT_GROUP`]); the largest velocity component (any thread count: the same value).
+fn reach_margins(vel: &[Vec3], dt: f64, ext: &mut Vec<f64>) -> f64 {
+    ext.resize(vel.len().div_ceil(EXT_GROUP), 0.0);
+    vel.par_chunks(CHUNK)
+        .zip(ext.par_chunks_mut(CHUNK / EXT_GROUP))
+        .map(|(v, e)| {
+            let mut vmax = 0.0f64;
+            for (v, e) in v.chunks(EXT_GROUP).zip(e.iter_mut()) {
+                let a = v.iter().fold(0.0f64, |m, v| m.max(v.amax()));
+                *e = a * dt;
+                vmax = if a > vmax { a } else { vmax };
+            }
+            vmax
+        })
+        .reduce(|| 0.0, f64::max)
+}
+
+/// The largest displacement component since the last rebuild (kept by the update; worked
+/// out when not known).
+fn max_disp(scene: &mut Scene) -> f64 {
+    if let Some(d) = scene.contacts.max_disp {
+        return d;
+    }
+    let d = scene
+        .particles
+        .disp
+        .par_chunks(CHUNK)
+        .map(|d| d.iter().fold(0.0f64, |m, d| m.max(d.amax())))
+        .reduce(|| 0.0, f64::max);
+    scene.contacts.max_disp = Some(d);
+    d
+}
+
+/// The margins of this step ([`ContactStore::margins`], [`Scene::reach_ext`]): pairs
+/// approaching within half a step's travel get their share of the restitution dashpot
+/// (physics::dashpot), so they are evaluated within Δt × (a bound of their relative speed)
+/// of touching: |v_B − v_A|/2 ≤ (|v_A| + |v_B|)/2 < the sum of the two particles' largest
+/// velocity components (the reach tests keep of those only the ones that may approach); a
+/// particle–wall pair within its particle's margin plus the fastest wall's travel in a step
+/// (`margins[1]`). Zero without a dashpot. Returns whether the candidate
+/// list still holds every pair within those margins (gap at the last rebuild below TOL:
+/// closed since by at most 2√3 × the largest displacement component, and a wall by its
+/// travel).
+fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
+    if !(dt > 0.0) || !model.table.iter().any(|p| p.zeta > 0.0) || scene.particles.is_empty() {
+        scene.contacts.margins = [0.0; 2];
+        scene.reach_ext = Vec::new();
+        return true;
+    }
+    let v = reach_margins(&scene.particles.vel, dt, &mut scene.reach_ext);
+    let d = max_disp(scene);
+    if std::env::var("EXP").as_deref() == Ok("2") {
+        scene.contacts.margins = [0.0; 2];
+        return true;
+    }
+    let walls = scene
+        .walls
+        .iter()
+        .fold(0.0f64, |m, w| m.max(Vec3::from(w.vel).norm() + w.vr.abs()));
+    let travel = scene.walls.iter().fold(0.0f64, |m, w| m.max(w.travel));
+    // (Positive with a dashpot even when nothing moves: it also says "evaluate within the
+    // margins", e.g. a wall that approaches particles at rest.)
+    let m = [(2.0 * v * dt).max(f64::MIN_POSITIVE), walls * dt];
+    scene.contacts.margins = m;
+    let tol = scene.contacts.tol;
+    let s3 = 3f64.sqrt();
+    2.0 * s3 * d + m[0] < tol && s3 * d + travel + v * dt + m[1] < tol
+}
+
 /// The contact forces of the two-region step ([`pair_forces`]): the pairs' energy
 /// increments (per block in block order) and the wall pairs' (per block).
 fn contact_forces<const ADH: bool, const LIQ: bool>(
@@ -595,6 +696,7 @@ fn contact_forces<const ADH: bool, const LIQ: bool>(
         size: scene.size,
         periodic: scene.settings.periodic,
         uni: UniPair::of(model),
+        ext: (laws_pp.margin > 0.0).then_some(&scene.reach_ext[..]),
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,
@@ -1089,11 +1191,26 @@ fn wall_kin<'m>(
     let w = &walls[c.wall as usize];
     let ri = ctx.radius[i];
     let (gap, n) = shapes[c.wall as usize].gap(&ctx.pos[i], ri);
-    if gap > 1e-6 * ri && !c.s.touching && c.s.bridge.is_none() {
+    let far = gap > 1e-6 * ri && !c.s.live();
+    // Beyond the dashpot's margin (the particle's and the fastest wall's travel in a step,
+    // `ContactStore::margins`), or without a dashpot: not evaluated.
+    let reach = match ctx.ext {
+        Some(e) => 1e-6 * ri + e[i / EXT_GROUP] + ctx.laws.margin,
+        None => 1e-6 * ri,
+    };
+    if far && !(gap <= reach) {
         return None;
     }
     let vw = surface_velocity(w, &n);
     let v_rel = vw - ctx.vel[i] - (ctx.spin[i] * ri).cross(&n);
+    if far {
+        // Only a pair approaching within half a step's travel gets the dashpot's share
+        // (the kernel's own test, `interact`).
+        let v_n = v_rel.dot(&n);
+        if !(v_n < 0.0 && -gap - v_n * (0.5 * ctx.laws.dt) > 0.0) {
+            return None;
+        }
+    }
     let r2 = match w.geom {
         WallGeom::Plane { .. } => f64::INFINITY,
         WallGeom::Sphere { radius, .. } => -radius,
@@ -1185,6 +1302,8 @@ struct PairCtx<'a> {
     periodic: [bool; 3],
     /// The particles are all alike: their radius, mass and pair constants.
     uni: Option<UniPair>,
+    /// Per particle, the dashpot's margin of reach (`Scene::reach_ext`; `None`: none).
+    ext: Option<&'a [f64]>,
 }
 
 /// The constants of a scene whose particles all have the same radius, mass and material
@@ -1259,6 +1378,7 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
             dists[q] = dist;
             ds[q] = d / dist;
         }
+
         batch.len = 0;
         for q in 0..m {
             let k = idx[q] as usize;
@@ -1307,7 +1427,7 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                 let (i, j) = (h.i as usize, h.j as usize);
                 let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
                 let out = interact::<ADH, LIQ>(kin, pc, laws, s, acc);
-                let live = s.touching || s.bridge.is_some();
+                let live = s.live();
                 if h.live != live {
                     h.live = live;
                 }
@@ -1326,10 +1446,16 @@ fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     }
 }
 
+/// Velocity of B's contact point relative to A's (the pair's `Kin::v_rel`).
+#[inline(always)]
+fn rel_velocity(c: &PairCtx, (i, j): (usize, usize), (ri, rj): (f64, f64), n: &Vec3) -> Vec3 {
+    c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(n)
+}
+
 /// Asks the processor to fetch the contact states of a sub-batch's evaluated pairs (`idx`)
 /// before their geometry is worked out: the loads of the states then overlap with each
 /// other and with the geometry instead of each waiting in turn (all three cache lines a
-/// 112-byte state can span). Measured on the AMD EPYC host of the fifth session of
+/// 120-byte state can span). Measured on the AMD EPYC host of the fifth session of
 /// 2026-12-03: S1 10k one thread 0.914 × the time (side by side, 8 pairs; doc/performance.md);
 /// prefetching the next sub-batch's states instead (found one sub-batch ahead) was 1.04 ×
 /// slower, prefetching the particles' velocities and spins too no gain.
@@ -1433,7 +1559,7 @@ fn pair_kin<const UNI: bool>(
     } else {
         (c.radius[i], c.radius[j])
     };
-    let v_rel = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(&n);
+    let v_rel = rel_velocity(c, (i, j), (ri, rj), &n);
     let (r_star, m_star) = if UNI {
         (u.r_star, u.m_star)
     } else {
@@ -1889,7 +2015,10 @@ fn finish_move(
             p.spin[i] = Vec3::zeros();
         }
     }
-    if max_disp > xres {
+    // A wall that moved more than XRES since the last rebuild is re-mapped like a particle
+    // (its travel closes a gap as much as a particle's displacement).
+    scene.contacts.max_disp = Some(max_disp);
+    if max_disp > xres || scene.walls.iter().any(|w| w.travel > xres) {
         scene.contacts.remap = true;
     }
 
@@ -1980,10 +2109,11 @@ fn outside_open_side(x: &Vec3, size: &[f64; 3], periodic: &[bool; 3]) -> bool {
     (0..3).any(|k| !periodic[k] && (x[k] < 0.0 || x[k] > size[k]))
 }
 
-/// Removes particles that left through an open side (counted in `lost`).
-fn remove_lost(scene: &mut Scene) {
+/// Removes particles that left through an open side (counted in `lost`); returns whether
+/// any was.
+fn remove_lost(scene: &mut Scene) -> bool {
     if !scene.maybe_outside {
-        return;
+        return false;
     }
     let mut i = 0;
     let mut removed = false;
@@ -2031,6 +2161,7 @@ fn remove_lost(scene: &mut Scene) {
             });
         scene.contacts.clear_derived();
     }
+    removed
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use super::scene::{Liquid, Vec3};
 use crate::lang::command::{BridgeChoice, TangentialChoice};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
 use crate::physics::tangential::{self, TangentialInput};
-use crate::physics::{hertz, jkr::Jkr};
+use crate::physics::{dashpot, hertz, jkr::Jkr};
 
 /// Geometry and kinematics of a contact at this step. A is the particle, B the other
 /// particle or the wall; `n` points from A to B.
@@ -55,6 +55,10 @@ pub struct Laws<'a> {
     pub liquid_share: Option<f64>,
     /// Tangential viscous force of bridges (Goldman, Lian (4.76)).
     pub goldman: bool,
+    /// How far beyond touching a pair (a particle–wall pair) is evaluated this step, so that
+    /// one approaching within half a step's travel gets its share of the dashpot
+    /// (`physics::dashpot`): Δt times a bound of the relative speeds; 0 without a dashpot.
+    pub margin: f64,
 }
 
 /// Energy increments of this step.
@@ -167,6 +171,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
 
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
+    let was_touching = s.touching;
     // A touching contact keeps its own γ; a new one takes the material value, or the base
     // value after an impact (`VELocity ... 1`, Lian App. B).
     let gamma = if !ADH {
@@ -228,48 +233,12 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     }
     s.overlap = alpha;
 
-    if s.touching {
-        fn_b += s.normal_force;
-        // Contact damping: restitution dashpot C α^{1/4} (clamped so the total stays
-        // compressive for non-adhesive contacts), and Rayleigh β k_n.
-        let mut fd = 0.0;
-        if pc.zeta > 0.0 && alpha > 0.0 {
-            // ζ sqrt(m* K) α^{1/4} with K = 4/3 E* sqrt(R*) is ζ sqrt(4/3 E* m* a_H), where
-            // a_H = sqrt(R* α) is the Hertz contact radius (one square root instead of three).
-            let a_h = if gamma == 0.0 {
-                s.a
-            } else {
-                (k.r_star * alpha).sqrt()
-            };
-            fd -= pc.zeta * (4.0 / 3.0 * pc.e_star * k.m_star * a_h).sqrt() * v_n;
-        }
-        if laws.beta > 0.0 {
-            fd -= laws.beta * kn * v_n;
-        }
-        if gamma == 0.0 && s.normal_force + fd < 0.0 {
-            fd = -s.normal_force;
-        }
-        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
-        // step are kept, since they are the ones the next booking must pair with.
-        if dt > 0.0 {
-            s.damp_force = fd;
-        }
-        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
-        fn_b += fd;
-
-        // ---- tangential law ---------------------------------------------------------
-        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
-        }
-    } else if dt > 0.0 && (fd_prev != 0.0 || td_prev != Vec3::zeros()) {
-        // The contact ended: book the second half of the last dashpot forces.
-        let v_t = k.v_rel - k.n * v_n;
-        acc.damping_contact += -0.5 * fd_prev * v_n * dt - 0.5 * td_prev.dot(&v_t) * dt;
-        s.damp_force = 0.0;
-        s.tdamp = Vec3::zeros();
-    }
-
-    // ---- liquid bridge ------------------------------------------------------------------
+    // ---- liquid bridge: formation, rupture, capillary force ------------------------------
+    // (Its viscous force is worked out with the other velocity-dependent forces below.)
+    let mut bridge_prev = 0.0; // the bridge's normal force of the last step
+    let mut bridge_static = 0.0; // capillary force of this step (attractive magnitude)
+    let mut bridge_c = 0.0; // viscous coefficient 6πηR*²/max(S, S_min)
+    let mut sgap = 0.0;
     if let Some(liq) = laws.liquid.filter(|_| LIQ) {
         // Formation on solid contact (DECISIONS.md); touching within round-off counts.
         if s.bridge.is_none() && liq.pvol > 0.0 && k.gap <= 1e-6 * k.r1 {
@@ -300,6 +269,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             if bs.coeffs.model() != bridge_model(laws.bridge) {
                 bs.rebuild(bridge_model(laws.bridge));
             }
+            bridge_prev = bs.f_visc - bs.f_static;
             if k.gap > bs.s_c {
                 // Rupture: the work done against the bridge is lost (Lian §5.7); book the
                 // second half of the last step's forces.
@@ -312,50 +282,135 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
                 }
                 s.bridge = None;
             } else {
-                let sgap = k.gap.max(0.0);
-                let fs = bs.coeffs.force(sgap);
-                // Viscous normal force, compressive positive: −6πηR*² v_n / max(S, S_min).
-                let fv = if liq.eta > 0.0 {
-                    bridge::viscous_normal(
+                sgap = k.gap.max(0.0);
+                bridge_static = bs.coeffs.force(sgap);
+                if liq.eta > 0.0 {
+                    bridge_c = bridge::viscous_normal_coefficient(
                         liq.eta,
                         k.r_star,
-                        v_n,
                         sgap,
                         laws.smin.unwrap_or(0.01 * k.r_star),
-                    )
-                } else {
-                    0.0
-                };
-                // Work done against the attractive force while opening (stored) and the
-                // viscous loss, booked as ½(F_old + F_new)·v_n Δt.
-                bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
-                acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
-                // Goldman's tangential viscous force (4.76), opposing the relative
-                // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
-                let v_t = k.v_rel - k.n * v_n;
-                let vt = if laws.goldman && liq.eta > 0.0 {
-                    v_t.norm()
-                } else {
-                    0.0
-                };
-                let ft = if vt > 0.0 {
-                    let smin = laws.smin.unwrap_or(0.01 * k.r_star);
-                    let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
-                    v_t * (t / vt)
-                } else {
-                    Vec3::zeros()
-                };
-                acc.viscous += -0.5 * (ft + bs.f_tang).dot(&v_t) * dt;
-                ft_b += ft;
-                if dt > 0.0 {
-                    bs.f_static = fs;
-                    bs.f_visc = fv;
-                    bs.f_tang = ft;
+                    );
                 }
-                bs.gap = k.gap;
-                fn_b += fv - fs;
             }
         }
+    }
+
+    // ---- velocity-dependent normal forces (physics::dashpot) ---------------------------------
+    // The restitution dashpot D (R*α)^{1/4} α' while touching, and while approaching within
+    // half a step's travel (its share of the step in which the contact starts); Rayleigh's
+    // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
+    let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
+    let dashed = pc.zeta > 0.0 && (s.touching || approaching);
+    let rayleigh = if laws.beta > 0.0 && s.touching {
+        laws.beta * kn
+    } else {
+        0.0
+    };
+    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
+    let (mut fd, mut fv) = (0.0, 0.0);
+    if viscous {
+        // (While priming, Δt = 0, the step degenerates to the dashpot at α with v: the
+        // forces shown, nothing integrated.)
+        let inv_m = 1.0 / k.m_star;
+        let drive = if dt > 0.0 {
+            let f_prev = p_old + fd_prev + bridge_prev;
+            let f_static = if s.touching { s.normal_force } else { 0.0 } - bridge_static;
+            dashpot::drive(f_static, f_prev, v_n, s.v_prev, inv_m, 1.0 / dt)
+        } else {
+            0.0
+        };
+        // (R* α)^{1/2}: the Hertz contact radius.
+        let a_h = (k.r_star * alpha).sqrt();
+        let (coef, vn) = dashpot::viscous_step(&dashpot::ViscousIn {
+            alpha,
+            v: v_n,
+            drive,
+            dash: if dashed { pc.dash } else { 0.0 },
+            scale: k.m_star * k.m_star * k.r_star,
+            steady: was_touching && alpha > 0.0,
+            point: (k.m_star * a_h).sqrt(),
+            linear: rayleigh + bridge_c,
+            inv_m,
+            dt,
+        });
+        fd = 0.0 - coef * vn;
+        if rayleigh > 0.0 {
+            fd -= rayleigh * vn;
+        }
+        // The tension clamp of the restitution model: the dashpot never pulls a
+        // non-adhesive contact (nor a pair that is only approaching).
+        let p = if s.touching { s.normal_force } else { 0.0 };
+        if gamma == 0.0 && p + fd < 0.0 {
+            fd = -p;
+        }
+        fv = 0.0 - bridge_c * vn;
+        if dt > 0.0 {
+            s.v_prev = v_n;
+        }
+    } else if dt > 0.0 {
+        s.v_prev = f64::INFINITY;
+    }
+
+    if s.touching || fd != 0.0 || fd_prev != 0.0 {
+        // Solid contact (or its approach): the dashpot's booking, the last step's second half
+        // when it has ended.
+        if s.touching {
+            fn_b += s.normal_force;
+        }
+        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
+        // step are kept, since they are the ones the next booking must pair with.
+        if dt > 0.0 {
+            s.damp_force = fd;
+        }
+        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
+        fn_b += fd;
+    }
+    if s.touching {
+        // ---- tangential law ---------------------------------------------------------
+        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
+            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+        }
+    } else if dt > 0.0 && td_prev != Vec3::zeros() {
+        // The contact ended: book the second half of the last tangential dashpot force.
+        let v_t = k.v_rel - k.n * v_n;
+        acc.damping_contact += -0.5 * td_prev.dot(&v_t) * dt;
+        s.tdamp = Vec3::zeros();
+    }
+
+    // ---- liquid bridge: viscous forces and booking -------------------------------------
+    if let Some(liq) = laws.liquid.filter(|_| LIQ)
+        && let Some(bs) = s.bridge.as_deref_mut()
+    {
+        // Work done against the attractive force while opening (stored) and the viscous
+        // loss, booked as ½(F_old + F_new)·v_n Δt.
+        let fs = bridge_static;
+        bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
+        acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
+        // Goldman's tangential viscous force (4.76), opposing the relative
+        // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
+        let v_t = k.v_rel - k.n * v_n;
+        let vt = if laws.goldman && liq.eta > 0.0 {
+            v_t.norm()
+        } else {
+            0.0
+        };
+        let ft = if vt > 0.0 {
+            let smin = laws.smin.unwrap_or(0.01 * k.r_star);
+            let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
+            v_t * (t / vt)
+        } else {
+            Vec3::zeros()
+        };
+        acc.viscous += -0.5 * (ft + bs.f_tang).dot(&v_t) * dt;
+        ft_b += ft;
+        if dt > 0.0 {
+            bs.f_static = fs;
+            bs.f_visc = fv;
+            bs.f_tang = ft;
+        }
+        bs.gap = k.gap;
+        fn_b += fv - fs;
     }
 
     Out {
@@ -497,6 +552,7 @@ mod tests {
             impact: false,
             liquid_share: None,
             goldman: false,
+            margin: 0.0,
         }
     }
 
@@ -522,6 +578,7 @@ mod tests {
             gamma,
             gamma_base: gamma,
             zeta: 0.0,
+            dash: 0.0,
         };
         let mut s = ContactState::default();
         let mut acc = Acc::default();

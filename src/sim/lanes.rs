@@ -16,6 +16,7 @@ use super::contacts::ContactState;
 use super::interact::Kin;
 use super::params::PairConst;
 use super::scene::Vec3;
+use crate::physics::dashpot;
 
 /// Contacts per batch.
 pub const SUB: usize = 32;
@@ -43,9 +44,11 @@ pub struct Batch {
     pub e_star: [f64; SUB],
     pub g_star: [f64; SUB],
     pub mu: [f64; SUB],
+    /// The dashpot's constant ζ sqrt(4/3 E*) (`PairConst::dash`).
     pub zeta: [f64; SUB],
     // state in and out
     pub damp: [f64; SUB],
+    pub v_prev: [f64; SUB],
     pub tfx: [f64; SUB],
     pub tfy: [f64; SUB],
     pub tfz: [f64; SUB],
@@ -53,7 +56,7 @@ pub struct Batch {
     pub tdy: [f64; SUB],
     pub tdz: [f64; SUB],
     pub tang_energy: [f64; SUB],
-    // state out
+    // state out (`normal`: in, the last step's)
     pub a: [f64; SUB],
     pub normal: [f64; SUB],
     // force on B and moment per unit radius
@@ -94,6 +97,7 @@ impl Batch {
             mu: z,
             zeta: z,
             damp: z,
+            v_prev: z,
             tfx: z,
             tfy: z,
             tfz: z,
@@ -145,8 +149,10 @@ impl Batch {
         self.e_star[l] = pc.e_star;
         self.g_star[l] = pc.g_star;
         self.mu[l] = pc.mu;
-        self.zeta[l] = pc.zeta;
+        self.zeta[l] = pc.dash;
         self.damp[l] = s.damp_force;
+        self.v_prev[l] = s.v_prev;
+        self.normal[l] = s.normal_force;
         self.tfx[l] = s.tforce.x;
         self.tfy[l] = s.tforce.y;
         self.tfz[l] = s.tforce.z;
@@ -166,6 +172,7 @@ impl Batch {
         s.normal_force = self.normal[l];
         s.overlap = -self.gap[l];
         s.damp_force = self.damp[l];
+        s.v_prev = self.v_prev[l];
         s.tforce = Vec3::new(self.tfx[l], self.tfy[l], self.tfz[l]);
         s.tang_energy = self.tang_energy[l];
         s.tdamp = Vec3::zeros();
@@ -212,20 +219,40 @@ fn hertz_noslip_impl(b: &mut Batch, dt: f64) {
     // −13 % of this kernel's instructions, its share of the samples 13.6–14.1 % → 11.0–12.4 %;
     // a batch holds ~6 contacts on average). The first `len` lanes are unchanged.
     let n = b.len.min(SUB).div_ceil(4) * 4;
+    let inv_dt = 1.0 / dt;
     for l in 0..n.min(SUB) {
         let (nx, ny, nz) = (b.nx[l], b.ny[l], b.nz[l]);
         let (vx, vy, vz) = (b.vx[l], b.vy[l], b.vz[l]);
         let alpha = -b.gap[l];
         let v_n = vx * nx + vy * ny + vz * nz;
         let fd_prev = b.damp[l];
-        let (e_star, r_star) = (b.e_star[l], b.r_star[l]);
+        let p_old = b.normal[l];
+        let (e_star, r_star, m_star) = (b.e_star[l], b.r_star[l], b.m_star[l]);
         // Hertz (3.14)-(3.15).
         let a = (r_star * alpha).sqrt();
         let p = 4.0 / 3.0 * e_star * a * alpha;
         let fn0 = 0.0 + p;
-        // Restitution dashpot ζ sqrt(4/3 E* m* a) v_n, clamped so the total stays compressive.
-        let fd = 0.0 - b.zeta[l] * (4.0 / 3.0 * e_star * b.m_star[l] * a).sqrt() * v_n;
+        // Restitution dashpot D (R*α)^{1/4} α' over the step with the implicit midpoint
+        // velocity (physics::dashpot), clamped so the total stays compressive.
+        let f_prev = p_old + fd_prev + 0.0;
+        let f_static = p - 0.0;
+        let inv_m = 1.0 / m_star;
+        let drive = dashpot::drive(f_static, f_prev, v_n, b.v_prev[l], inv_m, inv_dt);
+        let (coef, vn) = dashpot::viscous_step(&dashpot::ViscousIn {
+            alpha,
+            v: v_n,
+            drive,
+            dash: b.zeta[l],
+            scale: m_star * m_star * r_star,
+            steady: true,
+            point: (m_star * a).sqrt(),
+            linear: 0.0 + 0.0,
+            inv_m,
+            dt,
+        });
+        let fd = 0.0 - coef * vn;
         let fd = sel(p + fd < 0.0, -p, fd);
+        b.v_prev[l] = v_n;
         let e_damp_n = -0.5 * (fd + fd_prev) * v_n * dt;
         let fn_b = fn0 + fd;
         // Rotation of the shear force into the new contact plane, keeping its length.
@@ -318,6 +345,7 @@ mod tests {
             impact: false,
             liquid_share: None,
             goldman: false,
+            margin: 0.0,
         };
         let mut cases = 0;
         let mut seen = [0usize; 5]; // sliding, sticking, zero shear, shear along n, clamped
@@ -353,6 +381,11 @@ mod tests {
                     gamma: 0.0,
                     gamma_base: 0.0,
                     zeta: 0.3 * r.uniform() + 1e-3,
+                    dash: 0.0,
+                };
+                let pc = PairConst {
+                    dash: pc.zeta * (4.0 / 3.0 * pc.e_star).sqrt(),
+                    ..pc
                 };
                 let tf = match l % 5 {
                     0 => Vec3::zeros(),
@@ -364,6 +397,12 @@ mod tests {
                     overlap: alpha * 0.9,
                     normal_force: 1e-3,
                     damp_force: 1e-4 * r.normal(),
+                    // No history, a history, and one far from the current rate.
+                    v_prev: match l % 3 {
+                        0 => f64::INFINITY,
+                        1 => v_rel.dot(&n) * (1.0 + 1e-3 * r.normal()),
+                        _ => speed * r.normal(),
+                    },
                     tang_energy: 1e-9 * r.uniform(),
                     a: 1e-5,
                     tforce: tf,
@@ -389,7 +428,7 @@ mod tests {
             let fields = |b: &Batch| {
                 let mut v = Vec::new();
                 for a in [
-                    &b.fx, &b.fy, &b.fz, &b.mx, &b.my, &b.mz, &b.a, &b.normal, &b.damp,
+                    &b.fx, &b.fy, &b.fz, &b.mx, &b.my, &b.mz, &b.a, &b.normal, &b.damp, &b.v_prev,
                 ] {
                     v.extend(a.iter().map(|x| x.to_bits()));
                 }
@@ -426,6 +465,7 @@ mod tests {
                 assert_eq!(bits(s.a), bits(b.a[l]));
                 assert_eq!(bits(s.normal_force), bits(b.normal[l]));
                 assert_eq!(bits(s.damp_force), bits(b.damp[l]));
+                assert_eq!(bits(s.v_prev), bits(b.v_prev[l]));
                 assert_eq!(bits(s.tang_energy), bits(b.tang_energy[l]));
                 assert_eq!(s.tdamp, Vec3::zeros());
                 // The general kernel adds its terms to a zero ledger: the sums are the terms.

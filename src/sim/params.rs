@@ -18,6 +18,9 @@ pub struct PairConst {
     pub gamma_base: f64,
     /// Dimensionless dashpot ζ = C/sqrt(m* K) of the restitution damping (0 = none).
     pub zeta: f64,
+    /// ζ sqrt(4/3 E*): the dashpot's force is this times (m*² R* α)^{1/4} α'
+    /// (`physics::dashpot`).
+    pub dash: f64,
 }
 
 /// All particles have the same radius, mass and material, bit for bit (a monodisperse bed,
@@ -134,6 +137,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
                 gamma,
                 gamma_base,
                 zeta,
+                dash: zeta * (4.0 / 3.0 * e_star).sqrt(),
             };
         }
     }

@@ -207,6 +207,10 @@ pub struct Wall {
     pub normal_force: f64,
     /// Accumulated displacement.
     pub disp: [f64; 3],
+    /// How far the wall's surface moved since the last rebuild of the candidate list (a
+    /// plane along its normal; a sphere by its centre and radius): the rebuild trigger
+    /// counts it like a particle's displacement.
+    pub travel: f64,
 }
 
 /// Rayleigh damping parameters for one contact set (Lian §5.8; DECISIONS.md).
@@ -307,6 +311,7 @@ pub struct Scene {
     pub regions: [Option<Region>; 2],
     pub particles: Particles,
     pub next_id: u32,
+    #[serde(deserialize_with = "old_walls")]
     pub walls: Vec<Wall>,
     pub contacts: ContactStore,
     pub settings: Settings,
@@ -333,6 +338,13 @@ pub struct Scene {
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     #[serde(skip, default = "always")]
     pub maybe_outside: bool,
+    /// Per group of `cycle::EXT_GROUP` consecutive particles, how far beyond touching their
+    /// pairs are evaluated in the current step: Δt × their largest velocity component, so
+    /// that a pair approaching within half a step's travel gets its share of the restitution
+    /// dashpot (`physics::dashpot`); empty without a dashpot (derived, not saved: set by
+    /// `cycle::one_step`).
+    #[serde(skip)]
+    pub reach_ext: Vec<f64>,
     /// The particles the last command placed, if it was an AGEnerate (derived, not saved;
     /// any other command forgets them, SAve included, so a RESTart sees the same): the next
     /// AGEnerate into the same agglomerate orders them with its own (a BCC lattice is two
@@ -389,6 +401,7 @@ impl Scene {
             reference: None,
             history: Default::default(),
             maybe_outside: true,
+            reach_ext: Vec::new(),
             lattice_run: None,
             create_index: None,
         }
@@ -471,4 +484,41 @@ pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3]) -> Vec3 {
         }
     }
     d
+}
+
+/// A wall as checkpoint formats 1 and 2 wrote it (frozen: never change): without `travel`,
+/// read as 0 (the restarted run re-maps when it has moved XRES from where it was saved).
+#[derive(Deserialize)]
+struct WallV2 {
+    geom: WallGeom,
+    vel: [f64; 3],
+    vr: f64,
+    material: usize,
+    servo: Option<Servo>,
+    force: [f64; 3],
+    normal_force: f64,
+    disp: [f64; 3],
+}
+
+/// Reads the walls in the layout of the checkpoint being decoded
+/// (`sim::contacts::old::version`).
+fn old_walls<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Vec<Wall>, D::Error> {
+    match super::contacts::old::version() {
+        1 | 2 => Vec::<WallV2>::deserialize(de).map(|v| {
+            v.into_iter()
+                .map(|w| Wall {
+                    geom: w.geom,
+                    vel: w.vel,
+                    vr: w.vr,
+                    material: w.material,
+                    servo: w.servo,
+                    force: w.force,
+                    normal_force: w.normal_force,
+                    disp: w.disp,
+                    travel: 0.0,
+                })
+                .collect()
+        }),
+        _ => Vec::<Wall>::deserialize(de),
+    }
 }

@@ -108,13 +108,18 @@ pub fn advance(w: &mut Wall, dt: f64) {
     match &mut w.geom {
         WallGeom::Plane { normal, d } => {
             let n = Vec3::from(*normal);
-            *d += n.dot(&Vec3::from(w.vel)) * dt;
+            let step = n.dot(&Vec3::from(w.vel)) * dt;
+            *d += step;
+            // The plane moves along its unit normal by step/|n|.
+            w.travel += (step / n.norm()).abs();
         }
         WallGeom::Sphere { centre, radius } | WallGeom::Obstacle { centre, radius } => {
             for k in 0..3 {
                 centre[k] += w.vel[k] * dt;
             }
-            *radius = (*radius + w.vr * dt).max(0.0);
+            let r = (*radius + w.vr * dt).max(0.0);
+            w.travel += Vec3::from(w.vel).norm() * dt + (r - *radius).abs();
+            *radius = r;
         }
     }
 }

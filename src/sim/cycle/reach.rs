@@ -23,7 +23,7 @@ use std::arch::x86_64::*;
 use super::super::contacts::HotPair;
 use super::super::lanes::SUB;
 use super::super::scene::{Vec3, nearest_image};
-use super::PairCtx;
+use super::{EXT_GROUP, PairCtx};
 
 // One bit a candidate of a sub-batch.
 const _: () = assert!(SUB <= 32);
@@ -80,6 +80,13 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
         let _ = vector;
         scalar()
     };
+    let (mask, zone) = mask;
+    // Within the dashpot's margin only the pairs that may approach within half a step.
+    let mask = if zone != 0 {
+        mask | approaching(hots, c, zone, (ur, allow), radius)
+    } else {
+        mask
+    };
     let mut m = 0;
     for k in 0..hots.len() {
         idx[m] = (start + k) as u32;
@@ -88,14 +95,66 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
     m
 }
 
-/// The reach (R_A + R_B, times `allow`) of a pair, squared.
+/// Of the candidates in the dashpot's margin (bits of `zone`: beyond the reach, within it
+/// plus the particles' margins `PairCtx::ext`), the ones that may approach within half a
+/// step, as bits: the kernel treats a pair as approaching when `v_n < 0` and
+/// `gap < −v_n Δt/2` (`interact`). With `d` the separation, `R` the sum of the radii, `e`
+/// the margins and `dv` the relative velocity of the centres, `gap |d| = d² − R |d|`, and
+/// for `R ≤ |d| ≤ R + e`, `gap |d| ≥ R (d² − R²)/(2R + e)`; so a pair with
+/// `R (d² − R²) ≥ −(dv·d) Δt/2 (2R + e)` (plus a round-off allowance: the kernel's `v_n` has
+/// the spins' part too, zero up to round-off) cannot be approaching and is left out. No
+/// square root; the rare candidates in the margin only.
+#[inline(never)]
+fn approaching(
+    hots: &[HotPair],
+    c: &PairCtx,
+    zone: u32,
+    (ur, allow): (f64, f64),
+    radius: Option<&[f64]>,
+) -> u32 {
+    let Some(ext) = c.ext else { return 0 };
+    let half = 0.5 * c.laws.dt;
+    let mut keep = 0u32;
+    for (k, h) in hots.iter().enumerate() {
+        if (zone >> k) & 1 == 0 {
+            continue;
+        }
+        let (i, j) = (h.i as usize, h.j as usize);
+        let d = separation(h, c);
+        let r = match radius {
+            Some(r) => r[i] + r[j],
+            None => ur + ur,
+        } * allow;
+        let e = ext[i / EXT_GROUP] + ext[j / EXT_GROUP];
+        let dv = c.vel[j] - c.vel[i];
+        let lhs = r * (d.norm_squared() - r * r);
+        let rhs = -dv.dot(&d) * half * (2.0 * r + e);
+        if lhs < rhs + 1e-9 * r * r * r {
+            keep |= 1 << k;
+        }
+    }
+    keep
+}
+
+/// The reach (R_A + R_B, times `allow`) of a pair and that plus the particles' margins for
+/// the dashpot (`ext`; the same without), squared.
 #[inline(always)]
-fn reach2(h: &HotPair, radius: Option<&[f64]>, (ur, allow): (f64, f64)) -> f64 {
+fn reach2(
+    h: &HotPair,
+    radius: Option<&[f64]>,
+    ext: Option<&[f64]>,
+    (ur, allow): (f64, f64),
+) -> (f64, f64) {
+    let (i, j) = (h.i as usize, h.j as usize);
     let reach = match radius {
-        Some(r) => (r[h.i as usize] + r[h.j as usize]) * allow,
+        Some(r) => (r[i] + r[j]) * allow,
         None => (ur + ur) * allow,
     };
-    reach * reach
+    let zone = match ext {
+        Some(e) => reach + (e[i / EXT_GROUP] + e[j / EXT_GROUP]),
+        None => reach,
+    };
+    (reach * reach, zone * zone)
 }
 
 /// Bit k: candidate k is evaluated (`PER`: the scene has a periodic axis).
@@ -105,8 +164,9 @@ fn mask_scalar<const PER: bool>(
     c: &PairCtx,
     radius: Option<&[f64]>,
     ur_allow: (f64, f64),
-) -> u32 {
+) -> (u32, u32) {
     let mut mask = 0u32;
+    let mut zone = 0u32;
     for (k, h) in hots.iter().enumerate() {
         // (Nothing is stored in the hot pair: its line stays clean and is not written
         // back to memory.)
@@ -116,10 +176,13 @@ fn mask_scalar<const PER: bool>(
         } else {
             d
         };
-        let near = h.live | !(d.norm_squared() > reach2(h, radius, ur_allow));
+        let d2 = d.norm_squared();
+        let (r2, z2) = reach2(h, radius, c.ext, ur_allow);
+        let near = h.live | !(d2 > r2);
         mask |= (near as u32) << k;
+        zone |= ((!near & (d2 <= z2)) as u32) << k;
     }
-    mask
+    (mask, zone)
 }
 
 /// [`mask_scalar`] without a periodic axis, four candidates at a time.
@@ -133,7 +196,7 @@ unsafe fn mask_avx2(
     c: &PairCtx,
     radius: Option<&[f64]>,
     ur_allow: (f64, f64),
-) -> u32 {
+) -> (u32, u32) {
     let (base, len) = c.pos.parts();
     let base = base as *const f64;
     // x, y, z of a particle; the fourth lane is not read (so no neighbour's element is
@@ -144,10 +207,12 @@ unsafe fn mask_avx2(
     let uni_r2 = _mm256_set1_pd(uni_reach * uni_reach);
     let full = hots.len() / 4 * 4;
     let mut mask = 0u32;
+    let mut zones = 0u32;
     for (g, four) in hots[..full].chunks_exact(4).enumerate() {
         let mut d = [_mm256_setzero_pd(); 4];
         let mut live = 0u32;
         let mut reach = [0.0f64; 4];
+        let mut zone = [0.0f64; 4];
         for (l, h) in four.iter().enumerate() {
             let (i, j) = (h.i as usize, h.j as usize);
             assert!(i < len && j < len, "pair ({i}, {j}) of {len} particles");
@@ -164,6 +229,14 @@ unsafe fn mask_avx2(
             live |= (h.live as u32) << l;
             if let Some(r) = radius {
                 reach[l] = (r[i] + r[j]) * allow;
+            }
+            if let Some(e) = c.ext {
+                let base = if radius.is_some() {
+                    reach[l]
+                } else {
+                    uni_reach
+                };
+                zone[l] = base + (e[i / EXT_GROUP] + e[j / EXT_GROUP]);
             }
         }
         let r2 = if radius.is_some() {
@@ -188,7 +261,16 @@ unsafe fn mask_avx2(
         // !(d² > reach²): true for NaN too, as in the scalar test.
         let near = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_NGT_UQ>(d2, r2)) as u32 | live;
         mask |= near << (4 * g);
+        if c.ext.is_some() {
+            let z = _mm256_set_pd(zone[3], zone[2], zone[1], zone[0]);
+            let z2 = _mm256_mul_pd(z, z);
+            let inside = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, z2)) as u32;
+            zones |= (inside & !near & 0xf) << (4 * g);
+        }
     }
-    let rest = mask_scalar::<false>(&hots[full..], c, radius, ur_allow);
-    mask | rest.checked_shl(full as u32).unwrap_or(0)
+    let (rest, rest_zone) = mask_scalar::<false>(&hots[full..], c, radius, ur_allow);
+    (
+        mask | rest.checked_shl(full as u32).unwrap_or(0),
+        zones | rest_zone.checked_shl(full as u32).unwrap_or(0),
+    )
 }
