@@ -376,7 +376,9 @@ fn blow_up_stops_with_a_message_and_keeps_a_good_state() {
     ));
     let err = s.run_line("cycle 100000").expect_err("must blow up");
     assert!(
-        err.message.contains("blow-up at cycle") || err.message.contains("runaway at cycle"),
+        err.message.contains("blow-up at cycle")
+            || err.message.contains("runaway at cycle")
+            || err.message.contains("crossed wall"),
         "{}",
         err.message
     );

@@ -165,6 +165,8 @@ pub enum Setting {
     Goldman(bool),
     /// `SET FRAgment eps`: neighbour radius of Olsson's DBSCAN fragments (DEFault: 4 R_mean).
     Fragment(Option<f64>),
+    /// `SET TUNnel STOP|DELETE`: what a particle whose centre crossed a wall does.
+    Tunnel(crate::sim::scene::TunnelAction),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -136,6 +136,7 @@ enum SetKw {
     GenOverlap,
     Fragment,
     Goldman,
+    Tunnel,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -154,6 +155,12 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("GENoverlap", SetKw::GenOverlap),
     kw("FRAgment", SetKw::Fragment),
     kw("GOLdman", SetKw::Goldman),
+    kw("TUNnel", SetKw::Tunnel),
+];
+
+const TUNNELS: &[Keyword<crate::sim::scene::TunnelAction>] = &[
+    kw("STOP", crate::sim::scene::TunnelAction::Stop),
+    kw("DELETE", crate::sim::scene::TunnelAction::Delete),
 ];
 
 const BRIDGES: &[Keyword<BridgeChoice>] = &[
@@ -544,7 +551,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP; LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving)."
     ),
     def!(
         "STArt",
@@ -1057,6 +1064,7 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::History => Setting::History(a.count("n")? as u64),
         SetKw::Fragment => Setting::Fragment(length_or_default(a, "eps")?),
         SetKw::Goldman => Setting::Goldman(a.keyword(ONOFF, "ON or OFF")?),
+        SetKw::Tunnel => Setting::Tunnel(a.keyword(TUNNELS, "STOP or DELETE")?),
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

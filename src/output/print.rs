@@ -60,7 +60,7 @@ fn info(scene: &Scene) -> (String, Value) {
         }
     }
     let mut s = format!(
-        "cycle {}  time {:.6e} s  dt {:.6e} s\nballs {} (capacity {}, lost through open sides {})  walls {}\n\
+        "cycle {}  time {:.6e} s  dt {:.6e} s\nballs {} (capacity {}, lost through open sides or walls crossed {})  walls {}\n\
          contacts {} particle-particle, {} particle-wall  ({} candidate pairs, {} touching or overlapping pairs)\n",
         scene.cycle,
         scene.time,

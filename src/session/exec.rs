@@ -11,6 +11,7 @@ use crate::sim::generate::{
 use crate::sim::scene::{
     LatticeRun, MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Region, Scene, Vec3, Wall,
 };
+use crate::sim::walls;
 
 fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
     if m > MAX_MATERIALS {
@@ -427,7 +428,8 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 travel: 0.0,
             });
             scene.contacts.stale = true;
-            Ok(format!("wall {} defined", scene.walls.len()))
+            let opened = open_crossed_axes(scene);
+            Ok(format!("wall {} defined{opened}", scene.walls.len()))
         }
         Command::Awall { n, opts } => {
             if *n == 0 || *n > scene.walls.len() {
@@ -457,7 +459,8 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 w.servo = opts.servo;
             }
             scene.contacts.stale = true;
-            Ok(String::new())
+            let opened = open_crossed_axes(scene);
+            Ok(opened.trim_start_matches("; ").to_string())
         }
         Command::Damping(DampingSpec::Rayleigh {
             frac,
@@ -657,6 +660,24 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             Ok(String::new())
         }
         Command::Set(s) => {
+            if let Setting::Boundary { axes, periodic } = s {
+                let mut want = scene.settings.periodic;
+                for k in 0..3 {
+                    if axes[k] {
+                        want[k] = *periodic;
+                    }
+                }
+                for (w, wall) in scene.walls.iter().enumerate() {
+                    let crossed = walls::crossed_axes(&wall.geom, &want);
+                    if crossed != [false; 3] {
+                        return Err(format!(
+                            "plane wall {} crosses the {} axis, which must stay open (a particle leaving through one side would re-enter behind the wall); turn the wall parallel to the axis first (AWAll n P ...)",
+                            w + 1,
+                            walls::axis_names(&crossed)
+                        ));
+                    }
+                }
+            }
             let st = &mut scene.settings;
             match s {
                 Setting::Tol(v) => st.tol = *v,
@@ -679,6 +700,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 Setting::GenOverlap(f) => st.gen_overlap = *f,
                 Setting::Fragment(e) => st.fragment_eps = *e,
                 Setting::Goldman(on) => st.goldman = *on,
+                Setting::Tunnel(t) => st.tunnel = *t,
             }
             scene.contacts.stale = true;
             Ok(String::new())
@@ -738,6 +760,19 @@ fn index_of(scene: &Scene, id: usize) -> Result<usize, String> {
         .iter()
         .position(|&x| x as usize == id)
         .ok_or_else(|| format!("particle {id} does not exist"))
+}
+
+/// Makes open every periodic axis that a plane wall crosses (doc/limits.md, "Walls and
+/// periodic axes"); returns what it did, as "; the z axis is now open (...)" or "".
+fn open_crossed_axes(scene: &mut Scene) -> String {
+    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
+    if opened == [false; 3] {
+        return String::new();
+    }
+    format!(
+        "; the {} axis is now open: a plane wall across a periodic axis would let a particle that leaves through one side re-enter behind the wall (a particle leaving through an open side is removed and counted)",
+        walls::axis_names(&opened)
+    )
 }
 
 fn check_geom(g: &WallGeom) -> Result<(), String> {

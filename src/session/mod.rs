@@ -319,6 +319,17 @@ fn max_contact_force(scene: &Scene) -> f64 {
     f
 }
 
+/// An error of a run that also had warnings: they follow the error's text (an error would
+/// lose the warnings of its command).
+fn with_notes(message: String, warnings: &[String]) -> String {
+    let mut out = message;
+    for w in warnings {
+        out.push_str("\nwarning: ");
+        out.push_str(w);
+    }
+    out
+}
+
 /// Runs a command that needs a scene; returns the output text and warnings.
 fn scene_command(
     scene: &mut Scene,
@@ -355,7 +366,9 @@ fn scene_command(
                 std::time::Instant::now(),
                 if timing { cpu_ns() } else { 0.0 },
             );
-            cycle::run(scene, *n).map_err(|b| b.message)?;
+            let run = cycle::run(scene, *n);
+            warnings.append(&mut scene.notes);
+            run.map_err(|b| with_notes(b.message, &warnings))?;
             if timing {
                 // Written like every diagnostic: a closed stderr must not panic.
                 let _ = writeln!(
@@ -374,7 +387,9 @@ fn scene_command(
             let (mut ke, mut fm) = (f64::INFINITY, f64::INFINITY);
             while done < *nmax {
                 let n = (*nmax - done).min(100);
-                cycle::run(scene, n).map_err(|b| b.message)?;
+                let run = cycle::run(scene, n);
+                warnings.append(&mut scene.notes);
+                run.map_err(|b| with_notes(b.message, &warnings))?;
                 done += n;
                 let st = energy::stored(scene);
                 ke = st.kinetic_translation + st.kinetic_rotation;

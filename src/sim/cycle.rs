@@ -18,7 +18,7 @@ use super::interact::{Acc, Kin, Laws, interact};
 use super::lanes;
 use super::leapfrog;
 use super::params::{self, Model};
-use super::scene::{Scene, Vec3, Wall};
+use super::scene::{Scene, TunnelAction, Vec3, Wall};
 use super::search;
 use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
 use crate::lang::command::{TangentialChoice, WallGeom};
@@ -309,6 +309,15 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         }
         return Ok(model);
     }
+    // A plane wall across a periodic axis makes the axis open (doc/limits.md; a checkpoint
+    // of an earlier version, or walls turned since, may hold one).
+    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
+    if opened != [false; 3] {
+        scene.notes.push(format!(
+            "the {} axis is now open: a plane wall crosses it, and a particle leaving through one side would re-enter behind the wall",
+            walls::axis_names(&opened)
+        ));
+    }
     let (tol, xres) = search_distances(scene, &model);
     // Commands may have changed contact states between Cycles: derive the pair liveness anew.
     scene.contacts.clear_derived();
@@ -321,18 +330,15 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     }
     let mut snapshot = snapshot_of(scene);
     let every = scene.settings.snapshot_every.max(1);
-    // Energy runaway: the stored energy may not grow far beyond what was put in.
-    let scale = |s: &Scene| super::energy::stored(s).total().max(s.ledger.input().abs());
-    let mut e_ref = scale(scene);
+    // Energy runaway: no energy may appear that the ledger did not put in. The books'
+    // residual at the start (what commands left unbooked) is the reference; the energy
+    // created since is checked against the energy the scene had or was given (`Audit`).
+    let audit = Audit::of(scene);
     // A snapshot is taken before step `s` (of this Cycle) when this holds.
     let snapshot_before = |s: u64| s > 0 && s.is_multiple_of(every);
     for step in 0..n {
         if snapshot_before(step) {
-            let e_now = super::energy::stored(scene).total();
-            // Gravity and moving walls put energy in as the run goes: compare with that too.
-            e_ref = e_ref.max(scene.ledger.input().abs());
-            if !e_now.is_finite() || (e_now > 1e3 * e_ref.max(1e-300) && e_now > 0.0) {
-                let mut e = runaway(scene, e_now, e_ref);
+            if let Some(mut e) = audit.check(scene) {
                 e.message.push_str(&format!(
                     "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
                     snapshot.cycle
@@ -340,14 +346,13 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
                 restore(scene, snapshot);
                 return Err(e);
             }
-            e_ref = e_ref.max(scale(scene));
             // The old snapshot goes before the new one is made (never three copies at once).
             snapshot.particles = Default::default();
             snapshot.contacts = Default::default();
             snapshot = snapshot_of(scene);
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
-        let allowed = 1e3 * e_ref.max(scene.ledger.input().abs()).max(1e-300);
+        let allowed = 1e3 * audit.scale(scene);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
         let keep = step + 1 == n || snapshot_before(step + 1);
@@ -382,7 +387,73 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
             super::record_history(scene);
         }
     }
+    // The end of the Cycle is audited too (a Cycle shorter than the snapshot interval).
+    if let Some(mut e) = audit.check(scene) {
+        e.message.push_str(&format!(
+            "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
+            snapshot.cycle
+        ));
+        restore(scene, snapshot);
+        return Err(e);
+    }
     Ok(model)
+}
+
+/// The energy audit of a `Cycle`: stored energy plus what was dissipated may not exceed the
+/// energy put in (the ledger's input) by more than the energy the scene had or was given —
+/// however slowly it grows (the residual at the start, what commands left unbooked, is
+/// subtracted). The books of a healthy run close to ~1e-3 of the input (doc/timestep.md);
+/// energy created on the scale of all the energy there is, is a blow-up.
+struct Audit {
+    /// Residual of the books at the start.
+    residual: f64,
+    /// Stored energy at the start.
+    stored: f64,
+    /// The least energy scale: every particle pressed against its like to an overlap of
+    /// 1 % of its radius (Hertz, 8/15 E* √R* α^{5/2}), so that a scene at rest is not
+    /// stopped for the round-off of its books.
+    floor: f64,
+}
+
+impl Audit {
+    fn of(scene: &Scene) -> Audit {
+        let p = &scene.particles;
+        let floor = (0..p.len())
+            .map(|i| {
+                let m = &scene.materials[p.material[i] as usize - 1];
+                let e_star = m.young / (2.0 * (1.0 - m.poisson * m.poisson));
+                let r_star = 0.5 * p.radius[i];
+                8.0 / 15.0 * e_star * r_star.sqrt() * (0.01 * p.radius[i]).powf(2.5)
+            })
+            .sum::<f64>();
+        Audit {
+            residual: super::energy::residual(scene),
+            stored: super::energy::stored(scene).total(),
+            floor,
+        }
+    }
+
+    /// The energy scale of the scene: the largest of the energy put in so far, the energy
+    /// stored at the start and the floor.
+    fn scale(&self, scene: &Scene) -> f64 {
+        scene
+            .ledger
+            .input()
+            .abs()
+            .max(self.stored.abs())
+            .max(self.floor)
+            .max(1e-300)
+    }
+
+    /// A runaway, if the energy created since the start exceeds the scene's scale (or the
+    /// stored energy is not finite).
+    fn check(&self, scene: &Scene) -> Option<Blowup> {
+        let stored = super::energy::stored(scene).total();
+        let created = super::energy::residual(scene) - self.residual;
+        let scale = self.scale(scene);
+        (!stored.is_finite() || !created.is_finite() || created > scale)
+            .then(|| runaway(scene, created, scale))
+    }
 }
 
 /// The blow-up snapshot: the scene without what a restore can make anew, the particles'
@@ -407,8 +478,9 @@ pub fn restore(scene: &mut Scene, snapshot: Scene) {
     scene.particles.disp = vec![Vec3::zeros(); n];
 }
 
-/// Describes an energy runaway: which particle carries the most kinetic energy.
-fn runaway(scene: &Scene, e_now: f64, e_ref: f64) -> Blowup {
+/// Describes an energy runaway: how much energy appeared, which particle carries the most
+/// kinetic energy, and what it may be.
+fn runaway(scene: &Scene, created: f64, scale: f64) -> Blowup {
     let p = &scene.particles;
     let mut worst = 0;
     let mut kmax = 0.0;
@@ -422,12 +494,12 @@ fn runaway(scene: &Scene, e_now: f64, e_ref: f64) -> Blowup {
     Blowup {
         cycle: scene.cycle,
         message: format!(
-            "energy runaway at cycle {}: stored energy {:.3e} J is more than 1000 times the energy put in ({:.3e} J); \
+            "energy runaway at cycle {}: {:.3e} J appeared that the energy ledger did not put in, more than the energy the scene holds or was given ({:.3e} J); \
              particle {} at ({:.4e}, {:.4e}, {:.4e}) moves at {:.3e} m/s. \
-             Hint: reduce FRAction, check contact damping (istiff), servo gains and deep overlaps",
+             Hint: check deep overlaps, servo gains and contact damping (istiff); a step too long for the fastest contacts shows as a warning (FRAction AUTO follows it)",
             scene.cycle,
-            e_now,
-            e_ref,
+            created,
+            scale,
             p.id.get(worst).copied().unwrap_or(0),
             p.pos.get(worst).map_or(0.0, |x| x.x),
             p.pos.get(worst).map_or(0.0, |x| x.y),
@@ -449,13 +521,32 @@ pub fn one_step(
     if !set_margins(scene, model, dt) {
         scene.contacts.remap = true;
     }
-    if scene.contacts.stale || scene.contacts.remap {
+    let rebuilt = scene.contacts.stale || scene.contacts.remap;
+    if rebuilt {
         let tol = rebuild_tol(scene, tol, dt);
         rebuild(scene, tol);
         set_margins(scene, model, dt);
     }
     let xres = xres_in_use(scene, xres);
-    if remove_lost(scene) {
+    let mut renumbered = false;
+    // Particles behind a wall's surface: every particle at a rebuild (one that crossed in a
+    // step moved far enough to trigger it, as does a wall that jumped), the wall pairs at
+    // every step; before those that left the work-space are removed (one may have left
+    // through the wall first).
+    if !scene.walls.is_empty() {
+        let behind = behind_walls(scene, rebuilt);
+        if !behind.is_empty() {
+            match scene.settings.tunnel {
+                TunnelAction::Stop => return Err(tunnelled(scene, &behind, dt)),
+                TunnelAction::Delete => {
+                    delete_tunnelled(scene, &behind, dt);
+                    renumbered = true;
+                }
+            }
+        }
+    }
+    renumbered |= remove_lost(scene);
+    if renumbered {
         // (The particles' numbering changed: their margins again.)
         set_margins(scene, model, dt);
     }
@@ -1708,8 +1799,8 @@ fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
 
 /// One chunk's sums of the update: work of gravity, mass-damping loss, largest displacement
 /// component since the last rebuild, the first particle with a non-finite state, whether a
-/// particle is beyond an open side.
-type ChunkSums = (f64, f64, f64, Option<usize>, bool);
+/// particle is beyond an open side, the work of the velocity constraints (`Fix`, 2-D).
+type ChunkSums = (f64, f64, f64, Option<usize>, bool, f64);
 
 /// A chunk's particle arrays.
 struct ChunkArrays<'a> {
@@ -1844,6 +1935,7 @@ impl Mover {
         let (force, moment) = (&*force, &*moment);
         let mut w_grav = 0.0;
         let mut d_mass = 0.0;
+        let mut w_fix = 0.0;
         let mut max_disp = 0.0f64;
         let mut bad: Option<usize> = None;
         let mut outside = false;
@@ -1898,7 +1990,7 @@ impl Mover {
                     .find(|&l| !all_finite(&pos[l], &vel[l]))
                     .map(|l| lo + l);
             }
-            return (s.w_grav, 0.0, s.max_disp, bad, s.outside);
+            return (s.w_grav, 0.0, s.max_disp, bad, s.outside, 0.0);
         }
         for l in 0..vel.len() {
             let i = chunk * CHUNK + l;
@@ -1924,6 +2016,9 @@ impl Mover {
             if two_d {
                 v.z = 0.0;
             }
+            if fx & 7 != 0 || two_d {
+                w_fix += constraint_work(m, &v_old, &v, &f, alpha, dt, fx & 7, two_d);
+            }
             let vbar = (v + v_old) * 0.5;
             w_grav += fb.dot(&vbar) * dt;
             if alpha != 0.0 {
@@ -1946,6 +2041,12 @@ impl Mover {
                     w.x = 0.0;
                     w.y = 0.0;
                 }
+                if (fx >> 3) & 7 != 0 || two_d {
+                    // (In 2-D the spin keeps only its z component: x and y are held.)
+                    let held = ((fx >> 3) & 7) | if two_d { 0b011 } else { 0 };
+                    w_fix +=
+                        constraint_work(inertia, &w_old, &w, &moment[l], alpha, dt, held, false);
+                }
                 if alpha != 0.0 {
                     let wbar = (w + w_old) * 0.5;
                     d_mass += alpha * inertia * wbar.norm_squared() * dt;
@@ -1957,8 +2058,34 @@ impl Mover {
                 bad = Some(i);
             }
         }
-        (w_grav, d_mass, max_disp, bad, outside)
+        (w_grav, d_mass, max_disp, bad, outside, w_fix)
     }
+}
+
+/// The work a velocity constraint did in one step on the components it held (bit k of
+/// `held`: component k; `flat`: the z component, held at 0 in 2-D): the change of their
+/// kinetic energy less the work booked for them (the force `f` with v̄ Δt, the mass damping
+/// α m v̄² Δt), so that the ledger closes when a user drives particles with `Fix`.
+#[allow(clippy::too_many_arguments)]
+fn constraint_work(
+    m: f64,
+    v_old: &Vec3,
+    v: &Vec3,
+    f: &Vec3,
+    alpha: f64,
+    dt: f64,
+    held: u8,
+    flat: bool,
+) -> f64 {
+    let mut w = 0.0;
+    for k in 0..3 {
+        if held & (1 << k) != 0 || (flat && k == 2) {
+            let vbar = 0.5 * (v[k] + v_old[k]);
+            let kinetic = 0.5 * m * (v[k] * v[k] - v_old[k] * v_old[k]);
+            w += kinetic - (f[k] * vbar * dt - alpha * m * vbar * vbar * dt);
+        }
+    }
+    w
 }
 
 /// The end of a step: the chunks' sums (in chunk order), whether the update cleared the
@@ -1977,12 +2104,14 @@ fn finish_move(
     let mut max_disp = 0.0f64;
     let mut bad: Option<usize> = None;
     let mut outside = false;
-    for &(wg, dm, md, b, o) in parts {
+    let mut w_fix = 0.0;
+    for &(wg, dm, md, b, o, wf) in parts {
         outside |= o;
         w_grav += wg;
         d_mass += dm;
         max_disp = max_disp.max(md);
         bad = bad.or(b);
+        w_fix += wf;
     }
     scene.maybe_outside = outside;
     let p = &mut scene.particles;
@@ -2010,10 +2139,15 @@ fn finish_move(
         }
     }
     if scene.zero_always {
+        // The kinetic energy taken out leaves the books as a command's change.
+        let mut taken = 0.0;
         for i in 0..p.len() {
+            taken += 0.5 * p.mass[i] * p.vel[i].norm_squared()
+                + 0.5 * p.inertia(i) * p.spin[i].norm_squared();
             p.vel[i] = Vec3::zeros();
             p.spin[i] = Vec3::zeros();
         }
+        scene.ledger.commands -= taken;
     }
     // A wall that moved more than XRES since the last rebuild is re-mapped like a particle
     // (its travel closes a gap as much as a particle's displacement).
@@ -2023,6 +2157,9 @@ fn finish_move(
     }
 
     let l = &mut scene.ledger;
+    // The work of velocity constraints (Fix, 2-D) is put in by a command, as its kinetic
+    // energy is.
+    l.commands += w_fix;
     l.gravity += w_grav;
     l.walls += wall_work;
     l.damping_mass += d_mass;
@@ -2115,53 +2252,178 @@ fn remove_lost(scene: &mut Scene) -> bool {
     if !scene.maybe_outside {
         return false;
     }
+    let (size, periodic) = (scene.size, scene.settings.periodic);
+    let out: Vec<bool> = scene
+        .particles
+        .pos
+        .iter()
+        .map(|x| outside_open_side(x, &size, &periodic))
+        .collect();
+    if !out.contains(&true) {
+        return false;
+    }
+    // Their kinetic energy leaves the books with them.
+    for (i, _) in out.iter().enumerate().filter(|(_, o)| **o) {
+        let p = &scene.particles;
+        let e = 0.5 * p.mass[i] * p.vel[i].norm_squared()
+            + 0.5 * p.inertia(i) * p.spin[i].norm_squared();
+        scene.ledger.commands -= e;
+        scene.lost += 1;
+    }
+    remove_where(scene, &out);
+    true
+}
+
+/// Removes the particles marked in `gone`, with their pairs and wall pairs (the indices of
+/// the others re-mapped).
+fn remove_where(scene: &mut Scene, gone: &[bool]) {
     let mut i = 0;
-    let mut removed = false;
+    let mut k = 0;
     while i < scene.particles.len() {
-        let x = scene.particles.pos[i];
-        let out = outside_open_side(&x, &scene.size, &scene.settings.periodic);
-        if out {
-            // Its kinetic energy leaves the books with it.
-            let e = 0.5 * scene.particles.mass[i] * scene.particles.vel[i].norm_squared()
-                + 0.5 * scene.particles.inertia(i) * scene.particles.spin[i].norm_squared();
-            scene.ledger.commands -= e;
+        if gone[k] {
             scene.particles.remove(i);
-            scene.lost += 1;
-            removed = true;
         } else {
             i += 1;
         }
+        k += 1;
     }
-    if removed {
-        // Indices changed: drop pairs of removed particles and re-index.
-        let ids = &scene.particles.id;
-        let mut index = std::collections::HashMap::new();
-        for (k, &id) in ids.iter().enumerate() {
-            index.insert(id, k as u32);
-        }
-        scene
-            .contacts
-            .retain_pairs(|c| match (index.get(&c.ida), index.get(&c.idb)) {
-                (Some(&a), Some(&b)) => {
-                    c.i = a;
-                    c.j = b;
-                    true
-                }
-                _ => false,
-            });
-        scene
+    // Indices changed: drop pairs of removed particles and re-index.
+    let ids = &scene.particles.id;
+    let mut index = std::collections::HashMap::new();
+    for (k, &id) in ids.iter().enumerate() {
+        index.insert(id, k as u32);
+    }
+    scene
+        .contacts
+        .retain_pairs(|c| match (index.get(&c.ida), index.get(&c.idb)) {
+            (Some(&a), Some(&b)) => {
+                c.i = a;
+                c.j = b;
+                true
+            }
+            _ => false,
+        });
+    scene
+        .contacts
+        .wall_pairs
+        .retain_mut(|c| match index.get(&c.id) {
+            Some(&a) => {
+                c.i = a;
+                true
+            }
+            None => false,
+        });
+    scene.contacts.clear_derived();
+}
+
+/// Particles whose centre lies behind a wall's surface (gap < −R: behind a plane, outside a
+/// container, inside an obstacle), as (particle, wall) in particle order: every particle
+/// against every wall when `all`, else the wall pairs (candidates) only.
+fn behind_walls(scene: &Scene, all: bool) -> Vec<(usize, usize)> {
+    let p = &scene.particles;
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    let behind = |i: usize, w: usize| {
+        let (gap, _) = shapes[w].gap(&p.pos[i], p.radius[i]);
+        // (NaN is not "behind": a non-finite state is the blow-up check's.)
+        gap < -p.radius[i]
+    };
+    if all {
+        let mut out: Vec<(usize, usize)> = p
+            .pos
+            .par_chunks(CHUNK)
+            .enumerate()
+            .flat_map_iter(|(c, xs)| {
+                let behind = &behind;
+                let nw = shapes.len();
+                (0..xs.len()).flat_map(move |l| {
+                    let i = c * CHUNK + l;
+                    (0..nw).filter(move |&w| behind(i, w)).map(move |w| (i, w))
+                })
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    } else {
+        let mut out: Vec<(usize, usize)> = scene
             .contacts
             .wall_pairs
-            .retain_mut(|c| match index.get(&c.id) {
-                Some(&a) => {
-                    c.i = a;
-                    true
-                }
-                None => false,
-            });
-        scene.contacts.clear_derived();
+            .iter()
+            .filter(|c| behind(c.i as usize, c.wall as usize))
+            .map(|c| (c.i as usize, c.wall as usize))
+            .collect();
+        out.sort_unstable();
+        out
     }
-    removed
+}
+
+/// What a crossing looks like: the particle, the wall, how far behind, the speeds against
+/// the step.
+fn crossing(scene: &Scene, (i, w): (usize, usize), dt: f64) -> String {
+    let p = &scene.particles;
+    let wall = &scene.walls[w];
+    let (gap, n) = WallShape::of(&wall.geom).gap(&p.pos[i], p.radius[i]);
+    let v = p.vel[i];
+    let vw = surface_velocity(wall, &n);
+    // Approach speed towards the wall (n points from the particle to the wall).
+    let approach = (v - vw).dot(&n);
+    format!(
+        "particle {} crossed wall {} at cycle {}: its centre ({:.4e}, {:.4e}, {:.4e}) is {:.3e} m behind the wall's surface \
+         (radius {:.3e} m; it moves at {:.3e} m/s, {:.3e} m/s towards the wall, which moves at {:.3e} m/s: {:.3e} m per step of {:.3e} s)",
+        p.id[i],
+        w + 1,
+        scene.cycle,
+        p.pos[i].x,
+        p.pos[i].y,
+        p.pos[i].z,
+        -(gap + p.radius[i]),
+        p.radius[i],
+        v.norm(),
+        approach,
+        vw.norm(),
+        approach.abs() * dt,
+        dt
+    )
+}
+
+/// The stop of a run on a crossing (`SET TUNnel STOP`).
+fn tunnelled(scene: &Scene, behind: &[(usize, usize)], dt: f64) -> Blowup {
+    let more = if behind.len() > 1 {
+        format!(" ({} particle-wall crossings in all)", behind.len())
+    } else {
+        String::new()
+    };
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "{}{more}. A wall's surface was passed between two steps or two re-mappings: the particle came too fast for the step, \
+             the wall moved too far in one step, or it entered behind the wall. \
+             Hint: a smaller FRAction (or FRAction AUTO), a slower wall (V, or the servo's vmax), walls inside the work-space; \
+             SET TUNnel DELETE removes such particles instead",
+            crossing(scene, behind[0], dt)
+        ),
+    }
+}
+
+/// Deletes the particles that crossed a wall (`SET TUNnel DELETE`), with a note each; what
+/// they held (kinetic energy and their contacts' stored energy) leaves the books with them.
+fn delete_tunnelled(scene: &mut Scene, behind: &[(usize, usize)], dt: f64) {
+    let mut gone = vec![false; scene.particles.len()];
+    for &(i, w) in behind {
+        if !gone[i] {
+            gone[i] = true;
+            let note = format!(
+                "{}; deleted (SET TUNnel DELETE)",
+                crossing(scene, (i, w), dt)
+            );
+            scene.notes.push(note);
+        }
+    }
+    let before = super::energy::stored(scene).total();
+    let n = gone.iter().filter(|g| **g).count() as u64;
+    remove_where(scene, &gone);
+    let after = super::energy::stored(scene).total();
+    scene.ledger.commands += after - before;
+    scene.lost += n;
 }
 
 #[cfg(test)]

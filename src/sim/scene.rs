@@ -247,6 +247,70 @@ pub struct Settings {
     pub fragment_eps: Option<f64>,
     /// Tangential viscous force of liquid bridges (Goldman), off by default.
     pub goldman: bool,
+    /// What a particle whose centre crossed a wall's surface does to the run (`SET TUNnel`).
+    pub tunnel: TunnelAction,
+    /// `FRAction AUTO`: the step follows the scene's fastest approach (`cycle::auto_step`).
+    pub auto_step: bool,
+}
+
+/// `SET TUNnel STOP|DELETE`: a particle whose centre crossed a wall's surface (by a fast
+/// approach, a moving wall, a wrap) stops the run with the last good state kept (`Stop`, the
+/// default), or is deleted and its energy booked as leaving with it (`Delete`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TunnelAction {
+    Stop,
+    Delete,
+}
+
+/// The settings as checkpoint formats 1 and 2 wrote them (frozen: never change).
+#[derive(Deserialize)]
+struct SettingsV2 {
+    tol: Option<f64>,
+    xres: Option<f64>,
+    smin: Option<f64>,
+    bridge: BridgeChoice,
+    tangential: TangentialChoice,
+    liquid_mode: LiquidMode,
+    periodic: [bool; 3],
+    out_dir: String,
+    view: View,
+    snapshot_every: u64,
+    history_every: u64,
+    two_d: bool,
+    fraction: Option<f64>,
+    window: Option<[f64; 6]>,
+    gen_overlap: f64,
+    fragment_eps: Option<f64>,
+    goldman: bool,
+}
+
+/// Reads the settings in the layout of the checkpoint being decoded
+/// (`sim::contacts::old::version`); formats 1 and 2 had no `tunnel` and `auto_step`.
+fn old_settings<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Settings, D::Error> {
+    match super::contacts::old::version() {
+        1 | 2 => SettingsV2::deserialize(de).map(|o| Settings {
+            tol: o.tol,
+            xres: o.xres,
+            smin: o.smin,
+            bridge: o.bridge,
+            tangential: o.tangential,
+            liquid_mode: o.liquid_mode,
+            periodic: o.periodic,
+            out_dir: o.out_dir,
+            view: o.view,
+            snapshot_every: o.snapshot_every,
+            history_every: o.history_every,
+            two_d: o.two_d,
+            fraction: o.fraction,
+            window: o.window,
+            gen_overlap: o.gen_overlap,
+            fragment_eps: o.fragment_eps,
+            goldman: o.goldman,
+            tunnel: TunnelAction::Stop,
+            auto_step: false,
+        }),
+        _ => Settings::deserialize(de),
+    }
 }
 
 impl Default for Settings {
@@ -269,6 +333,8 @@ impl Default for Settings {
             gen_overlap: 1e-9,
             fragment_eps: None,
             goldman: false,
+            tunnel: TunnelAction::Stop,
+            auto_step: false,
         }
     }
 }
@@ -314,6 +380,7 @@ pub struct Scene {
     #[serde(deserialize_with = "old_walls")]
     pub walls: Vec<Wall>,
     pub contacts: ContactStore,
+    #[serde(deserialize_with = "old_settings")]
     pub settings: Settings,
     pub gravity: [f64; 3],
     /// Centripetal gravity per agglomerate (m/s², 0 = off).
@@ -338,6 +405,11 @@ pub struct Scene {
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     #[serde(skip, default = "always")]
     pub maybe_outside: bool,
+    /// What a `Cycle` has to tell that is not an error (a particle deleted after crossing a
+    /// wall, a step too long for the fastest approach): the session prints these as warnings
+    /// and empties the list (derived, not saved).
+    #[serde(skip)]
+    pub notes: Vec<String>,
     /// Per group of `cycle::EXT_GROUP` consecutive particles, how far beyond touching their
     /// pairs are evaluated in the current step: Δt × their largest velocity component, so
     /// that a pair approaching within half a step's travel gets its share of the restitution
@@ -402,6 +474,7 @@ impl Scene {
             history: Default::default(),
             maybe_outside: true,
             reach_ext: Vec::new(),
+            notes: Vec::new(),
             lattice_run: None,
             create_index: None,
         }

@@ -76,6 +76,49 @@ fn curved_gap(geom: &WallGeom, x: &Vec3, r: f64) -> (f64, Vec3) {
     }
 }
 
+/// The periodic axes that a plane wall crosses (its unit normal has a component along
+/// them): such an axis must be open, or a particle leaving through one side would re-enter
+/// at the other, behind the wall (doc/limits.md, "Walls and periodic axes").
+pub fn crossed_axes(geom: &WallGeom, periodic: &[bool; 3]) -> [bool; 3] {
+    let mut out = [false; 3];
+    if let WallGeom::Plane { normal, .. } = geom {
+        let n = Vec3::from(*normal);
+        let len = n.norm();
+        for k in 0..3 {
+            out[k] = periodic[k] && (n[k] / len).abs() > 1e-12;
+        }
+    }
+    out
+}
+
+/// Makes open every periodic axis that a plane wall of `walls` crosses; returns those axes.
+pub fn open_crossed(walls: &[Wall], periodic: &mut [bool; 3]) -> [bool; 3] {
+    let mut opened = [false; 3];
+    for w in walls {
+        let c = crossed_axes(&w.geom, periodic);
+        for k in 0..3 {
+            opened[k] |= c[k];
+        }
+    }
+    for k in 0..3 {
+        if opened[k] {
+            periodic[k] = false;
+        }
+    }
+    opened
+}
+
+/// The axes' names of `axes`, as "x and z".
+pub fn axis_names(axes: &[bool; 3]) -> String {
+    let names: Vec<&str> = ["x", "y", "z"]
+        .iter()
+        .zip(axes)
+        .filter(|(_, a)| **a)
+        .map(|(n, _)| *n)
+        .collect();
+    names.join(" and ")
+}
+
 /// Effective radius R* of a particle against a wall: plane R, container R d/(d − R),
 /// obstacle R d/(d + R) (DECISIONS.md).
 #[inline]

@@ -306,7 +306,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
     } = &plan;
     let ntasks = scatter.ranges.len();
     wall_out.pieces.resize_with(ntasks, WallPiece::default);
-    let mut sums: Vec<ChunkSums> = vec![(0.0, 0.0, 0.0, None, false); np.div_ceil(CHUNK)];
+    let mut sums: Vec<ChunkSums> = vec![(0.0, 0.0, 0.0, None, false, 0.0); np.div_ceil(CHUNK)];
     let sh = Shared {
         vel: p.vel.as_mut_ptr(),
         pos: p.pos.as_mut_ptr(),
