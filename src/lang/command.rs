@@ -253,8 +253,9 @@ pub enum Command {
         r: f64,
     },
     Fro,
+    /// `FRAction f`, or `FRAction AUTO` (`None`: the step follows the fastest contact).
     Fraction {
-        f: f64,
+        f: Option<f64>,
     },
     Friction {
         mu: f64,

@@ -297,13 +297,20 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "FRAction",
-        "f",
-        &[],
+        "f | AUTO",
+        &["AUTO"],
         true,
-        |a| Ok(Command::Fraction {
-            f: a.positive("f")?
-        }),
-        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766)."
+        |a| {
+            const AUTO: &[Keyword<()>] = &[kw("AUTO", ())];
+            Ok(Command::Fraction {
+                f: if a.try_keyword(AUTO)?.is_some() {
+                    None
+                } else {
+                    Some(a.positive("f")?)
+                },
+            })
+        },
+        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
     ),
     def!(
         "FRiction",

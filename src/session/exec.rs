@@ -522,7 +522,14 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             Ok(String::new())
         }
         Command::Fraction { f } => {
-            scene.settings.fraction = Some(*f);
+            match f {
+                Some(f) => {
+                    scene.settings.fraction = Some(*f);
+                    scene.settings.auto_step = None;
+                }
+                // (0: worked out at the next Cycle.)
+                None => scene.settings.auto_step = Some(0.0),
+            }
             Ok(String::new())
         }
         Command::Gravity { g } => {

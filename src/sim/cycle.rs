@@ -236,6 +236,12 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
             ));
         }
     }
+    if let Ok(model) = params::build(scene)
+        && scene.settings.auto_step.is_none()
+        && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
+    {
+        out.push(w);
+    }
     if let Ok(model) = params::build(scene) {
         for (w, wall) in scene.walls.iter().enumerate() {
             if let Some(s) = wall.servo {
@@ -297,7 +303,7 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
 
 /// The body of [`run`].
 fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
-    let model = check(scene).map_err(|m| Blowup {
+    let mut model = check(scene).map_err(|m| Blowup {
         cycle: scene.cycle,
         message: m,
     })?;
@@ -322,12 +328,28 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     // Commands may have changed contact states between Cycles: derive the pair liveness anew.
     scene.contacts.clear_derived();
     scene.maybe_outside = true;
+    let commanded = scene.contacts.stale;
     if scene.contacts.stale {
         prime(scene, &model, tol);
     } else if !tol_serves(scene, scene.contacts.tol, tol) {
         // Only the search distance changed: re-map, keep the states of the last step.
         scene.contacts.remap = true;
     }
+    // FRAction AUTO: the step of the last rebuild goes on (the same bits after SAve and
+    // RESTart, or across Cycle commands) unless a command changed the scene.
+    if let Some(kept) = scene.settings.auto_step {
+        let dt = if kept > 0.0 && !commanded {
+            kept.min(model.dt_base)
+        } else {
+            super::contact_time::auto_step(scene, &model, model.dt_base)
+        };
+        scene.settings.auto_step = Some(dt);
+        model.dt = dt;
+    }
+    // (A step too long for the fastest contact at the start is the session's pre-Cycle
+    // warning, `warnings`.)
+    let mut warned_step = scene.settings.auto_step.is_some()
+        || super::contact_time::warning(scene, &model, model.fraction).is_some();
     let mut snapshot = snapshot_of(scene);
     let every = scene.settings.snapshot_every.max(1);
     // Energy runaway: no energy may appear that the ledger did not put in. The books'
@@ -352,11 +374,21 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
             snapshot = snapshot_of(scene);
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
+        let rebuilds_before = scene.contacts.rebuilds;
         let allowed = 1e3 * audit.scale(scene);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
         let keep = step + 1 == n || snapshot_before(step + 1);
-        let mut result = one_step(scene, &model, (tol, xres), keep);
+        let mut result = one_step(scene, &mut model, (tol, xres), keep);
+        if result.is_ok() && scene.contacts.rebuilds != rebuilds_before && !warned_step {
+            // At each rebuild: a step too long for the fastest contact (once a Cycle).
+            if scene.settings.auto_step.is_none()
+                && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
+            {
+                scene.notes.push(w);
+                warned_step = true;
+            }
+        }
         // A particle that leaves through an open side carrying far more energy than was
         // ever put in is a blow-up, not an exit.
         let carried = commands_before - scene.ledger.commands;
@@ -513,11 +545,11 @@ fn runaway(scene: &Scene, created: f64, scale: f64) -> Blowup {
 /// update clears them as it goes, which saves the next step a pass over them).
 pub fn one_step(
     scene: &mut Scene,
-    model: &Model,
+    model: &mut Model,
     (tol, xres): (f64, f64),
     keep: bool,
 ) -> Result<(), Blowup> {
-    let dt = model.dt;
+    let mut dt = model.dt;
     if !set_margins(scene, model, dt) {
         scene.contacts.remap = true;
     }
@@ -525,8 +557,15 @@ pub fn one_step(
     if rebuilt {
         let tol = rebuild_tol(scene, tol, dt);
         rebuild(scene, tol);
+        // FRAction AUTO: the step follows the fastest contact at every rebuild.
+        if scene.settings.auto_step.is_some() {
+            dt = super::contact_time::auto_step(scene, model, model.dt_base);
+            scene.settings.auto_step = Some(dt);
+            model.dt = dt;
+        }
         set_margins(scene, model, dt);
     }
+    let model = &*model;
     let xres = xres_in_use(scene, xres);
     let mut renumbered = false;
     // Particles behind a wall's surface: every particle at a rebuild (one that crossed in a

@@ -2,6 +2,7 @@
 //! the energy ledger. No I/O happens here: the session asks and formats.
 
 pub mod awake;
+pub mod contact_time;
 pub mod contacts;
 pub mod cycle;
 pub mod energy;

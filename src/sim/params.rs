@@ -57,7 +57,14 @@ pub struct Model {
     /// Some pair has friction or adhesion: tangential forces and rotations are needed.
     pub rotation: bool,
     pub adhesion: bool,
+    /// The step in use (with `FRAction AUTO` it follows the fastest contact, see
+    /// `sim::contact_time`).
     pub dt: f64,
+    /// The step of the scene's FRAction, with the limits of its viscous and Rayleigh
+    /// dashpots.
+    pub dt_base: f64,
+    /// The FRAction in use.
+    pub fraction: f64,
     /// Rayleigh critical step of the scene.
     pub dt_rayleigh: f64,
     /// The particles' common radius, mass and material (no command changes them during a
@@ -189,6 +196,8 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         rotation,
         adhesion,
         dt,
+        dt_base: dt,
+        fraction,
         dt_rayleigh: dt_r,
         uniform: Uniform::of(p),
     })

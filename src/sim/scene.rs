@@ -249,8 +249,10 @@ pub struct Settings {
     pub goldman: bool,
     /// What a particle whose centre crossed a wall's surface does to the run (`SET TUNnel`).
     pub tunnel: TunnelAction,
-    /// `FRAction AUTO`: the step follows the scene's fastest approach (`cycle::auto_step`).
-    pub auto_step: bool,
+    /// `FRAction AUTO`: the step follows the scene's fastest approach
+    /// (`sim::contact_time::auto_step`): `Some(the step in use since the last rebuild)`, 0
+    /// before the first; `None`: the FRAction step.
+    pub auto_step: Option<f64>,
 }
 
 /// `SET TUNnel STOP|DELETE`: a particle whose centre crossed a wall's surface (by a fast
@@ -307,7 +309,7 @@ fn old_settings<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Settings, D::
             fragment_eps: o.fragment_eps,
             goldman: o.goldman,
             tunnel: TunnelAction::Stop,
-            auto_step: false,
+            auto_step: None,
         }),
         _ => Settings::deserialize(de),
     }
@@ -334,7 +336,7 @@ impl Default for Settings {
             fragment_eps: None,
             goldman: false,
             tunnel: TunnelAction::Stop,
-            auto_step: false,
+            auto_step: None,
         }
     }
 }

@@ -143,6 +143,11 @@ pub fn surface_velocity(w: &Wall, n: &Vec3) -> Vec3 {
     }
 }
 
+/// A bound of the speed of a wall's surface: its velocity's magnitude plus its radial speed.
+pub fn surface_speed(w: &Wall) -> f64 {
+    Vec3::from(w.vel).norm() + w.vr.abs()
+}
+
 /// Moves a wall by its velocity over dt (and its radius by vr dt).
 pub fn advance(w: &mut Wall, dt: f64) {
     for k in 0..3 {

@@ -36,3 +36,55 @@ pub fn set_velocity(scene: &mut Scene, i: usize, v: trubal::sim::Vec3) {
     scene.particles.vel[i] = v;
     scene.ledger.commands += trubal::sim::energy::stored(scene).total() - before;
 }
+
+/// What a run of the binary gave.
+pub struct Run {
+    pub ok: bool,
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs `trubal --json ARGS -` with `script` on its standard input, in a fresh temporary
+/// folder.
+pub fn trubal_json(script: &str, args: &[&str]) -> Run {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("trubal-run-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
+        .current_dir(&dir)
+        .arg("--json")
+        .args(args)
+        .arg("-")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(script.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    Run {
+        ok: out.status.success(),
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+/// The JSON objects the run printed with `"print": kind`, in order.
+pub fn printed(run: &Run, kind: &str) -> Vec<serde_json::Value> {
+    run.stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|v| v["print"] == kind)
+        .collect()
+}

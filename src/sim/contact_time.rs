@@ -1,0 +1,160 @@
+//! The time step against the scene's fastest contact: the duration of a Hertz impact at the
+//! largest approach speed, `t_c = 2.868 (m*²/(R* E*² v))^{1/5}` (Hertz theory on Lian 1994
+//! (3.14)–(3.15), `physics::hertz::impact_duration`), compared with Δt. The Rayleigh step
+//! (DECISIONS.md) depends on the materials and sizes only; a contact at 100 m/s lasts about
+//! 2.5 times less than one at 1 m/s, so a step chosen for a settling bed can leave a fast
+//! impact with a handful of steps. Fewer than [`WARN_STEPS`] steps per contact gives a
+//! warning; `FRAction AUTO` takes Δt = min(FRAction × Δt_R, t_c/[`AUTO_STEPS`]) at every
+//! rebuild of the candidate list (doc/timestep.md).
+
+use super::params::Model;
+use super::scene::Scene;
+use super::walls::surface_speed;
+use crate::physics::hertz::HERTZ_DURATION_FACTOR;
+
+/// Below this many steps per contact a `Cycle` warns (restitution, peak force and contact
+/// time are then several per cent off, doc/timestep.md).
+pub const WARN_STEPS: f64 = 10.0;
+
+/// `FRAction AUTO` gives the fastest contact this many steps.
+pub const AUTO_STEPS: f64 = 15.0;
+
+/// The shortest contact the scene's motion can make now.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fastest {
+    /// Its duration (s).
+    pub tc: f64,
+    /// The particle (index) and its speed (m/s).
+    pub particle: usize,
+    pub speed: f64,
+    /// The approach speed (m/s): the particle's speed plus the fastest other particle's, or
+    /// plus the fastest wall's surface speed.
+    pub approach: f64,
+    /// With a wall (its index) rather than a particle like itself.
+    pub wall: Option<usize>,
+}
+
+/// The shortest Hertz contact among each particle's fastest possible approaches: head-on
+/// with the fastest other particle (reduced mass and radius of a pair of its own kind), or
+/// against the fastest wall surface (its own mass and radius; a sphere wall's curvature is
+/// left out). `None` when nothing moves or there are no particles.
+pub fn shortest(scene: &Scene, model: &Model) -> Option<Fastest> {
+    let p = &scene.particles;
+    if p.is_empty() {
+        return None;
+    }
+    // The two largest speeds.
+    let (mut v1, mut i1, mut v2) = (0.0f64, usize::MAX, 0.0f64);
+    for (i, v) in p.vel.iter().enumerate() {
+        let s = v.norm();
+        if s > v1 {
+            (v2, v1, i1) = (v1, s, i);
+        } else if s > v2 {
+            v2 = s;
+        }
+    }
+    let walls: Vec<(usize, f64)> = scene
+        .walls
+        .iter()
+        .enumerate()
+        .map(|(w, wall)| (w, surface_speed(wall)))
+        .collect();
+    // (1.25 m*/K)² / v, K = 4/3 E* √R*: t_c = factor · that^{1/5}; the smallest wins.
+    let key = |m_star: f64, r_star: f64, e_star: f64, v: f64| {
+        let k = 4.0 / 3.0 * e_star * r_star.sqrt();
+        let q = 1.25 * m_star / k;
+        q * q / v
+    };
+    let mut best: Option<(f64, Fastest)> = None;
+    let mut consider = |q: f64, f: Fastest| {
+        if q > 0.0 && q.is_finite() && best.is_none_or(|(b, _)| q < b) {
+            best = Some((q, f));
+        }
+    };
+    for i in 0..p.len() {
+        let s = p.vel[i].norm();
+        let mat = p.material[i] as usize;
+        let (m, r) = (p.mass[i], p.radius[i]);
+        if p.len() > 1 {
+            let other = if i == i1 { v2 } else { v1 };
+            let v = s + other;
+            let e = model.pair(mat, mat).e_star;
+            let f = Fastest {
+                tc: 0.0,
+                particle: i,
+                speed: s,
+                approach: v,
+                wall: None,
+            };
+            consider(key(0.5 * m, 0.5 * r, e, v), f);
+        }
+        for &(w, sw) in &walls {
+            let v = s + sw;
+            let e = model.pair(mat, scene.walls[w].material).e_star;
+            let f = Fastest {
+                tc: 0.0,
+                particle: i,
+                speed: s,
+                approach: v,
+                wall: Some(w),
+            };
+            consider(key(m, r, e, v), f);
+        }
+    }
+    best.map(|(q, f)| Fastest {
+        tc: HERTZ_DURATION_FACTOR * q.powf(0.2),
+        ..f
+    })
+}
+
+/// The warning for a step that gives the fastest contact fewer than [`WARN_STEPS`] steps:
+/// the particle, its speed, the steps per contact and the FRAction that would give
+/// [`AUTO_STEPS`] (`fraction`: the one in use).
+pub fn warning(scene: &Scene, model: &Model, fraction: f64) -> Option<String> {
+    let f = shortest(scene, model)?;
+    let steps = f.tc / model.dt;
+    if !(steps < WARN_STEPS) {
+        return None;
+    }
+    let with = match f.wall {
+        Some(w) => format!("wall {}", w + 1),
+        None => "a particle like it".into(),
+    };
+    Some(format!(
+        "cycle {}: particle {} moves at {:.3e} m/s: a Hertz contact with {with} at {:.3e} m/s lasts {:.3e} s, {:.1} steps of {:.3e} s \
+         (fewer than {WARN_STEPS}: restitution, peak force and contact time are several % off, doc/timestep.md); \
+         FRAction {:.3} would give {AUTO_STEPS} (FRAction AUTO follows the fastest contact)",
+        scene.cycle,
+        scene.particles.id[f.particle],
+        f.speed,
+        f.approach,
+        f.tc,
+        steps,
+        model.dt,
+        fraction * steps / AUTO_STEPS,
+    ))
+}
+
+/// The step of `FRAction AUTO`: the scene's FRAction step `base` (with its limits for
+/// viscous and Rayleigh dashpots), or t_c/[`AUTO_STEPS`] of the fastest contact if shorter.
+pub fn auto_step(scene: &Scene, model: &Model, base: f64) -> f64 {
+    match shortest(scene, model) {
+        Some(f) if f.tc / AUTO_STEPS < base => f.tc / AUTO_STEPS,
+        _ => base,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::physics::hertz::impact_duration;
+
+    /// The key form gives `impact_duration`.
+    #[test]
+    fn the_key_is_the_impact_duration() {
+        let (m, r, e, v) = (3e-10, 1.5e-5, 3.8e10, 200.0);
+        let k = 4.0 / 3.0 * e * f64::sqrt(r);
+        let q = 1.25 * m / k;
+        let tc = super::HERTZ_DURATION_FACTOR * (q * q / v).powf(0.2);
+        assert!((tc / impact_duration(m, r, e, v) - 1.0).abs() < 1e-12);
+    }
+}

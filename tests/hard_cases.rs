@@ -1,0 +1,265 @@
+//! The hard cases of issue 38 through the binary: walls that move through resting particles
+//! (a plane, a servo platen, a shrinking container), a wall across a periodic axis (the
+//! energy pump), a particle faster than the step through a wall (tunnelling), the step that
+//! follows the fastest contact (a warning, FRAction AUTO), and energy created slowly.
+
+mod common;
+use common::*;
+
+const GLASS: &str = "rad 30e-6 1\nymd 70e9 1\npra 0.3 1\ndensity 2650 1\n";
+
+fn xyz(v: &serde_json::Value) -> [f64; 3] {
+    [
+        v[0].as_f64().unwrap(),
+        v[1].as_f64().unwrap(),
+        v[2].as_f64().unwrap(),
+    ]
+}
+
+fn balls(run: &Run) -> Vec<serde_json::Value> {
+    let b = printed(run, "balls");
+    assert!(
+        !b.is_empty(),
+        "no PRint Balls: {}\n{}",
+        run.stdout,
+        run.stderr
+    );
+    b.last().unwrap()["balls"].as_array().unwrap().clone()
+}
+
+/// A plane wall moving at 1 m/s from 0.2 mm below a resting sphere: it must strike it (an
+/// elastic kick to twice the wall's speed), not sweep past its centre (the candidate list
+/// was never rebuilt for a wall's motion).
+#[test]
+fn a_moving_plane_strikes_a_resting_sphere() {
+    let run = trubal_json(
+        &format!(
+            "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}create 5e-4 5e-4 5e-4 0 0 0 0 0 0 1 1\n\
+             dwall p 0 0 1 0.0003 v 0 0 1\ncycle 40000\nprint balls\n"
+        ),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    let b = balls(&run);
+    let v = xyz(&b[0]["vel"]);
+    assert!((v[2] - 2.0).abs() < 0.01, "rebound {v:?}");
+}
+
+/// A layer of 3 × 3 resting spheres swept by a plane rising at 0.5 m/s: every sphere is
+/// pushed, none ends inside or behind the wall.
+#[test]
+fn a_swept_plane_pushes_every_particle_of_a_layer() {
+    let mut creates = String::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            let (x, y) = (4e-4 + 1e-4 * i as f64, 4e-4 + 1e-4 * j as f64);
+            creates.push_str(&format!("create {x} {y} 5e-4 0 0 0 0 0 0 1 1\n"));
+        }
+    }
+    let run = trubal_json(
+        &format!(
+            "start 1e-3 1e-3 1e-3 10 20 2\nset open all\n{GLASS}damping restitution 0.5\n{creates}\
+             dwall p 0 0 1 0.0003 v 0 0 0.5\ncycle 60000\nprint walls balls\n"
+        ),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    let walls = printed(&run, "walls");
+    let wall_z = walls.last().unwrap()["walls"][0]["geometry"]["Plane"]["d"]
+        .as_f64()
+        .unwrap();
+    let b = balls(&run);
+    assert_eq!(b.len(), 9);
+    for p in &b {
+        let (x, v) = (xyz(&p["pos"]), xyz(&p["vel"]));
+        let r = p["radius"].as_f64().unwrap();
+        assert!(
+            x[2] - r > wall_z - 0.05 * r,
+            "inside the wall: {x:?} (wall at {wall_z})"
+        );
+        assert!(v[2] >= 0.5 * 0.99, "not pushed: {v:?}");
+    }
+}
+
+/// A servo platen driven at up to 1 m/s onto three spheres on a floor: it stops on them (the
+/// spheres end between floor and platen), where it used to pass through them to below the
+/// floor with no force.
+#[test]
+fn a_servo_platen_lands_on_the_spheres() {
+    let run = trubal_json(
+        &format!(
+            "start 1e-3 1e-3 1e-3 10 10 3\nset open all\n{GLASS}damping restitution 0.3\n\
+             dwall p 0 0 1 0\ncreate 3e-4 5e-4 30e-6 0 0 0 0 0 0 1 1\n\
+             create 3.6e-4 5e-4 30e-6 0 0 0 0 0 0 1 1\ncreate 4.2e-4 5e-4 30e-6 0 0 0 0 0 0 1 1\n\
+             dwall p 0 0 -1 -2e-4 se 1e-3 1 2e3\ncycle 60000\nprint walls balls\n"
+        ),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    let walls = printed(&run, "walls");
+    let platen = &walls.last().unwrap()["walls"][1];
+    // (Plane −z = d: the platen at z = −d.)
+    let z_platen = -platen["geometry"]["Plane"]["d"].as_f64().unwrap();
+    assert!(
+        z_platen > 5.9e-5 && z_platen < 6.1e-5,
+        "platen at {z_platen}"
+    );
+    for p in &balls(&run) {
+        let z = xyz(&p["pos"])[2];
+        assert!(z > 2.9e-5 && z < 3.1e-5, "sphere at {z}");
+    }
+}
+
+/// A spherical container shrinking at 0.5 m/s onto a 27-sphere cube: it squeezes them, none
+/// ends outside it; shrunk on to a radius the spheres cannot fit in, the run stops naming a
+/// particle that crossed the wall.
+#[test]
+fn a_shrinking_container_squeezes_a_lattice_and_stops_when_they_cannot_fit() {
+    let deck = |cycles: u64| {
+        format!(
+            "start 1e-3 1e-3 1e-3 10 100 2\n{GLASS}damping restitution 0.5\n\
+             aggl 1 5e-4 5e-4 5e-4 1.4e-4\nage 1 1 1 4.4e-4 4.4e-4 4.4e-4 6e-5 6e-5 6e-5\n\
+             dwall sp 5e-4 5e-4 5e-4 2.2e-4 v 0 0 0 -0.5\ncycle {cycles}\nprint balls walls\n"
+        )
+    };
+    // To a radius of 1.305e-4 m (the cube's corners at 1.04e-4 m from the centre, plus R: 1.34e-4 m).
+    let run = trubal_json(&deck(28_000), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let b = balls(&run);
+    assert_eq!(b.len(), 27);
+    let walls = printed(&run, "walls");
+    let radius = walls.last().unwrap()["walls"][0]["geometry"]["Sphere"]["radius"]
+        .as_f64()
+        .unwrap();
+    assert!(radius < 1.31e-4, "{radius}");
+    let corner = 3f64.sqrt() * 6e-5;
+    let mut pushed = 0;
+    for p in &b {
+        let x = xyz(&p["pos"]);
+        let rho = ((x[0] - 5e-4).powi(2) + (x[1] - 5e-4).powi(2) + (x[2] - 5e-4).powi(2)).sqrt();
+        assert!(
+            rho + 3e-5 < radius + 0.05 * 3e-5,
+            "outside: {x:?}, radius {radius}"
+        );
+        // The corners (ids 1, 3, 7, 9, 19, 21, 25, 27: numbered by z, y, x) are pushed in.
+        let id = p["id"].as_u64().unwrap();
+        if [1, 3, 7, 9, 19, 21, 25, 27].contains(&id) {
+            pushed += usize::from(rho < corner - 1e-7);
+        }
+    }
+    assert!(pushed == 8, "{pushed} corners pushed in");
+    // On to radius 0.
+    let run = trubal_json(&deck(60_000), &[]);
+    assert!(!run.ok);
+    assert!(run.stderr.contains("crossed wall 1"), "{}", run.stderr);
+}
+
+/// A floor in the default (periodic) work-space and a particle leaving upwards at 10 m/s:
+/// the z axis is made open, the particle leaves and is counted; nothing re-enters behind
+/// the floor, no energy appears.
+#[test]
+fn a_wall_across_a_periodic_axis_opens_it_and_pumps_no_energy() {
+    let run = trubal_json(
+        "start 0.01 0.01 0.01 10 10 2\nrad 0.0005 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n\
+         dwall p 0 0 1 0.001\ncreate 0.005 0.005 0.005 0 0 10 0 0 0 1 1\ncycle 5000\n\
+         print info energy\n",
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    assert!(
+        run.stdout.contains("the z axis is now open"),
+        "{}",
+        run.stdout
+    );
+    let info = printed(&run, "info");
+    assert_eq!(info[0]["lost"], 1);
+    assert_eq!(info[0]["balls"], 0);
+    let e = &printed(&run, "energy")[0];
+    assert_eq!(e["kinetic"].as_f64().unwrap(), 0.0);
+    // And SET PERiodic Z is refused while the floor is there.
+    let run = trubal_json(
+        "start 0.01 0.01 0.01 10 10 2\nrad 0.0005 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n\
+         dwall p 0 0 1 0.001\nset periodic z\n",
+        &[],
+    );
+    assert!(!run.ok);
+    assert!(run.stderr.contains("crosses the z axis"), "{}", run.stderr);
+}
+
+/// A 30 µm sphere at 10 km/s against a floor at FRAction 1 passes it between two steps: the
+/// run stops naming the particle, the wall and the speed, with the start kept; with
+/// SET TUNnel DELETE the particle is deleted with a warning and the run goes on.
+#[test]
+fn a_particle_through_a_wall_stops_the_run_or_is_deleted() {
+    let deck = |extra: &str| {
+        format!(
+            "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}fraction 1\n{extra}dwall p 0 0 1 0.0001\n\
+             create 5e-4 5e-4 5e-4 0 0 -1e4 0 0 0 1 1\ncycle 200\nprint info\n"
+        )
+    };
+    let run = trubal_json(&deck(""), &[]);
+    assert!(!run.ok);
+    for want in [
+        "particle 1 crossed wall 1",
+        "1.000e4 m/s",
+        "cycle 0",
+        "FRAction",
+    ] {
+        assert!(run.stderr.contains(want), "{want}: {}", run.stderr);
+    }
+    let run = trubal_json(&deck("set tunnel delete\n"), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("deleted (SET TUNnel DELETE)"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(printed(&run, "info")[0]["lost"], 1);
+}
+
+/// A 30 µm glass sphere at 1 km/s onto a floor: at FRAction 0.2 its contact gets ~8 steps,
+/// and the Cycle warns with the FRAction that would give 15; FRAction AUTO gives no warning
+/// and a restitution closer to the set one.
+#[test]
+fn a_step_too_long_for_the_fastest_contact_warns_and_auto_follows_it() {
+    let deck = |extra: &str| {
+        format!(
+            "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}damping restitution 0.5\n{extra}\
+             dwall p 0 0 1 0.0001\ncreate 5e-4 5e-4 5e-4 0 0 -1000 0 0 0 1 1\ncycle 150\n\
+             print balls\n"
+        )
+    };
+    let run = trubal_json(&deck(""), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("particle 1 moves at 1.000e3 m/s") && run.stderr.contains("steps"),
+        "{}",
+        run.stderr
+    );
+    let fixed = xyz(&balls(&run)[0]["vel"])[2] / 1000.0;
+    let run = trubal_json(&deck("fraction auto\n"), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    assert!(!run.stderr.contains("steps of"), "{}", run.stderr);
+    let auto = xyz(&balls(&run)[0]["vel"])[2] / 1000.0;
+    assert!((auto - 0.5).abs() < 0.005, "auto: e = {auto}");
+    assert!((fixed - 0.5).abs() < 0.02, "fixed: e = {fixed}");
+}
+
+/// Energy created slowly is caught: two spheres in a closed box at FRAction 3 (an unstable
+/// step, whose oscillation grows a little at every step) stop with an energy runaway, not
+/// with the box full of energy and exit 0.
+#[test]
+fn energy_created_slowly_stops_the_run() {
+    let run = trubal_json(
+        "start 0.01 0.01 0.01 10 10 0\nrad 0.001 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n\
+         fraction 3\ncreate 0.004 0.005 0.005 0.01 0 0 0 0 0 1 1\n\
+         create 0.006 0.005 0.005 -0.01 0 0 0 0 0 1 1\ncycle 100000\nprint energy\n",
+        &[],
+    );
+    assert!(!run.ok, "{}", run.stdout);
+    assert!(
+        run.stderr.contains("energy runaway") || run.stderr.contains("blow-up"),
+        "{}",
+        run.stderr
+    );
+}
