@@ -428,3 +428,22 @@ fn a_scene_restored_from_the_blow_up_snapshot_goes_on_as_the_original() {
     }
     assert!(leaner > 0, "no snapshot left a pair out");
 }
+
+/// FRAction AUTO: the step follows the fastest contact at every rebuild (a sphere thrown at
+/// 30 m/s into the falling agglomerate of the dry scene changes it); Cycle N; Cycle M, and
+/// Cycle N; SAve; RESTart; Cycle M, are bitwise Cycle N+M (the step in use is kept in the
+/// checkpoint).
+#[test]
+fn fraction_auto_continues_bitwise() {
+    let setup = format!("{DRY}\nfraction auto\ncreate 0.05 0.05 0.09 0 0 -30 0 0 0 1 1");
+    check_continuation("auto", &setup, 1200, &[1, 300, 777]);
+    // The step did change.
+    let dir = scratch("auto-dt");
+    let mut s = session_in(&dir, &setup);
+    let first = trubal::sim::params::build(s.scene.as_ref().unwrap()).unwrap().dt_base;
+    run(&mut s, "cycle 1200");
+    let sc = s.scene.as_ref().unwrap();
+    let dt = sc.settings.auto_step.unwrap();
+    assert!(dt > 0.0 && dt < first, "auto step {dt}, FRAction step {first}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
