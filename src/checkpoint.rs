@@ -28,8 +28,12 @@
 //!
 //! History: version 1 held every contact state in one flat layout; version 2 (slim contact
 //! state: the JKR, Mindlin–Deresiewicz and liquid-return fields behind one optional pointer,
-//! the never-read contact normal dropped) reads it through `sim::contacts::v1`, which is
-//! only a contact-state type because nothing else changed.
+//! the never-read contact normal dropped); version 3 adds the contact state's `v_prev` (the
+//! second-order dashpot's history), each wall's `travel` since the last rebuild, and the
+//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO). Versions 1 and 2 are read
+//! through `sim::contacts::old` (contact states), `scene::old_walls` and
+//! `scene::old_settings`, which read the types that changed in the layout of the version
+//! being decoded.
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
