@@ -440,10 +440,15 @@ fn fraction_auto_continues_bitwise() {
     // The step did change.
     let dir = scratch("auto-dt");
     let mut s = session_in(&dir, &setup);
-    let first = trubal::sim::params::build(s.scene.as_ref().unwrap()).unwrap().dt_base;
+    let first = trubal::sim::params::build(s.scene.as_ref().unwrap())
+        .unwrap()
+        .dt_base;
     run(&mut s, "cycle 1200");
     let sc = s.scene.as_ref().unwrap();
     let dt = sc.settings.auto_step.unwrap();
-    assert!(dt > 0.0 && dt < first, "auto step {dt}, FRAction step {first}");
+    assert!(
+        dt > 0.0 && dt < first,
+        "auto step {dt}, FRAction step {first}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

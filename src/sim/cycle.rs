@@ -268,6 +268,27 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
                         s.gain / loop_gain
                     ));
                 }
+                // The contacts' dashpots close a second loop, without the step: the wall's
+                // speed g × (force error) makes a dashpot force c × speed at once, so
+                // g × n × c above 1 makes the speed change sign every step (c: the
+                // restitution dashpot of the largest particle at the same overlap, plus
+                // Rayleigh's β k).
+                let p = &scene.particles;
+                if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
+                    let pc = model.pair(p.material[i] as usize, wall.material);
+                    let (mi, ri) = (p.mass[i], p.radius[i]);
+                    let c = pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt()
+                        + scene.damping_pw.beta * k;
+                    let dash_gain = s.gain * n * c;
+                    if dash_gain > 1.0 {
+                        out.push(format!(
+                            "servo of wall {}: gain {} through the contacts' dashpots gives a loop gain of {dash_gain:.2e} (> 1): the wall's speed will change sign every step (hunting; the books then close less well); use g below {:.2e}",
+                            w + 1,
+                            s.gain,
+                            s.gain / dash_gain
+                        ));
+                    }
+                }
             }
         }
     }
@@ -1794,17 +1815,15 @@ fn move_all(
 /// The walls' measured forces and the work they put in; then their motion (servo,
 /// advance). Returns the work of the walls on the particles in this step.
 fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
-    let mut wall_work = 0.0;
+    // The walls' measured forces: a plane's normal force, a sphere's radial one.
+    let mut radial = vec![0.0; scene.walls.len()];
     for w in scene.walls.iter_mut() {
         let f = Vec3::from(w.force);
         w.normal_force = match w.geom {
             WallGeom::Plane { normal, .. } => -f.dot(&Vec3::from(normal).normalize()),
             _ => 0.0,
         };
-        // Work done by a moving wall on the particles: −(force on wall)·v_w Δt.
-        wall_work -= f.dot(&Vec3::from(w.vel)) * dt;
     }
-    // Radial force and radial work of spherical walls.
     let round = |w: &Wall| matches!(w.geom, WallGeom::Sphere { .. } | WallGeom::Obstacle { .. });
     let wall_pairs: &[WallPair] = if scene.walls.iter().any(round) {
         &scene.contacts.wall_pairs
@@ -1819,20 +1838,32 @@ fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
                 + c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
             if c.s.touching || c.s.bridge.is_some() {
                 w.normal_force += fn_;
-                let sign = if matches!(w.geom, WallGeom::Sphere { .. }) {
-                    1.0
-                } else {
-                    -1.0
-                };
-                wall_work -= sign * fn_ * w.vr * dt;
+                radial[c.wall as usize] += fn_;
             }
         }
     }
-    for w in scene.walls.iter_mut() {
+    // The servos set the velocities the walls move with until the next step; a wall's work
+    // on the particles is its force times its displacement about this instant, the mean of
+    // the velocity it came with and the one it goes on with (central in time, as the
+    // particles' booking: exact for the scheme when a servo changes the speed every step).
+    let mut wall_work = 0.0;
+    for (w, fr) in scene.walls.iter_mut().zip(&radial) {
+        let (vel_old, vr_old) = (Vec3::from(w.vel), w.vr);
         walls::servo(w);
+        let vel = (vel_old + Vec3::from(w.vel)) * 0.5;
+        let vr = 0.5 * (vr_old + w.vr);
+        // Work done by a moving wall on the particles: −(force on wall)·v_w Δt.
+        wall_work -= Vec3::from(w.force).dot(&vel) * dt;
+        let sign = match w.geom {
+            WallGeom::Sphere { .. } => 1.0,
+            WallGeom::Obstacle { .. } => -1.0,
+            WallGeom::Plane { .. } => 0.0,
+        };
+        if sign != 0.0 {
+            wall_work -= sign * fr * vr * dt;
+        }
         walls::advance(w, dt);
     }
-
     wall_work
 }
 

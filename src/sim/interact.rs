@@ -210,6 +210,17 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
                 let a = j.solve_a_with(a_s, alpha, s.a);
                 s.a = a;
                 s.normal_force = j.force_of_a(a);
+                // The JKR force jumps at snap-in (0 → −8/9 P_c): across the jump the
+                // scheme's work, ½(P_old + P_new)·v Δt (the form of the dashpot's booking,
+                // exact for the leap-frog update), differs from the change of the potential
+                // U(a) + W_p by O(Δt); what the particles gave the contact and the contact
+                // did not store is booked as adhesion loss (as at detachment, above). Between
+                // the jumps the potential follows the force to O(Δt²).
+                if dt > 0.0 && !was_touching {
+                    let work = -0.5 * (p_old + s.normal_force) * v_n * dt;
+                    acc.adhesion += work - (j.energy_of_a(a) + j.peel_work());
+                }
+
                 if laws.beta > 0.0 {
                     kn = j.stiffness_of_a(a).abs();
                 }
