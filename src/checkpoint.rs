@@ -319,6 +319,228 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
     if scene.history.rows.iter().any(|r| r.len() != cols) {
         return Err("a history row has the wrong number of columns".into());
     }
+    check_numbers(scene)
+}
+
+/// Every number of a decoded state is one the program could have written: finite, and
+/// positive or within its range where the program keeps it so (a damaged payload with a
+/// recomputed checksum can hold anything). The message names the first bad field.
+fn check_numbers(scene: &Scene) -> Result<(), String> {
+    let fin = |x: f64| x.is_finite();
+    let fin3 = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    let bad = |what: String| Err::<(), String>(what);
+    if !(scene.size.iter().all(|&x| x > 0.0 && x.is_finite())) {
+        return bad("the work-space size is not positive and finite".into());
+    }
+    if !(scene.time >= 0.0 && fin(scene.time)) {
+        return bad("the time is not finite".into());
+    }
+    if !fin3(&scene.gravity) || !fin3(&scene.cgravity) || !fin(scene.fmm) {
+        return bad("gravity or its mass factor (FMM) is not finite".into());
+    }
+    for d in [&scene.damping_pp, &scene.damping_pw] {
+        if !(d.alpha >= 0.0 && fin(d.alpha) && d.beta >= 0.0 && fin(d.beta)) {
+            return bad("a damping coefficient is negative or not finite".into());
+        }
+    }
+    if let Some(l) = &scene.liquid
+        && !(l.pvol >= 0.0
+            && fin(l.pvol)
+            && l.gamma >= 0.0
+            && fin(l.gamma)
+            && fin(l.theta)
+            && l.eta >= 0.0
+            && fin(l.eta))
+    {
+        return bad("the liquid's parameters are negative or not finite".into());
+    }
+    let st = &scene.settings;
+    for (name, v) in [
+        ("TOL", st.tol),
+        ("XRES", st.xres),
+        ("SMIN", st.smin),
+        ("FRAction", st.fraction),
+        ("FRAgment", st.fragment_eps),
+    ] {
+        if let Some(x) = v
+            && !(x > 0.0 && fin(x))
+        {
+            return bad(format!(
+                "the setting {name} is {x}: not positive and finite"
+            ));
+        }
+    }
+    if let Some(x) = st.auto_step
+        && !(x >= 0.0 && fin(x))
+    {
+        return bad(format!("the step of FRAction AUTO is {x}"));
+    }
+    if !(st.gen_overlap >= 0.0 && st.gen_overlap < 0.1) || st.window.is_some_and(|w| !fin3(&w)) {
+        return bad("the setting GENoverlap or Window is out of range".into());
+    }
+    for (k, &r) in scene.sizes.iter().enumerate() {
+        if !(r >= 0.0 && fin(r)) {
+            return bad(format!("size type {} has radius {r}", k + 1));
+        }
+    }
+    for (k, m) in scene.materials.iter().enumerate() {
+        let ok = [m.density, m.young, m.friction, m.gamma, m.gamma_base]
+            .iter()
+            .all(|&x| x >= 0.0 && fin(x))
+            && fin(m.poisson)
+            && m.poisson < 0.5 + 1e-12
+            && m.poisson > -1.0
+            && m.restitution.is_none_or(|e| (0.0..=1.0).contains(&e));
+        if !ok {
+            return bad(format!("material type {} has a value out of range", k + 1));
+        }
+    }
+    for (k, r) in scene.regions.iter().enumerate() {
+        if let Some(r) = r
+            && !(fin3(&r.centre) && r.radius > 0.0 && fin(r.radius))
+        {
+            return bad(format!("agglomerate region {} is not finite", k + 1));
+        }
+    }
+    let p = &scene.particles;
+    for i in 0..p.len() {
+        let named =
+            |what: &str| Err::<(), String>(format!("particle {} has a non-finite {what}", p.id[i]));
+        for (what, v) in [
+            ("position", &p.pos[i]),
+            ("velocity", &p.vel[i]),
+            ("angular velocity", &p.spin[i]),
+            ("rotation", &p.rot[i]),
+            ("force", &p.force[i]),
+            ("moment", &p.moment[i]),
+            ("displacement", &p.disp[i]),
+        ] {
+            if !v.iter().all(|x| x.is_finite()) {
+                return named(what);
+            }
+        }
+        if !fin(p.radius[i]) || !fin(p.mass[i]) {
+            return named("radius or mass");
+        }
+        if p.liquid.get(i).is_some_and(|&l| !(l >= 0.0 && fin(l))) {
+            return named("liquid");
+        }
+    }
+    for (k, w) in scene.walls.iter().enumerate() {
+        use crate::lang::command::WallGeom;
+        let geom_ok = match w.geom {
+            WallGeom::Plane { normal, d } => {
+                fin3(&normal) && normal.iter().any(|&x| x != 0.0) && fin(d)
+            }
+            WallGeom::Sphere { centre, radius } | WallGeom::Obstacle { centre, radius } => {
+                fin3(&centre) && radius >= 0.0 && fin(radius)
+            }
+        };
+        let servo_ok = w.servo.is_none_or(|s| {
+            fin(s.force) && s.vmax >= 0.0 && fin(s.vmax) && s.gain >= 0.0 && fin(s.gain)
+        });
+        if !(geom_ok
+            && servo_ok
+            && fin3(&w.vel)
+            && fin(w.vr)
+            && fin3(&w.force)
+            && fin(w.normal_force)
+            && fin3(&w.disp)
+            && w.travel >= 0.0
+            && fin(w.travel))
+        {
+            return bad(format!(
+                "wall {} has a geometry, motion or force out of range",
+                k + 1
+            ));
+        }
+    }
+    let state_ok = |s: &crate::sim::contacts::ContactState| {
+        let e = s.ext();
+        let t = &e.tang;
+        let ext_ok = [
+            e.a_s,
+            e.gamma,
+            e.tdelta,
+            t.t,
+            t.stored,
+            e.released[0],
+            e.released[1],
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+            && e.delta.iter().all(|x| x.is_finite())
+            && t.tp.iter().all(|x| x.is_finite())
+            && (t.n_tp as usize) <= t.tp.len();
+        let bridge_ok = s.bridge.as_deref().is_none_or(|b| {
+            [
+                b.volume, b.s_c, b.f_static, b.f_visc, b.gap, b.work, b.share[0], b.share[1],
+            ]
+            .iter()
+            .all(|x| x.is_finite())
+                && b.volume >= 0.0
+                && b.f_tang.iter().all(|x| x.is_finite())
+        });
+        [s.overlap, s.normal_force, s.damp_force, s.tang_energy, s.a]
+            .iter()
+            .all(|x| x.is_finite())
+            && s.a >= 0.0
+            && (s.v_prev.is_finite() || s.v_prev == f64::INFINITY)
+            && s.tforce.iter().all(|x| x.is_finite())
+            && s.tdamp.iter().all(|x| x.is_finite())
+            && ext_ok
+            && bridge_ok
+    };
+    for c in scene.contacts.iter() {
+        if !state_ok(c.s) {
+            return bad(format!(
+                "the contact of particles {} and {} holds a value that is not finite",
+                c.ida, c.idb
+            ));
+        }
+    }
+    for c in &scene.contacts.wall_pairs {
+        if !state_ok(&c.s) {
+            return bad(format!(
+                "the contact of particle {} and wall {} holds a value that is not finite",
+                c.id,
+                c.wall + 1
+            ));
+        }
+    }
+    if !(scene.contacts.tol >= 0.0 && fin(scene.contacts.tol)) {
+        return bad("the candidate list's TOL is not finite".into());
+    }
+    let l = &scene.ledger;
+    if ![
+        l.commands,
+        l.gravity,
+        l.walls,
+        l.friction,
+        l.damping_mass,
+        l.damping_contact,
+        l.viscous,
+        l.adhesion,
+        l.rupture,
+    ]
+    .iter()
+    .all(|x| x.is_finite())
+    {
+        return bad("the energy ledger holds a value that is not finite".into());
+    }
+    if let Some(r) = &scene.reference
+        && !(r.pos.iter().chain(&r.rot).all(|v| fin3(v)) && fin(r.kinetic))
+    {
+        return bad("the reference state (PLot SAve) holds a value that is not finite".into());
+    }
+    if scene
+        .history
+        .rows
+        .iter()
+        .any(|r| !r.iter().all(|x| x.is_finite()))
+    {
+        return bad("a history row holds a value that is not finite".into());
+    }
     Ok(())
 }
 

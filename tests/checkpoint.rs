@@ -547,6 +547,15 @@ fn garbage_with_a_valid_checksum_never_panics() {
                 Ok(Ok(sc)) => {
                     accepted += 1;
                     checkpoint::check_consistency(&sc).unwrap();
+                    // What loads can cycle, or is refused before cycling with a reason: a
+                    // finite step, no NaN (one damaged file used to load with `dt inf`).
+                    if let Ok(model) = trubal::sim::params::build(&sc) {
+                        assert!(
+                            model.dt.is_finite() || sc.particles.is_empty(),
+                            "byte {k} ^ {mask:#x}: dt {}",
+                            model.dt
+                        );
+                    }
                 }
                 Ok(Err(e)) => assert!(!e.is_empty()),
                 Err(_) => panic!("from_bytes panicked on payload byte {k} ^ {mask:#x}"),
@@ -581,6 +590,26 @@ fn impossible_states_are_refused() {
         }),
         ("history", |s| s.history.rows[0].pop().map(|_| ()).unwrap()),
         ("next id", |s| s.next_id = 2),
+        // Numbers the program never writes (a damaged payload with a recomputed checksum).
+        ("particle 1 has a non-finite velocity", |s| {
+            s.particles.vel[0].x = f64::NAN
+        }),
+        ("particle 2 has a non-finite position", |s| {
+            s.particles.pos[1].z = f64::INFINITY
+        }),
+        ("material type 1", |s| s.materials[0].poisson = 0.7),
+        ("material type 2", |s| s.materials[1].young = -1.0),
+        ("TOL", |s| s.settings.tol = Some(f64::INFINITY)),
+        ("wall 1", |s| s.walls[0].vel[2] = f64::NAN),
+        ("contact of particles 1 and 2", |s| {
+            s.contacts.state_mut(0).normal_force = f64::NAN
+        }),
+        ("contact of particle 3 and wall 1", |s| {
+            s.contacts.wall_pairs[0].s.tforce.x = f64::NAN
+        }),
+        ("ledger", |s| s.ledger.friction = f64::NAN),
+        ("time", |s| s.time = f64::INFINITY),
+        ("liquid", |s| s.liquid.as_mut().unwrap().eta = -1.0),
     ];
     for (want, brk) in breakers {
         let mut sc = good.clone();

@@ -1069,7 +1069,6 @@ impl ContactStore {
     }
     /// The contact state of pair `k`, allocated (as the default state) if it had none (the
     /// force loop allocates in place, `cycle::pair_force`; this is for tests).
-    #[cfg(test)]
     pub fn state_mut(&mut self, k: usize) -> &mut ContactState {
         let b = &mut self.blocks[k / BLOCK];
         let p = &mut self.pairs[k];

@@ -242,6 +242,24 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
     {
         out.push(w);
     }
+    // A step the dashpot limits shrink far below the FRAction step (a viscous bridge at a
+    // tiny S_min: SET SMIN 1e-300 made Δt = 5e-302 s without a word).
+    if let Ok(model) = params::build(scene) {
+        let fraction_step = model.fraction * model.dt_rayleigh;
+        if model.dt_base < 0.01 * fraction_step && !scene.particles.is_empty() {
+            out.push(format!(
+                "the step is {:.3e} s, {:.1e} times below the FRAction step {:.3e} s: the viscous force of the bridges at S_min ({}) or Rayleigh contact damping (β = {:.3e} s) limits it; a larger SET SMIN (Lian: R/1000 to R/100) or a smaller β gives a longer step",
+                model.dt_base,
+                fraction_step / model.dt_base,
+                fraction_step,
+                scene
+                    .settings
+                    .smin
+                    .map_or("R*/100".to_string(), |s| format!("{s:.3e} m")),
+                scene.damping_pp.beta.max(scene.damping_pw.beta)
+            ));
+        }
+    }
     if let Ok(model) = params::build(scene) {
         for (w, wall) in scene.walls.iter().enumerate() {
             if let Some(s) = wall.servo {
