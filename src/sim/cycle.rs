@@ -399,13 +399,8 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     let snapshot_before = |s: u64| s > 0 && s.is_multiple_of(every);
     for step in 0..n {
         if snapshot_before(step) {
-            if let Some(mut e) = audit.check(scene) {
-                e.message.push_str(&format!(
-                    "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
-                    snapshot.cycle
-                ));
-                restore(scene, snapshot);
-                return Err(e);
+            if let Some(e) = audit.check(scene) {
+                return Err(stop(scene, snapshot, e));
             }
             // The old snapshot goes before the new one is made (never three copies at once).
             snapshot.particles = Default::default();
@@ -444,13 +439,8 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
                 ),
             });
         }
-        if let Err(mut e) = result {
-            e.message.push_str(&format!(
-                "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
-                snapshot.cycle
-            ));
-            restore(scene, snapshot);
-            return Err(e);
+        if let Err(e) = result {
+            return Err(stop(scene, snapshot, e));
         }
         if scene.settings.history_every > 0
             && scene.cycle.is_multiple_of(scene.settings.history_every)
@@ -459,15 +449,21 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         }
     }
     // The end of the Cycle is audited too (a Cycle shorter than the snapshot interval).
-    if let Some(mut e) = audit.check(scene) {
-        e.message.push_str(&format!(
-            "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
-            snapshot.cycle
-        ));
-        restore(scene, snapshot);
-        return Err(e);
+    if let Some(e) = audit.check(scene) {
+        return Err(stop(scene, snapshot, e));
     }
     Ok(model)
+}
+
+/// A `Cycle` that failed: the scene goes back to the last good snapshot, and the message
+/// says so.
+fn stop(scene: &mut Scene, snapshot: Scene, mut e: Blowup) -> Blowup {
+    e.message.push_str(&format!(
+        "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
+        snapshot.cycle
+    ));
+    restore(scene, snapshot);
+    e
 }
 
 /// The energy audit of a `Cycle`: stored energy plus what was dissipated may not exceed the
