@@ -485,7 +485,7 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
             .iter()
             .all(|x| x.is_finite())
             && s.a >= 0.0
-            && (s.v_prev.is_finite() || s.v_prev == f64::INFINITY)
+            && (s.v_prev.is_finite() || s.v_prev.is_infinite())
             && s.tforce.iter().all(|x| x.is_finite())
             && s.tdamp.iter().all(|x| x.is_finite())
             && ext_ok

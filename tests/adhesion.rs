@@ -145,10 +145,22 @@ fn head_on_sticking_threshold() {
         trubal::sim::cycle::run(&mut sc, 20_000).unwrap();
         let rebound = sc.particles.vel[1].x - sc.particles.vel[0].x;
         let apart = !sc.contacts.iter().any(|c| c.s.touching);
+        // The ledger books each force as ½(F_old + F_new)·v Δt (exact for the leap-frog
+        // scheme): the second half of the last step's force, ½ P v_{N+1/2} Δt, has already
+        // moved the particles and is booked with the next step. While the spheres are
+        // stuck and oscillate it is a few % of this small input: it is taken out here.
+        let dt = sc.time / sc.cycle as f64;
+        let pending = sc.contacts.iter().next().map_or(0.0, |c| {
+            if c.s.touching {
+                0.5 * (c.s.normal_force + c.s.damp_force) * rebound * dt
+            } else {
+                0.0
+            }
+        });
         (
             apart,
             rebound / v_rel,
-            energy::residual(&sc) / sc.ledger.input(),
+            (energy::residual(&sc) - pending) / sc.ledger.input(),
         )
     };
     let (apart, _, res) = outcome(0.98 * v_s);

@@ -264,10 +264,10 @@ fn energy_created_slowly_stops_the_run() {
     );
 }
 
-/// The energy of a JKR impact: the scheme's work across the force jump at snap-in is booked
-/// (as adhesion loss) where the potential U(a) + W_p did not store it, so the books close
-/// to ~1e-3 of the input at the adhesive default FRAction 0.1 and better with a smaller step,
-/// and the adhesion loss is positive at every speed. Before, the kinetic loss was 1.6 × the
+/// The energy of a JKR impact: the scheme's work across the force jumps at snap-in and at
+/// detachment is booked (as adhesion loss) where the potential U(a) + W_p did not store it,
+/// so the books close within 1e-3 of the input (2e-4 at the adhesive default FRAction 0.1)
+/// and better with a smaller step, and the adhesion loss is positive at every speed. Before, the kinetic loss was 1.6 × the
 /// booked adhesion loss at 1 m/s and the booked loss was negative at 20 m/s.
 #[test]
 fn a_jkr_impact_closes_its_books() {
@@ -287,10 +287,7 @@ fn a_jkr_impact_closes_its_books() {
             let e = &printed(&run, "energy")[0];
             let input = e["input"].as_f64().unwrap();
             let r = (e["residual"].as_f64().unwrap() / input).abs();
-            assert!(
-                r < 1.5e-3,
-                "{v} m/s, FRAction {f}: residual {r} of the input"
-            );
+            assert!(r < 1e-3, "{v} m/s, FRAction {f}: residual {r} of the input");
             rel.push(r);
             let adhesion = e["dissipated"]["adhesion"].as_f64().unwrap();
             assert!(adhesion > 0.0, "{v} m/s: adhesion loss {adhesion}");

@@ -199,14 +199,22 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             let e = s.ext_mut();
             e.gamma = gamma;
             e.a_s = j.a_s();
+            if dt == 0.0 {
+                // Snapped in while priming: its force has not acted yet (see below).
+                s.v_prev = f64::NEG_INFINITY;
+            }
         }
         if s.touching {
             let a_s = s.ext().a_s;
             if alpha < -3.0 * a_s * a_s / k.r_star {
-                // Detachment at α_s (3.38): the energy stored since snap-in is lost (3.114).
-                acc.adhesion += normal_strain(s, pc.e_star, k.r_star);
+                // Detachment at α_s (3.38): the energy stored since snap-in is lost (3.114),
+                // with the work its last force did over the second half of its interval,
+                // which the potential does not see (the jump −5/9 P_c → 0, booked as the
+                // snap-in's below).
+                acc.adhesion += normal_strain(s, pc.e_star, k.r_star) - 0.5 * p_old * v_n * dt;
                 reset_solid(s, acc);
             } else {
+                let a_old = s.a;
                 let a = j.solve_a_with(a_s, alpha, s.a);
                 s.a = a;
                 s.normal_force = j.force_of_a(a);
@@ -216,9 +224,17 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
                 // U(a) + W_p by O(Δt); what the particles gave the contact and the contact
                 // did not store is booked as adhesion loss (as at detachment, above). Between
                 // the jumps the potential follows the force to O(Δt²).
-                if dt > 0.0 && !was_touching {
-                    let work = -0.5 * (p_old + s.normal_force) * v_n * dt;
-                    acc.adhesion += work - (j.energy_of_a(a) + j.peel_work());
+                // (A contact that snapped in while priming: its force acts from this step
+                // on, and the priming booked its potential as a command's.)
+                let primed = s.v_prev == f64::NEG_INFINITY;
+                if dt > 0.0 && (!was_touching || primed) {
+                    let (p_acted, stored) = if primed {
+                        (0.0, j.energy_of_a(a) - j.energy_of_a(a_old))
+                    } else {
+                        (p_old, j.energy_of_a(a) + j.peel_work())
+                    };
+                    let work = -0.5 * (p_acted + s.normal_force) * v_n * dt;
+                    acc.adhesion += work - stored;
                 }
 
                 if laws.beta > 0.0 {
