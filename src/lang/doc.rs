@@ -37,7 +37,7 @@ pub fn reference_markdown() -> String {
     let mut s = String::new();
     s.push_str("# Command reference\n\n");
     s.push_str("Generated from the command table in `src/lang/table.rs` (a test fails when this file is out of date;\n");
-    s.push_str("regenerate with `TRUBAL_BLESS=1 cargo test --release doc_commands`).\n\n");
+    s.push_str("regenerate with `TRUBAL_BLESS=1 cargo test --profile ci doc_commands`).\n\n");
     s.push_str("Type a command or keyword in full or abbreviated to at least its upper-case letters, in any case.\n");
     s.push_str("Separators: blanks, tabs, commas, slashes, round brackets. Comments start with `;` or `#`.\n");
     s.push_str("A word in double quotes is taken as it is, e.g. a file name with a directory: `save \"runs/a.sav\"`.\n");
