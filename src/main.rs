@@ -60,7 +60,7 @@ fn main() -> ExitCode {
                 say!("{USAGE}");
                 return ExitCode::SUCCESS;
             }
-            "--version" => {
+            "--version" | "-V" => {
                 say!("trubal {}", env!("CARGO_PKG_VERSION"));
                 return ExitCode::SUCCESS;
             }
@@ -115,9 +115,10 @@ fn session_main(
     };
     let mut session = Session::new(out, json);
     session.vars.extend(vars);
-    let errors = if batch {
+    trubal::session::interrupt::install();
+    let end = if batch {
         match input::run_file(&mut session, "TRUBAL.DAT", keep_going) {
-            Ok(n) => n,
+            Ok(end) => end,
             Err(e) => {
                 complain!("{e}");
                 return ExitCode::FAILURE;
@@ -127,14 +128,14 @@ fn session_main(
         match file.as_deref() {
             Some("-") => input::run_stdin(&mut session, keep_going),
             Some(f) => match input::run_file(&mut session, f, keep_going) {
-                Ok(n) => n,
+                Ok(end) => end,
                 Err(e) => {
                     complain!("{e}");
                     return ExitCode::FAILURE;
                 }
             },
             None if std::io::stdin().is_terminal() => match input::run_interactive(&mut session) {
-                Ok(()) => 0,
+                Ok(()) => input::RunEnd::default(),
                 Err(e) => {
                     complain!("{e}");
                     return ExitCode::FAILURE;
@@ -144,7 +145,10 @@ fn session_main(
         }
     };
     session.flush();
-    if errors > 0 {
+    if end.interrupted {
+        // The shell's code for a program stopped by Ctrl-C (128 + SIGINT).
+        ExitCode::from(130)
+    } else if end.errors > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

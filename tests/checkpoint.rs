@@ -47,7 +47,8 @@ plot save
 cycle 40";
 
 fn session(lines: &str) -> Session {
-    let mut s = Session::new(Box::new(std::io::sink()), false);
+    let mut s =
+        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
     for (k, l) in lines.lines().enumerate() {
         if let Err(e) = s.run_line(l) {
             panic!("line {}: `{l}`: {}", k + 1, e.message);

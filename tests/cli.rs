@@ -75,7 +75,7 @@ fn errors_are_located_with_a_caret() {
 fn typos_and_bad_parameters() {
     let cases: &[(&str, &str)] = &[
         ("start 1 1 1 10 10 1\nprnt info\n", "did you mean PRint"),
-        ("start 1 1 1 10 10 1\np info\n", "too short"),
+        ("start 1 1 1 10 10 1\nst\n", "too short"),
         ("start 1 1 1 10 10 1\nrad 0.1\n", "needs an integer `isize`"),
         ("start 1 1 1 10 10 1\nrad 0.1 1 7\n", "unexpected `7`"),
         ("start 1 1 1 10 10 1\nrad abc 1\n", "expected a number"),
@@ -87,8 +87,8 @@ fn typos_and_bad_parameters() {
             "already defined",
         ),
         (
-            "start 1 1 1 10 10 1\nrad 0.1 1\ncreate 0.5 0.5 0.5 0 0 0 0 0 0 1 3\n",
-            "material type 3 is not defined",
+            "start 1 1 1 10 10 1\nrad 0.1 1\ncreate 0.5 0.5 0.5 0 0 0 0 0 0 1 3\ncycle 1\n",
+            "material 3 has no Young's modulus",
         ),
         (
             "start 1 1 1 10 10 1\ncohesion -1 1\n",
@@ -208,4 +208,234 @@ fn log_file_echoes_commands() {
     assert_eq!(log.matches("work-space").count(), 2, "{log}");
     assert_eq!(log.matches("> ").count(), 2, "{log}"); // `print grid` and `log off`
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Runs raw bytes as a command file (`trubal FILE`), in a scratch folder.
+fn run_file_bytes(tag: &str, bytes: &[u8], args: &[&str]) -> (Option<i32>, String, String) {
+    let dir = std::env::temp_dir().join(format!("trubal-clif-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("in.tru"), bytes).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+        .arg("in.tru")
+        .args(args)
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// Every command sequence the thesis quotes (Lian 1994 §5.3 and Appendix B), verbatim and in
+/// its order: generation before the material, `p c`, `Pr cO`, several commands on a line.
+#[test]
+fn the_thesis_examples_run_verbatim() {
+    let bcc = "start 0.1 0.1 0.1 1000 2000 2 log\n\nrad 0.004330127 1\n\nagen 1 1 1 0 0 0 0.01 0.01 0.01\n\nagen 1 1 1 0.005 0.005 0.005 0.01 0.01 0.01\n";
+    let (code, out, err) = run_file_bytes("thesis", bcc.as_bytes(), &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("2000 in all"), "{out}");
+    // Then the material, and Appendix B's examples.
+    let rest = "density 2650 1\nymd 70e9 1\npra 0.3 1\nplot save cycle 200 plot bou rdisp\nPrint G C I\np c\nPr cO\nRGE Seed 5\nprint info\n";
+    let (code, out, err) = run_file_bytes("thesis2", format!("{bcc}{rest}").as_bytes(), &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains("plot written to plot_c00000200_bou_rdisp.png"),
+        "{out}"
+    );
+    assert!(out.contains("cycle 200  time"), "{out}");
+    // `p c` and `Pr cO` print the contacts' table as `Print C` does.
+    assert_eq!(out.matches("normal_force").count(), 3, "{out}");
+}
+
+#[test]
+fn the_material_is_asked_for_by_the_first_command_that_needs_it() {
+    let input = "start 0.1 0.1 0.1 1000 2000 2\nrad 0.004330127 1\nagen 1 1 1 0 0 0 0.01 0.01 0.01\ncycle 1\n";
+    let err = err_of(input);
+    assert!(
+        err.contains("<stdin>:4:1: error: material 1 has no Young's modulus"),
+        "{err}"
+    );
+    // Density given after generation sets the masses: the same as given before.
+    let before = "start 0.1 0.1 0.1 1000 2000 2\nrad 0.004330127 1\ndensity 2650 1\nymd 70e9 1\npra 0.3 1\nagen 1 1 1 0 0 0 0.01 0.01 0.01\nvelocity 1 0 0 0\nprint energy\n";
+    let after = "start 0.1 0.1 0.1 1000 2000 2\nrad 0.004330127 1\nagen 1 1 1 0 0 0 0.01 0.01 0.01\nvelocity 1 0 0 0\ndensity 2650 1\nymd 70e9 1\npra 0.3 1\nprint energy\n";
+    let kin = |s: &str| {
+        let (ok, out, err) = run(s, &["-", "--json"]);
+        assert!(ok, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+        v["kinetic"]
+            .as_f64()
+            .or_else(|| v["stored"]["kinetic"].as_f64())
+            .unwrap_or_else(|| panic!("{v}"))
+    };
+    let (a, b) = (kin(before), kin(after));
+    // 1000 spheres of R = 4.33 mm, 2650 kg/m^3, at 1 m/s: sum of m v^2 / 2.
+    let m = 2650.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.004330127f64.powi(3);
+    assert!((a - 500.0 * m).abs() < 1e-9 * a, "{a} vs {}", 500.0 * m);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn version_quit_and_help_of_a_command() {
+    for flag in ["-V", "--version"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+            .arg(flag)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).starts_with("trubal "));
+    }
+    for word in ["quit", "exit"] {
+        let err = err_of(&format!("{word}\n"));
+        assert!(err.contains("STOp ends the session"), "{err}");
+    }
+    let (ok, out, _) = run("help print\nhelp plot\nhelp p\n", &["-"]);
+    assert!(ok);
+    for item in [
+        "ENErgy", "SETtings", "Walls", "RDIsp", "LCLuster", "HIStory",
+    ] {
+        assert!(out.contains(item), "help lists {item}:\n{out}");
+    }
+    // `help p` is PRint's help (Appendix B.1's alias).
+    assert_eq!(out.matches("PRint item").count(), 2, "{out}");
+}
+
+#[test]
+fn dollar_in_a_comment_is_not_a_variable() {
+    let (ok, _, err) = run(
+        "start 1 1 1 10 10 1 ; costs $5\n# $HOME is not asked for\n",
+        &["-"],
+    );
+    assert!(ok, "{err}");
+    let err = err_of("start 1 1 1 10 10 $n\n");
+    assert!(err.contains("`$n` has no value"), "{err}");
+}
+
+#[test]
+fn byte_order_marks_and_encodings() {
+    let (code, out, err) = run_file_bytes(
+        "bom8",
+        b"\xef\xbb\xbfstart 1 1 1 10 10 1\nprint info\n",
+        &[],
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("balls 0"), "{out}");
+    let utf16: Vec<u8> = [0xff, 0xfe]
+        .into_iter()
+        .chain(
+            "start 1 1 1 10 10 1\n"
+                .encode_utf16()
+                .flat_map(|u| u.to_le_bytes()),
+        )
+        .collect();
+    let (code, _, err) = run_file_bytes("bom16", &utf16, &[]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("encoded as UTF-16 (little-endian)"), "{err}");
+}
+
+#[test]
+fn a_huge_line_is_refused_with_its_length_and_an_excerpt() {
+    let mut text = b"start 1 1 1 10 10 1\nprint ".to_vec();
+    text.extend(std::iter::repeat_n(b'x', 3 << 20));
+    text.extend(b"\nprint info\n");
+    for keep in [false, true] {
+        let args: &[&str] = if keep { &["--keep-going"] } else { &[] };
+        let (code, out, err) = run_file_bytes(&format!("huge{keep}"), &text, args);
+        assert_eq!(code, Some(1));
+        assert!(
+            err.contains("in.tru:2: error: the line is 3145734 bytes long"),
+            "{}",
+            &err[..err.len().min(500)]
+        );
+        assert!(
+            err.len() < 400,
+            "the error quotes an excerpt only ({} bytes)",
+            err.len()
+        );
+        // With --keep-going the next line runs.
+        assert_eq!(out.contains("balls 0"), keep);
+    }
+    // Standard input: the same, without holding the line.
+    let text = String::from_utf8(text).unwrap();
+    let (ok, out, err) = run(&text, &["-", "--keep-going"]);
+    assert!(!ok);
+    assert!(
+        err.contains("<stdin>:2: error: the line is 3145734 bytes long"),
+        "{}",
+        &err[..err.len().min(500)]
+    );
+    assert!(out.contains("balls 0"));
+    // A long line under the limit: its error shows an excerpt around the error.
+    let line = format!("print info {} zz\n", "y".repeat(5000));
+    let err = err_of(&format!("start 1 1 1 10 10 1\n{line}"));
+    assert!(err.len() < 1200, "{err}");
+}
+
+/// The documents that messages and docs point users to exist, with the sections named.
+#[test]
+fn referenced_doc_sections_exist() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut sources = Vec::new();
+    let mut stack = vec![root.join("src")];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                sources.push(p);
+            }
+        }
+    }
+    let mut checked = 0;
+    for p in sources {
+        // Comment lines joined, so that a title wrapped over two reads as one.
+        let text: String = std::fs::read_to_string(&p)
+            .unwrap()
+            .lines()
+            .map(|l| l.trim_start().trim_start_matches('/').trim_start())
+            .collect::<Vec<_>>()
+            .join(" ");
+        // `doc/NAME.md, \"Section\"` or `doc/NAME.md, "Section"` in messages and comments.
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("doc/") {
+            rest = &rest[i..];
+            let end = rest.find(".md").filter(|&e| e < 40);
+            if let Some(e) = end {
+                let file = &rest[..e + 3];
+                if file
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "/_-.".contains(c))
+                {
+                    let path = root.join(file);
+                    assert!(path.exists(), "{}: {file} does not exist", p.display());
+                    let after = rest[e + 3..]
+                        .trim_start_matches(", ")
+                        .trim_start_matches('\\');
+                    if let Some(q) = after.strip_prefix('"') {
+                        let title = q.split(['"', '\\']).next().unwrap();
+                        let doc = std::fs::read_to_string(&path).unwrap();
+                        assert!(
+                            doc.lines().any(|l| l.starts_with('#') && l.contains(title)),
+                            "{}: {file} has no section \"{title}\"",
+                            p.display()
+                        );
+                    }
+                    checked += 1;
+                }
+            }
+            rest = &rest[4..];
+        }
+    }
+    assert!(checked > 10, "{checked}");
+}
+
+#[test]
+fn the_readme_says_how_to_install() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    assert!(readme.contains("cargo install --path ."));
+    assert!(readme.contains("Ctrl-C"));
 }

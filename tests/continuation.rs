@@ -12,7 +12,8 @@ use trubal::session::Session;
 use trubal::sim::Scene;
 
 fn session_in(dir: &std::path::Path, lines: &str) -> Session {
-    let mut s = Session::new(Box::new(std::io::sink()), false);
+    let mut s =
+        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
     s.dir = dir.to_path_buf();
     for (k, l) in lines.lines().enumerate() {
         if let Err(e) = s.run_line(l) {
@@ -450,5 +451,35 @@ fn fraction_auto_continues_bitwise() {
         dt > 0.0 && dt < first,
         "auto step {dt}, FRAction step {first}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An interrupt (Ctrl-C) makes the step about to run the Cycle's last: the state is that of
+/// the shorter Cycle, bitwise, and it goes on as the uninterrupted run. Interrupts are put
+/// on both sides of a snapshot (SNApshot 1000) and of a re-mapping.
+#[test]
+fn an_interrupted_cycle_is_a_shorter_cycle() {
+    let dir = scratch("interrupt");
+    for k in [1u64, 999, 1000, 1001, 2345] {
+        let mut a = session_in(&dir, ADHESIVE);
+        let sa = a.scene.as_mut().unwrap();
+        let (_, ran) =
+            trubal::sim::cycle::run_watched(sa, 1_000_000, &mut |_, done| done + 1 == k).unwrap();
+        assert_eq!(ran, k);
+        let mut b = session_in(&dir, ADHESIVE);
+        run(&mut b, &format!("cycle {k}"));
+        assert_same(
+            a.scene.as_ref().unwrap(),
+            b.scene.as_ref().unwrap(),
+            &format!("interrupt at {k}"),
+        );
+        run(&mut a, "cycle 500");
+        run(&mut b, "cycle 500");
+        assert_same(
+            a.scene.as_ref().unwrap(),
+            b.scene.as_ref().unwrap(),
+            &format!("after interrupt at {k}"),
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

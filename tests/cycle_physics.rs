@@ -405,17 +405,16 @@ fn blow_up_stops_with_a_message_and_keeps_a_good_state() {
 #[test]
 fn bad_scenes_are_refused_before_cycling() {
     let mut s = session("start 1 1 1 10 10 1\nset open all\nrad 0.1 1\n");
-    let e = s
-        .run_line("create 0.5 0.5 0.5 0 0 0 0 0 0 1 1")
-        .unwrap_err();
-    assert!(e.message.contains("not defined"), "{}", e.message);
-    s.run_line("density 1000 1").unwrap();
+    // Generation needs the radius only (TRUBAL: geometry first, then the materials).
     s.run_line("create 0.5 0.5 0.5 0 0 0 0 0 0 1 1").unwrap();
-    // A material without a Young's modulus cannot cycle.
+    // A material without a Young's modulus or a density cannot cycle.
     let e = s.run_line("cycle 1").unwrap_err();
     assert!(e.message.contains("Young's modulus"), "{}", e.message);
     s.run_line("ymd 1e9 1").unwrap();
     s.run_line("pra 0.3 1").unwrap();
+    let e = s.run_line("cycle 1").unwrap_err();
+    assert!(e.message.contains("no density"), "{}", e.message);
+    s.run_line("density 1000 1").unwrap();
     s.run_line("cycle 10").unwrap();
     // Periodic work-space smaller than 4 radii is refused with a hint.
     let mut p = session(
@@ -501,7 +500,7 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
     );
     // A command that fails changes nothing, not even this.
     let mut f = session(&format!("{BCC}{SUB1}\n"));
-    assert!(f.run_line("agen 1 9 1 0 0 0 1e-4 1e-4 1e-4").is_err());
+    assert!(f.run_line("agen 9 1 1 0 0 0 1e-4 1e-4 1e-4").is_err());
     f.run_line(SUB2).unwrap();
     assert_eq!(f.scene.as_ref().unwrap().particles.pos, p.pos);
     // Once cycled (candidate pairs exist), a further AGEnerate leaves the others alone.

@@ -278,7 +278,8 @@ fn skipped(c: &Command) -> bool {
 /// Runs a mutated command file in a session (each line parsed first; lines with a skipped
 /// command are left out).
 fn run_session(text: &str) {
-    let mut s = Session::new(Box::new(std::io::sink()), false);
+    let mut s =
+        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
     s.vars.insert("v".into(), "1".into());
     for line in text.lines().take(60) {
         if let Ok(parsed) = parse_line(line)

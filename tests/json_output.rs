@@ -253,7 +253,8 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
 // ---- exact numbers ------------------------------------------------------------------------
 
 fn scene() -> Scene {
-    let mut s = Session::new(Box::new(std::io::sink()), true);
+    let mut s =
+        Session::new(Box::new(std::io::sink()), true).with_diagnostics(Box::new(std::io::sink()));
     for l in format!("{SCENE}\nplot save\ncycle 40").lines() {
         s.run_line(l).unwrap();
     }

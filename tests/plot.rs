@@ -29,7 +29,10 @@ impl Shared {
 
 fn session() -> (Session, Shared) {
     let out = Shared::default();
-    (Session::new(Box::new(out.clone()), false), out)
+    (
+        Session::new(Box::new(out.clone()), false).with_diagnostics(Box::new(std::io::sink())),
+        out,
+    )
 }
 
 fn run(s: &mut Session, lines: &str) {

@@ -1,6 +1,6 @@
 //! Help text and the command reference (`doc/commands.md`), generated from the command table.
 
-use super::keyword::{match_keyword, minimal};
+use super::keyword::minimal;
 use super::table::{COMMANDS, CommandDef, command_keywords};
 
 /// One-line-per-command list for `help`.
@@ -16,20 +16,37 @@ pub fn help_index() -> String {
 /// Help for one command, found by the same abbreviation rule as the parser.
 pub fn help_for(word: &str) -> Result<String, String> {
     let keys = command_keywords();
-    match match_keyword(word, &keys) {
+    match super::table::find_command(word, &keys) {
         Ok(i) => Ok(help_entry(&COMMANDS[i])),
         Err(e) => Err(e.describe(word, "command", &keys)),
     }
 }
 
 fn help_entry(d: &CommandDef) -> String {
-    format!(
+    let mut s = format!(
         "{} {}\n  shortest form: {}\n  {}\n",
         d.name,
         d.syntax,
         minimal(d.name).to_lowercase(),
         d.help
-    )
+    );
+    if !d.keywords.is_empty() {
+        // The items or keywords it takes, wrapped as a terminal shows them.
+        s.push_str("  keywords (upper-case part at least):\n");
+        let mut line = String::from("   ");
+        for k in d.keywords {
+            if line.len() + k.len() + 1 > 90 {
+                s.push_str(&line);
+                s.push('\n');
+                line = String::from("   ");
+            }
+            line.push(' ');
+            line.push_str(k);
+        }
+        s.push_str(&line);
+        s.push('\n');
+    }
+    s
 }
 
 /// The Markdown command reference.
@@ -47,7 +64,7 @@ pub fn reference_markdown() -> String {
     s.push_str("`$name` or `${name}` is replaced by a value given as `--set name=value` on the command line.\n\n");
     s.push_str("Historical clashes are settled by the abbreviation rule: `STArt`/`STOp` (`s`, `st` are too short),\n");
     s.push_str(
-        "`RESTart`/`RESEt`/`RSet` (`r`, `res` too short), `PLot`/`PRint` (`p` too short),\n",
+        "`RESTart`/`RESEt`/`RSet` (`r`, `res` too short), `PLot`/`PRint` (`pl`, `pr`; `p` alone is `PRint`, as in Appendix B.1's `p c`),\n",
     );
     s.push_str("`PRint ENErgy`/`ENTries` (`e`, `en` too short). A too-short or ambiguous word is an error that names the candidates.\n\n");
     s.push_str(

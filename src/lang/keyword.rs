@@ -55,7 +55,10 @@ impl MatchError {
             }
             MatchError::Unknown(close) => {
                 let mut s = format!("unknown {what} `{word}`");
-                if let Some(i) = close {
+                let lower = word.to_ascii_lowercase();
+                if what == "command" && ["quit", "exit", "bye", "q"].contains(&lower.as_str()) {
+                    s.push_str("; STOp ends the session (or the end of the file, Ctrl-D)");
+                } else if let Some(i) = close {
                     s.push_str(&format!("; did you mean {}?", set[*i].name));
                 } else if set.len() <= 16 {
                     let names: Vec<&str> = set.iter().map(|k| k.name).collect();

@@ -23,7 +23,7 @@ pub fn parse_line(line: &str) -> Result<Vec<Parsed>, ParseError> {
     let mut pos = 0;
     while pos < toks.len() {
         let t = &toks[pos];
-        let def = match match_keyword(&t.text, &keywords) {
+        let def = match super::table::find_command(&t.text, &keywords) {
             Ok(i) => &COMMANDS[i],
             Err(e) => {
                 let mut msg = e.describe(&t.text, "command", &keywords);

@@ -205,7 +205,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         b_agenerate,
-        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (no command in between) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks). Only the sites in the region's bounding box are examined (in the work-space without a region); a lattice with more than 10^7 + 100 nball sites there (a step far below the particle size) is refused, as is one with more sites than the free places of nball."
+        "Regular (orthorhombic) lattice: sites (xo + i dx, yo + j dy, zo + k dz) inside the work-space, and inside agglomerate iagg's region if one is defined. Overlapping sites are skipped. BCC = two AGEnerate with offset origins. The sites are numbered layer by layer (z, then y, then x); an AGEnerate right after another into the same agglomerate (no command in between) numbers both lattices together in that order, so the ids of the first one's particles change (neighbours in space stay neighbours in memory, and two threads share few particles between their tasks). Only the sites in the region's bounding box are examined (in the work-space without a region); a lattice with more than 10^7 + 100 nball sites there (a step far below the particle size) is refused, as is one with more sites than the free places of nball. Needs the radius of isize only: the material mtyp may be defined after (Density re-computes the masses; the first Cycle asks for what is missing)."
     ),
     def!(
         "AWAll",
@@ -237,7 +237,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         b_create,
-        "Create one particle at (x,y,z) with velocity and angular velocity, size type and material type. Refused if it overlaps another particle."
+        "Create one particle at (x,y,z) with velocity and angular velocity, size type and material type. Refused if it overlaps another particle. Needs the radius of isize only: the material mtyp may be defined after (Density re-computes the masses; the first Cycle asks for what is missing)."
     ),
     def!(
         "Cycle",
@@ -245,7 +245,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["S0", "S1MS2", "S11", "S22", "S33", "RING"],
         true,
         b_cycle,
-        "Run n time steps. Stress-servo keywords (periodic strain control) are accepted by the parser."
+        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. Stress-servo keywords (periodic strain control) are accepted by the parser and refused by the simulation (doc/limits.md)."
     ),
     def!(
         "DAmping",
@@ -490,7 +490,7 @@ pub const COMMANDS: &[CommandDef] = &[
             fmax: a.non_negative("fmax")?,
             nmax: a.count("nmax")? as u64,
         }),
-        "Cycle until the kinetic energy is below kmax (J) and the largest net contact force below fmax (N) (solid + liquid bridge of a pair, Lian's criterion; checked every 100 cycles), or nmax cycles have run; prints which happened."
+        "Cycle until the kinetic energy is below kmax (J) and the largest net contact force below fmax (N) (solid + liquid bridge of a pair, Lian's criterion; checked every 100 cycles), or nmax cycles have run; prints which happened. Ctrl-C stops it like Cycle."
     ),
     def!(
         "RESEt",
@@ -514,7 +514,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["Seed"],
         true,
         b_rgenerate,
-        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; the placed particles are numbered along a space-filling (Morton) curve, so that neighbours in space are neighbours in memory; Seed n draws and discards n random numbers."
+        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; the placed particles are numbered along a space-filling (Morton) curve, so that neighbours in space are neighbours in memory; Seed n draws and discards n random numbers. Needs the radius of isize only: the material mtyp may be defined after (Density re-computes the masses; the first Cycle asks for what is missing)."
     ),
     def!(
         "RSet",
@@ -621,6 +621,27 @@ pub const COMMANDS: &[CommandDef] = &[
 ];
 
 /// The command keywords, in table order (for matching and completion).
+/// Words that name a command outside the abbreviation rule: Appendix B.1's own example
+/// gives `p c` for `PRint Contacts`, although `p` is also the start of `PLot`.
+pub const ALIASES: &[(&str, &str)] = &[("P", "PRint")];
+
+/// The command an alias names.
+pub fn alias(word: &str) -> Option<usize> {
+    let (_, name) = ALIASES.iter().find(|(a, _)| a.eq_ignore_ascii_case(word))?;
+    COMMANDS.iter().position(|d| d.name == *name)
+}
+
+/// The command a word names: an alias, or by the abbreviation rule.
+pub fn find_command(
+    word: &str,
+    keys: &[Keyword<usize>],
+) -> Result<usize, super::keyword::MatchError> {
+    match alias(word) {
+        Some(i) => Ok(i),
+        None => super::keyword::match_keyword(word, keys),
+    }
+}
+
 pub fn command_keywords() -> Vec<Keyword<usize>> {
     COMMANDS
         .iter()

@@ -149,11 +149,13 @@ fn clashes_are_settled_by_the_rule() {
         ("st", "too short"),
         ("r", "too short"),
         ("res", "too short"),
-        ("p", "too short"),
     ] {
         let e = parse_line(w).unwrap_err();
         assert!(e.message.contains(want), "{w}: {}", e.message);
     }
+    // `p` alone is PRint (Appendix B.1: `p c` = Print Contacts); `pl` is PLot.
+    assert!(matches!(one("p c"), Command::Print { .. }));
+    assert!(matches!(one("pl bal"), Command::Plot { .. }));
     assert_eq!(
         one("sta 1 1 1 1 1 1"),
         Command::Start {

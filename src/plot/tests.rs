@@ -47,7 +47,8 @@ fn chain(n: usize) -> Scene {
 /// A liquid bridge as the physics makes it (two wet spheres pressed together), so that the
 /// tests do not depend on the fields of `BridgeState` beyond the two forces they set.
 fn bridge_template() -> Box<BridgeState> {
-    let mut session = crate::session::Session::new(Box::new(std::io::sink()), false);
+    let mut session = crate::session::Session::new(Box::new(std::io::sink()), false)
+        .with_diagnostics(Box::new(std::io::sink()));
     for l in [
         "start 0.1 0.1 0.1 100 10 2",
         "set open all",

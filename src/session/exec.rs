@@ -40,15 +40,21 @@ fn radius_for(scene: &Scene, size: usize) -> Result<f64, String> {
         .ok_or_else(|| format!("size type {size} has no radius: give `RAdius r {size}` first"))
 }
 
-fn density_for(scene: &Scene, m: usize) -> Result<f64, String> {
-    existing_material(scene, m)?;
-    let d = scene.materials[m - 1].density;
-    if d > 0.0 {
-        Ok(d)
-    } else {
-        Err(format!(
-            "material {m} has no density: give `Density d {m}` first"
-        ))
+/// The density new particles of material `m` get. Generation needs their radius only, as in
+/// TRUBAL (geometry first, then materials): a material not given yet is 0 here, `Density`
+/// later re-computes the masses, and the first `Cycle` names what is still missing.
+fn generation_density(scene: &Scene, m: usize) -> Result<f64, String> {
+    if m == 0 || m > MAX_MATERIALS {
+        return Err(format!("material type {m} is outside 1..{MAX_MATERIALS}"));
+    }
+    Ok(scene.materials.get(m - 1).map_or(0.0, |x| x.density))
+}
+
+/// Makes room for material `m` (its properties come later), once a generation command
+/// has passed its checks.
+fn ensure_material(scene: &mut Scene, m: usize) {
+    if m > scene.materials.len() {
+        scene.materials.resize(m, Material::default());
     }
 }
 
@@ -149,7 +155,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             material,
         } => {
             let r = radius_for(scene, *size)?;
-            let rho = density_for(scene, *material)?;
+            let rho = generation_density(scene, *material)?;
             check_capacity(scene, 1)?;
             let x = Vec3::from(*pos);
             if !inside(scene, None, &x, r) {
@@ -182,6 +188,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     scene.particles.id[j]
                 ));
             }
+            ensure_material(scene, *material);
             let id = scene.next_id;
             scene.next_id += 1;
             scene.particles.push(
@@ -214,7 +221,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             step,
         } => {
             let r = radius_for(scene, *size)?;
-            let rho = density_for(scene, *material)?;
+            let rho = generation_density(scene, *material)?;
             let region = if *nagg > 0 {
                 scene.regions[nagg - 1]
             } else {
@@ -267,6 +274,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                     scene.nball
                 ));
             }
+            ensure_material(scene, *material);
             let made = accepted.len();
             let first_new = scene.particles.len();
             for x in accepted {
@@ -298,7 +306,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             nagg,
         } => {
             let r = radius_for(scene, *size)?;
-            let rho = density_for(scene, *material)?;
+            let rho = generation_density(scene, *material)?;
             check_capacity(scene, *n)?;
             let region = if *nagg > 0 {
                 Some(scene.regions[nagg - 1].ok_or_else(|| {
@@ -314,6 +322,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
                 ),
                 None => (Vec3::zeros(), Vec3::from(scene.size)),
             };
+            ensure_material(scene, *material);
             let limit = 1000 * n + 10_000;
             let (start, first_id) = (scene.particles.len(), scene.next_id);
             let r_big = scene.max_radius_of(*size).unwrap_or(r);

@@ -10,44 +10,180 @@ use rustyline::{Context, Helper, highlight::Highlighter, hint::Hinter, validate:
 use super::{Flow, Session, Source, format_error};
 use crate::lang::table::COMMANDS;
 
-/// Runs lines from a reader. Returns the number of errors. With `keep_going` false the first
-/// error stops the run.
-pub fn run_reader(session: &mut Session, name: &str, text: &[u8], keep_going: bool) -> usize {
-    let text = String::from_utf8_lossy(text);
-    let mut errors = 0;
-    for (k, line) in text.lines().enumerate() {
+/// The longest command line read (a command file's lines are short; a longer one is a
+/// binary or generated file by mistake, refused before it is parsed).
+pub const MAX_LINE: usize = 1 << 20;
+
+/// How a command file or standard input ended.
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+pub struct RunEnd {
+    /// Lines that failed.
+    pub errors: usize,
+    /// Ctrl-C stopped the run (exit code 130).
+    pub interrupted: bool,
+}
+
+/// Runs the lines of a command file or a pipe, in order, each as it is read. With
+/// `keep_going` false the first error stops the run; Ctrl-C stops it after the current line
+/// (a `Cycle` at the end of its current step).
+struct Runner<'a> {
+    session: &'a mut Session,
+    name: &'a str,
+    keep_going: bool,
+    line: usize,
+    end: RunEnd,
+}
+
+impl Runner<'_> {
+    /// Runs one line (raw bytes, without its newline; `len` is its length, more than
+    /// `raw` holds when a too-long line was not kept); false when the run stops here.
+    fn feed(&mut self, raw: &[u8], len: usize) -> bool {
+        self.line += 1;
+        let mut raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+        if self.line == 1 {
+            // A UTF-16 file (an editor's "Unicode") is named as such instead of read as
+            // garbage; a UTF-8 byte-order mark is dropped.
+            if raw.starts_with(&[0xff, 0xfe]) || raw.starts_with(&[0xfe, 0xff]) {
+                self.session.emit_err(&format!(
+                    "{}: the file is encoded as UTF-16 ({}); save it as UTF-8 or plain ASCII",
+                    self.name,
+                    if raw[0] == 0xff {
+                        "little-endian"
+                    } else {
+                        "big-endian"
+                    }
+                ));
+                self.end.errors += 1;
+                return false;
+            }
+            raw = raw.strip_prefix(&[0xef, 0xbb, 0xbf]).unwrap_or(raw);
+        }
         let src = Source {
-            name: name.to_string(),
-            line: k + 1,
+            name: self.name.to_string(),
+            line: self.line,
         };
-        match session.run_line(line) {
-            Ok(Flow::Stop) => break,
+        let flow = if len > MAX_LINE {
+            let head = String::from_utf8_lossy(&raw[..raw.len().min(60)]);
+            Err(format!(
+                "{}:{}: error: the line is {} bytes long, more than the {} a command line may have (a binary or generated file?): `{}...`",
+                src.name,
+                src.line,
+                len,
+                MAX_LINE,
+                head.escape_debug()
+            ))
+        } else {
+            let line = String::from_utf8_lossy(raw);
+            self.session
+                .run_line(&line)
+                .map_err(|e| format_error(&src, &line, &e))
+        };
+        // What this line printed is out before the next one runs.
+        self.session.flush();
+        match flow {
             Ok(Flow::Continue) => {}
-            Err(e) => {
-                errors += 1;
-                let msg = format_error(&src, line, &e);
-                session.emit_err(&msg);
-                if !keep_going {
-                    break;
+            Ok(Flow::Stop) => return false,
+            Ok(Flow::Interrupted) => {
+                self.end.interrupted = true;
+            }
+            Err(msg) => {
+                self.end.errors += 1;
+                self.session.emit_err(&msg);
+                if !self.keep_going {
+                    return false;
                 }
             }
         }
+        if self.end.interrupted || super::interrupt::requested() {
+            self.end.interrupted = true;
+            self.session.emit_err(&format!(
+                "{}:{}: interrupted (Ctrl-C): the run stops here; the output so far is complete",
+                self.name, self.line
+            ));
+            return false;
+        }
+        true
     }
-    session.flush();
-    errors
+}
+
+/// Runs lines from a reader. With `keep_going` false the first error stops the run.
+pub fn run_reader(session: &mut Session, name: &str, text: &[u8], keep_going: bool) -> RunEnd {
+    let mut r = Runner {
+        session,
+        name,
+        keep_going,
+        line: 0,
+        end: RunEnd::default(),
+    };
+    let text = text.strip_suffix(b"\n").unwrap_or(text);
+    if !text.is_empty() {
+        for raw in text.split(|&b| b == b'\n') {
+            if !r.feed(raw, raw.len()) {
+                break;
+            }
+        }
+    }
+    r.session.flush();
+    r.end
 }
 
 /// Runs a command file.
-pub fn run_file(session: &mut Session, path: &str, keep_going: bool) -> Result<usize, String> {
+pub fn run_file(session: &mut Session, path: &str, keep_going: bool) -> Result<RunEnd, String> {
     let data = std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))?;
     Ok(run_reader(session, path, &data, keep_going))
 }
 
-/// Runs standard input (a pipe or `-`).
-pub fn run_stdin(session: &mut Session, keep_going: bool) -> usize {
-    let mut data = Vec::new();
-    let _ = std::io::stdin().lock().read_to_end(&mut data);
-    run_reader(session, "<stdin>", &data, keep_going)
+/// Runs standard input (a pipe or `-`) line by line as it arrives, so that a program that
+/// writes commands and reads the answers can drive the session.
+pub fn run_stdin(session: &mut Session, keep_going: bool) -> RunEnd {
+    let mut r = Runner {
+        session,
+        name: "<stdin>",
+        keep_going,
+        line: 0,
+        end: RunEnd::default(),
+    };
+    let stdin = std::io::stdin();
+    let mut input = stdin.lock();
+    let mut buf = Vec::new();
+    loop {
+        buf.clear();
+        // At most one byte more than a line may have is kept: a longer line is refused
+        // without holding it in memory (the rest of it is skipped).
+        let n = match (&mut input)
+            .take(MAX_LINE as u64 + 1)
+            .read_until(b'\n', &mut buf)
+        {
+            Ok(n) => n,
+            Err(_) => break,
+        };
+        if n == 0 {
+            break;
+        }
+        let mut len = buf.len();
+        if buf.last() == Some(&b'\n') {
+            buf.pop();
+            len -= 1;
+        } else if buf.len() > MAX_LINE {
+            let mut rest = Vec::new();
+            while let Ok(k) = (&mut input).take(1 << 16).read_until(b'\n', &mut rest) {
+                if k == 0 {
+                    break;
+                }
+                len += k;
+                if rest.last() == Some(&b'\n') {
+                    len -= 1;
+                    break;
+                }
+                rest.clear();
+            }
+        }
+        if !r.feed(&buf, len) {
+            break;
+        }
+    }
+    r.session.flush();
+    r.end
 }
 
 /// TRUBAL.DIR in the working directory containing BATCH.
@@ -121,8 +257,14 @@ impl Highlighter for TrubalHelper {}
 impl Validator for TrubalHelper {}
 impl Helper for TrubalHelper {}
 
-/// Interactive session on a terminal.
+/// Interactive session on a terminal: the banner, then lines as they are typed or pasted
+/// (several pasted lines run one after the other; lines typed during a long command wait
+/// in the line editor's buffer). Ctrl-C at the prompt clears the line; during a command it
+/// stops the command (a `Cycle` at the end of its current step) and returns here. The
+/// history file is written after every line, so no exit loses it.
 pub fn run_interactive(session: &mut Session) -> Result<(), String> {
+    session.emit(BANNER);
+    session.flush();
     let mut rl = rustyline::Editor::<TrubalHelper, rustyline::history::DefaultHistory>::new()
         .map_err(|e| format!("cannot start the line editor: {e}"))?;
     rl.set_helper(Some(TrubalHelper));
@@ -130,27 +272,46 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
         .map(|h| std::path::PathBuf::from(h).join(".trubal_history"))
         .unwrap_or_else(|| ".trubal_history".into());
     let _ = rl.load_history(&hist);
-    session.emit("trubal — DEM of spheres. `help` lists the commands, `help NAME` explains one, `stop` ends.");
     let mut n = 0;
-    loop {
+    'session: loop {
         match rl.readline("trubal> ") {
-            Ok(line) => {
-                n += 1;
-                if !line.trim().is_empty() {
-                    let _ = rl.add_history_entry(line.as_str());
-                }
-                match session.run_line(&line) {
-                    Ok(Flow::Stop) => break,
-                    Ok(Flow::Continue) => {}
-                    Err(e) => {
-                        let src = Source {
-                            name: "<terminal>".into(),
-                            line: n,
-                        };
-                        session.emit_err(&format_error(&src, &line, &e));
+            Ok(text) => {
+                // A paste of several lines arrives as one text (bracketed paste).
+                for line in text.split('\n') {
+                    let line = line.strip_suffix('\r').unwrap_or(line);
+                    n += 1;
+                    if !line.trim().is_empty() {
+                        let _ = rl.add_history_entry(line);
+                        let _ = rl.save_history(&hist);
+                    }
+                    let src = Source {
+                        name: "<terminal>".into(),
+                        line: n,
+                    };
+                    let flow = if line.len() > MAX_LINE {
+                        Err(format!(
+                            "{}:{}: error: the line is {} bytes long, more than the {MAX_LINE} a command line may have",
+                            src.name,
+                            src.line,
+                            line.len()
+                        ))
+                    } else {
+                        session
+                            .run_line(line)
+                            .map_err(|e| format_error(&src, line, &e))
+                    };
+                    session.flush();
+                    // A Ctrl-C answered (or pressed after the command ended) is forgotten
+                    // at the prompt.
+                    super::interrupt::clear();
+                    match flow {
+                        Ok(Flow::Stop) => break 'session,
+                        Ok(Flow::Continue) => {}
+                        // The rest of a pasted text is dropped with the command it stopped.
+                        Ok(Flow::Interrupted) => break,
+                        Err(msg) => session.emit_err(&msg),
                     }
                 }
-                session.flush();
             }
             Err(ReadlineError::Interrupted) => continue,
             Err(ReadlineError::Eof) => break,
@@ -160,6 +321,9 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
     let _ = rl.save_history(&hist);
     Ok(())
 }
+
+/// The first line of a terminal session.
+pub const BANNER: &str = "trubal — DEM of spheres. `help` lists the commands, `help NAME` explains one, `stop` (or Ctrl-D) ends; Ctrl-C stops a running Cycle.";
 
 /// Reads lines from any BufRead (used by tests).
 pub fn lines_of<R: BufRead>(r: R) -> Vec<String> {

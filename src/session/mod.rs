@@ -4,6 +4,8 @@
 
 pub mod exec;
 pub mod input;
+pub mod interrupt;
+pub mod progress;
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -36,6 +38,10 @@ pub struct LineError {
 pub enum Flow {
     Continue,
     Stop,
+    /// Ctrl-C cut the command short (a `Cycle` or `RELax` stopped at the end of a step; the
+    /// scene is as a shorter command would have left it). A command file stops here; the
+    /// terminal session returns to the prompt.
+    Interrupted,
 }
 
 pub struct Session {
@@ -43,6 +49,8 @@ pub struct Session {
     pub json: bool,
     pub vars: HashMap<String, String>,
     out: Box<dyn Write>,
+    /// Diagnostics (errors, warnings): standard error unless a caller (a test) gives another.
+    diag: Box<dyn Write>,
     log: Option<File>,
     echo: bool,
     /// Working directory for relative file names (checkpoints, logs).
@@ -56,10 +64,18 @@ impl Session {
             json,
             vars: HashMap::new(),
             out,
+            diag: Box::new(std::io::stderr()),
             log: None,
             echo: false,
             dir: PathBuf::from("."),
         }
+    }
+
+    /// Diagnostics go to `w` instead of standard error (tests keep them out of the test
+    /// runner's output this way).
+    pub fn with_diagnostics(mut self, w: Box<dyn Write>) -> Self {
+        self.diag = w;
+        self
     }
 
     /// Writes output (and to the log file when one is open).
@@ -78,7 +94,8 @@ impl Session {
     /// pipe must not panic, as `eprintln!` would).
     pub fn emit_err(&mut self, text: &str) {
         let _ = self.out.flush();
-        let _ = writeln!(std::io::stderr(), "{text}");
+        let _ = writeln!(self.diag, "{text}");
+        let _ = self.diag.flush();
         if let Some(f) = &mut self.log {
             let _ = writeln!(f, "{text}");
         }
@@ -98,6 +115,11 @@ impl Session {
         let b = line.as_bytes();
         let mut i = 0;
         while i < b.len() {
+            if b[i] == b';' || b[i] == b'#' {
+                // A comment: its `$` are words, not variables.
+                out.push_str(&line[i..]);
+                break;
+            }
             if b[i] == b'$' {
                 let (name_start, braced) = if b.get(i + 1) == Some(&b'{') {
                     (i + 2, true)
@@ -168,8 +190,8 @@ impl Session {
         } in parsed
         {
             match self.execute(&command) {
-                Ok(Flow::Stop) => return Ok(Flow::Stop),
                 Ok(Flow::Continue) => {}
+                Ok(flow) => return Ok(flow),
                 Err(message) => {
                     return Err(LineError {
                         start,
@@ -269,6 +291,11 @@ impl Session {
             }
             _ => {}
         }
+        match cmd {
+            Command::Cycle { n, servo } if servo.is_empty() => return self.cycle(*n),
+            Command::Relax { kmax, fmax, nmax } => return self.relax(*kmax, *fmax, *nmax),
+            _ => {}
+        }
         let json = self.json;
         let dir = self.dir.clone();
         let Some(scene) = self.scene.as_mut() else {
@@ -281,6 +308,142 @@ impl Session {
         self.emit(&text);
         Ok(Flow::Continue)
     }
+}
+
+impl Session {
+    /// The scene, or the error of a command that needs one.
+    fn scene_mut(&mut self) -> Result<&mut Scene, String> {
+        self.scene
+            .as_mut()
+            .ok_or_else(|| "no problem is defined yet: give STArt (or RESTart) first".to_string())
+    }
+
+    /// `Cycle n`: the warnings about the scene first, then the steps with a progress line on a
+    /// terminal; Ctrl-C stops at the end of the current step.
+    fn cycle(&mut self, n: u64) -> Result<Flow, String> {
+        for w in cycle::warnings(self.scene_mut()?) {
+            self.emit_err(&format!("warning: {w}"));
+        }
+        // What was printed before a long step is on the screen (or in the file) before it.
+        self.flush();
+        let mut progress = progress::Progress::new(n, self.json);
+        let timing = std::env::var_os("TRUBAL_TIMING").is_some();
+        let (t0, c0) = (
+            std::time::Instant::now(),
+            if timing { cpu_ns() } else { 0.0 },
+        );
+        let scene = self.scene_mut()?;
+        let run = cycle::run_watched(scene, n, &mut |s, done| {
+            progress.tick(s.cycle, s.time, s.particles.len(), done);
+            interrupt::requested()
+        });
+        progress.finish();
+        let notes = std::mem::take(&mut scene.notes);
+        let balls = scene.particles.len();
+        let at = scene.cycle;
+        let ran = match run {
+            Ok((_, ran)) => ran,
+            Err(b) => return Err(with_notes(b.message, &notes)),
+        };
+        for w in notes {
+            self.emit_err(&format!("warning: {w}"));
+        }
+        if timing {
+            // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle.
+            self.emit_err(&format!(
+                "TRUBAL_TIMING cycles={n} balls={balls} cycle_wall_s={:.6} cycle_cpu_s={:.6}",
+                t0.elapsed().as_secs_f64(),
+                (cpu_ns() - c0) * 1e-9
+            ));
+        }
+        if ran < n {
+            interrupt::clear();
+            self.emit_err(&format!(
+                "interrupted: Cycle stopped after {ran} of {n} cycles, at cycle {at} (the state a `Cycle {ran}` would have left; `Cycle {}` runs the rest)",
+                n - ran
+            ));
+            return Ok(Flow::Interrupted);
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// `RELax`: cycles in runs of 100 until the kinetic energy and the largest contact force
+    /// are below their limits, or `nmax` cycles. Ctrl-C stops it like a `Cycle`.
+    fn relax(&mut self, kmax: f64, fmax: f64, nmax: u64) -> Result<Flow, String> {
+        for w in cycle::warnings(self.scene_mut()?) {
+            self.emit_err(&format!("warning: {w}"));
+        }
+        self.flush();
+        let mut progress = progress::Progress::new(nmax, self.json);
+        let scene = self.scene_mut()?;
+        let mut notes = Vec::new();
+        let mut done = 0;
+        let mut interrupted = false;
+        let (mut ke, mut fm) = (f64::INFINITY, f64::INFINITY);
+        while done < nmax {
+            let n = (nmax - done).min(100);
+            progress.set_offset(done);
+            let run = cycle::run_watched(scene, n, &mut |s, d| {
+                progress.tick(s.cycle, s.time, s.particles.len(), d);
+                interrupt::requested()
+            });
+            notes.append(&mut scene.notes);
+            let ran = match run {
+                Ok((_, ran)) => ran,
+                Err(b) => {
+                    progress.finish();
+                    return Err(with_notes(b.message, &notes));
+                }
+            };
+            done += ran;
+            let st = energy::stored(scene);
+            ke = st.kinetic_translation + st.kinetic_rotation;
+            fm = max_contact_force(scene);
+            if ran < n {
+                interrupted = true;
+                break;
+            }
+            if ke < kmax && fm < fmax {
+                break;
+            }
+        }
+        progress.finish();
+        let at = scene.cycle;
+        for w in notes {
+            self.emit_err(&format!("warning: {w}"));
+        }
+        self.emit(&format!(
+            "RELax: {} after {done} cycles: kinetic energy {ke:.4e} J (limit {kmax:.4e}), largest contact force {fm:.4e} N (limit {fmax:.4e})",
+            if ke < kmax && fm < fmax {
+                "relaxed"
+            } else if interrupted {
+                "interrupted"
+            } else {
+                "not relaxed"
+            }
+        ));
+        if interrupted {
+            interrupt::clear();
+            self.emit_err(&format!(
+                "interrupted: RELax stopped after {done} cycles, at cycle {at}"
+            ));
+            return Ok(Flow::Interrupted);
+        }
+        Ok(Flow::Continue)
+    }
+}
+
+/// CPU time of all the process's threads (the rayon workers included), in ns, from Linux's
+/// /proc/self/task/*/schedstat (NaN elsewhere).
+fn cpu_ns() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return f64::NAN;
+    };
+    tasks
+        .flatten()
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum()
 }
 
 fn join(dir: &Path, name: &str) -> PathBuf {
@@ -340,71 +503,11 @@ fn scene_command(
     let mut out = String::new();
     let mut warnings = Vec::new();
     match cmd {
-        Command::Cycle { n, servo } => {
-            if !servo.is_empty() {
-                return Err(
-                    "stress-servo keywords of Cycle (S0, S11, ...) need periodic strain control (GRID/GAIN/Mode), which this version does not model; use wall servos (DWAll ... SE F vmax g)"
-                        .into(),
-                );
-            }
-            warnings.extend(cycle::warnings(scene));
-            // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle on stderr
-            // (CPU time of all the process's threads, the rayon workers included, from Linux's
-            // /proc/self/task/*/schedstat, in ns).
-            let cpu_ns = || -> f64 {
-                let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-                    return f64::NAN;
-                };
-                tasks
-                    .flatten()
-                    .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
-                    .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-                    .sum()
-            };
-            let timing = std::env::var_os("TRUBAL_TIMING").is_some();
-            let (t0, c0) = (
-                std::time::Instant::now(),
-                if timing { cpu_ns() } else { 0.0 },
-            );
-            let run = cycle::run(scene, *n);
-            warnings.append(&mut scene.notes);
-            run.map_err(|b| with_notes(b.message, &warnings))?;
-            if timing {
-                // Written like every diagnostic: a closed stderr must not panic.
-                let _ = writeln!(
-                    std::io::stderr(),
-                    "TRUBAL_TIMING cycles={} balls={} cycle_wall_s={:.6} cycle_cpu_s={:.6}",
-                    n,
-                    scene.particles.len(),
-                    t0.elapsed().as_secs_f64(),
-                    (cpu_ns() - c0) * 1e-9
-                );
-            }
-        }
-        Command::Relax { kmax, fmax, nmax } => {
-            warnings.extend(cycle::warnings(scene));
-            let mut done = 0;
-            let (mut ke, mut fm) = (f64::INFINITY, f64::INFINITY);
-            while done < *nmax {
-                let n = (*nmax - done).min(100);
-                let run = cycle::run(scene, n);
-                warnings.append(&mut scene.notes);
-                run.map_err(|b| with_notes(b.message, &warnings))?;
-                done += n;
-                let st = energy::stored(scene);
-                ke = st.kinetic_translation + st.kinetic_rotation;
-                fm = max_contact_force(scene);
-                if ke < *kmax && fm < *fmax {
-                    break;
-                }
-            }
-            out = format!(
-                "RELax: {} after {done} cycles: kinetic energy {ke:.4e} J (limit {kmax:.4e}), largest contact force {fm:.4e} N (limit {fmax:.4e})",
-                if ke < *kmax && fm < *fmax {
-                    "relaxed"
-                } else {
-                    "not relaxed"
-                }
+        Command::Cycle { .. } => {
+            // (A Cycle without servo keywords is run by `Session::cycle`.)
+            return Err(
+                "stress-servo keywords of Cycle (S0, S11, ...) need periodic strain control (GRID/GAIN/Mode), which this version does not model yet (doc/limits.md, \"What is not modelled\"); use wall servos (DWAll ... SE F vmax g)"
+                    .into(),
             );
         }
         Command::Print { items } => {
@@ -445,7 +548,7 @@ fn scene_command(
         | Command::Mode { .. }
         | Command::Probe { .. } => {
             return Err(format!(
-                "{} controls the strain of the periodic cell, which this version does not model (see doc/commands.md, \"Periodic strain control\")",
+                "{} controls the strain of the periodic cell, which this version does not model yet (doc/limits.md, \"What is not modelled\")",
                 crate::lang::parse::command_name(cmd)
             ));
         }
@@ -498,18 +601,38 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
         .map(|s| s.chars().count())
         .unwrap_or(1)
         .max(1);
-    let shown: String = line
+    let chars: Vec<char> = line
         .chars()
         .map(|c| if c.is_control() { '?' } else { c })
         .collect();
+    // A long line is shown as an excerpt around the error (at most ~160 characters).
+    const SHOW: usize = 160;
+    let (from, to) = if chars.len() <= SHOW {
+        (0, chars.len())
+    } else {
+        let from = (col - 1).saturating_sub(SHOW / 2).min(chars.len() - SHOW);
+        (from, from + SHOW)
+    };
+    let lead = if from > 0 { "..." } else { "" };
+    let tail = if to < chars.len() { "..." } else { "" };
+    let shown: String = chars[from..to].iter().collect();
+    let width = width.min(to.saturating_sub(col - 1).max(1));
+    // A message that quotes a huge word quotes its ends.
+    let message = if e.message.chars().count() > 400 {
+        let m: Vec<char> = e.message.chars().collect();
+        let head: String = m[..200].iter().collect();
+        let tail: String = m[m.len() - 150..].iter().collect();
+        format!("{head}...{tail}")
+    } else {
+        e.message.clone()
+    };
     format!(
-        "{}:{}:{}: error: {}\n  | {}\n  | {}{}",
+        "{}:{}:{}: error: {}\n  | {lead}{shown}{tail}\n  | {}{}",
         src.name,
         src.line,
         col,
-        e.message,
-        shown,
-        " ".repeat(col - 1),
+        message,
+        " ".repeat(col - 1 - from + lead.len()),
         "^".repeat(width)
     )
 }

@@ -331,9 +331,22 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
 /// Runs `n` cycles. On a blow-up the scene is restored to the last good snapshot and the
 /// error says where it happened.
 pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
+    run_watched(scene, n, &mut |_, _| false).map(|(model, _)| model)
+}
+
+/// [`run`] with a watcher, called before each step with the scene and the number of steps
+/// done so far. When it answers `true` (an interrupt was asked for), the step about to run
+/// is the Cycle's last: the scene is left exactly as a `Cycle` of `done + 1` would have left
+/// it (the same bits, continuable). Returns the model and the number of steps run. The
+/// watcher is where the session draws its progress line; the core itself does no I/O.
+pub fn run_watched(
+    scene: &mut Scene,
+    n: u64,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<(Model, u64), Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    let r = super::awake::while_running(|| run_steps(scene, n));
+    let r = super::awake::while_running(|| run_steps(scene, n, watch));
     // (Derived per step; not kept between commands.)
     scene.reach_ext = Vec::new();
     scene.contacts.margins = [0.0; 2];
@@ -341,7 +354,11 @@ pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
 }
 
 /// The body of [`run`].
-fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
+fn run_steps(
+    scene: &mut Scene,
+    n: u64,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<(Model, u64), Blowup> {
     let mut model = check(scene).map_err(|m| Blowup {
         cycle: scene.cycle,
         message: m,
@@ -352,7 +369,7 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
             scene.cycle += 1;
             scene.time += model.dt;
         }
-        return Ok(model);
+        return Ok((model, n));
     }
     // A plane wall across a periodic axis makes the axis open (doc/limits.md; a checkpoint
     // of an earlier version, or walls turned since, may hold one).
@@ -397,7 +414,10 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
     let audit = Audit::of(scene);
     // A snapshot is taken before step `s` (of this Cycle) when this holds.
     let snapshot_before = |s: u64| s > 0 && s.is_multiple_of(every);
+    let mut ran = n;
     for step in 0..n {
+        // An interrupt makes this step the last, as if the Cycle had been this long.
+        let last = watch(scene, step);
         if snapshot_before(step) {
             if let Some(e) = audit.check(scene) {
                 return Err(stop(scene, snapshot, e));
@@ -412,7 +432,7 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         let allowed = 1e3 * audit.scale(scene);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
-        let keep = step + 1 == n || snapshot_before(step + 1);
+        let keep = last || step + 1 == n || snapshot_before(step + 1);
         let mut result = one_step(scene, &mut model, (tol, xres), keep);
         if result.is_ok() && scene.contacts.rebuilds != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
@@ -447,12 +467,16 @@ fn run_steps(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
         {
             super::record_history(scene);
         }
+        if last {
+            ran = step + 1;
+            break;
+        }
     }
     // The end of the Cycle is audited too (a Cycle shorter than the snapshot interval).
     if let Some(e) = audit.check(scene) {
         return Err(stop(scene, snapshot, e));
     }
-    Ok(model)
+    Ok((model, ran))
 }
 
 /// A `Cycle` that failed: the scene goes back to the last good snapshot, and the message
