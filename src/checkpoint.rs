@@ -21,9 +21,9 @@
 //!    reproduces the old behaviour). Only if that is impossible raise [`OLDEST_READABLE`]: the
 //!    file is then refused with a message naming both versions;
 //! 3. add a fixture of the new version under `tests/fixtures/` (the `#[ignore]`d test
-//!    `write_fixture` in `tests/checkpoint.rs` writes it) and keep the old ones.
+//!    `write_fixture` in `tests/it/checkpoint.rs` writes it) and keep the old ones.
 //!
-//! `tests/checkpoint.rs` fails when the fixture of the current version no longer decodes to
+//! `tests/it/checkpoint.rs` fails when the fixture of the current version no longer decodes to
 //! the same bytes, i.e. when the layout changed without a version bump.
 //!
 //! History: version 1 held every contact state in one flat layout; version 2 (slim contact
@@ -427,7 +427,7 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
         }
     }
     for (k, w) in scene.walls.iter().enumerate() {
-        use crate::lang::command::WallGeom;
+        use crate::sim::model::WallGeom;
         let geom_ok = match w.geom {
             WallGeom::Plane { normal, d } => {
                 fin3(&normal) && normal.iter().any(|&x| x != 0.0) && fin(d)

@@ -5,9 +5,9 @@
 
 Three studies, each written to OUT/speed_error_*.csv and drawn to OUT/speed_error_*.png:
 
-1. `binary`: the FRAction tables of tests/timestep_study.rs (Hertz binary impact: restitution,
+1. `binary`: the FRAction tables of tests/it/timestep_study.rs (Hertz binary impact: restitution,
    contact time and peak force against the closed forms; JKR sticking threshold against
-   v_s = sqrt(2 W_p/m*)), run with `cargo test --release --test timestep_study -- --ignored
+   v_s = sqrt(2 W_p/m*)), run with `cargo test --release --test it timestep_study:: -- --ignored
    --nocapture`. The run time of a binary impact is proportional to 1/FRAction.
 2. `impact`: scripts/bench/speed_error_impact.tru, a 274-sphere adhesive BCC agglomerate
    (JKR, gamma = 0.5 J/m^2) hitting a wall at 0.5 m/s, for 64 us of simulated time, at

@@ -21,7 +21,7 @@ use super::params::{self, Model};
 use super::scene::{Scene, TunnelAction, Vec3, Wall};
 use super::search;
 use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
-use crate::lang::command::{TangentialChoice, WallGeom};
+use crate::sim::model::{TangentialChoice, WallGeom};
 
 mod fused;
 mod reach;
@@ -649,7 +649,7 @@ pub fn one_step(
         set_margins(scene, model, dt);
     }
     let conserve = scene.liquid.is_some()
-        && scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve;
+        && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
     let threads = rayon::current_num_threads();
     let one_region = match step_regions() {
         Some(n) => n == 1,
@@ -728,7 +728,7 @@ fn forces_with<const ADH: bool, const LIQ: bool>(
         bridge: scene.settings.bridge,
         smin: scene.settings.smin,
         impact: scene.impact,
-        liquid_share: (scene.settings.liquid_mode == crate::lang::command::LiquidMode::Conserve)
+        liquid_share: (scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve)
             .then_some(super::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
         // (Only in a step, with the margins of its particles: not while priming.)

@@ -5,10 +5,10 @@
 use super::contacts::{BridgeState, ContactState};
 use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
-use crate::lang::command::{BridgeChoice, TangentialChoice};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::{dashpot, hertz, jkr::Jkr};
+use crate::sim::model::{BridgeChoice, TangentialChoice};
 
 /// Geometry and kinematics of a contact at this step. A is the particle, B the other
 /// particle or the wall; `n` points from A to B.

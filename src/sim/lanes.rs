@@ -314,9 +314,9 @@ fn hertz_noslip_impl(b: &mut Batch, dt: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lang::command::{BridgeChoice, TangentialChoice};
     use crate::sim::contacts::ContactState;
     use crate::sim::interact::{Acc, Kin, Laws, interact};
+    use crate::sim::model::{BridgeChoice, TangentialChoice};
     use crate::sim::params::PairConst;
     use crate::sim::rng::Rng;
     use crate::sim::scene::Vec3;

@@ -8,7 +8,7 @@
 //! component is exactly that of the general update in `cycle::move_all` (the same operations
 //! in the same order, no fused multiply-add), and the work of gravity is summed per particle
 //! in particle order as there, so both give bitwise the same state and ledger
-//! (`tests` below and `tests/threads.rs`).
+//! (`tests` below and `tests/it/threads.rs`).
 
 use super::scene::Vec3;
 

@@ -3,8 +3,8 @@
 
 use super::contacts::BridgeState;
 use super::scene::Scene;
-use crate::lang::command::LiquidMode;
 use crate::physics::bridge::Bridge;
+use crate::sim::model::LiquidMode;
 
 /// Bridge volume for a pair: pvol % of the mean volume of the two spheres (a wall pair uses
 /// the particle's volume) (DECISIONS.md).

@@ -12,6 +12,7 @@ pub mod interact;
 pub mod lanes;
 pub mod leapfrog;
 pub mod liquid;
+pub mod model;
 pub mod params;
 pub mod reference;
 pub mod rng;

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::contacts::ContactStore;
 use super::energy::Ledger;
 use super::rng::Rng;
-use crate::lang::command::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
+use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
 
 pub type Vec3 = Vector3<f64>;
 
@@ -374,7 +374,7 @@ pub struct Scene {
     pub nwall: usize,
     pub sizes: Vec<f64>,
     /// Radius distribution of each size type.
-    pub size_dist: Vec<crate::lang::command::SizeDist>,
+    pub size_dist: Vec<crate::sim::model::SizeDist>,
     pub materials: Vec<Material>,
     pub regions: [Option<Region>; 2],
     pub particles: Particles,
@@ -496,7 +496,7 @@ impl Scene {
 
     /// Draws a radius for a new particle of a size type (the nominal radius for Fixed).
     pub fn draw_radius(&mut self, size: usize) -> Option<f64> {
-        use crate::lang::command::SizeDist;
+        use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
         Some(
             match self.size_dist.get(size - 1).copied().unwrap_or_default() {
@@ -514,7 +514,7 @@ impl Scene {
 
     /// Largest radius a size type can produce.
     pub fn max_radius_of(&self, size: usize) -> Option<f64> {
-        use crate::lang::command::SizeDist;
+        use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
         Some(
             match self.size_dist.get(size - 1).copied().unwrap_or_default() {

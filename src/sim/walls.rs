@@ -1,7 +1,7 @@
 //! Wall geometry: gap, contact normal and surface velocity for plane walls, spherical
 //! containers and spherical obstacles (Lian (5.7), (5.8); DECISIONS.md "Walls").
 
-use crate::lang::command::WallGeom;
+use crate::sim::model::WallGeom;
 
 use super::scene::{Vec3, Wall};
 

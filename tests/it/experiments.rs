@@ -2,7 +2,7 @@
 //! as JSON) on hand-built cases with known answers, and a reduced moist wall impact (Lian ch. 6)
 //! checked for its qualitative behaviour.
 
-mod common;
+use crate::common;
 
 use std::cell::RefCell;
 use std::io::Write;

@@ -8,7 +8,7 @@
 //! - `# run: scripts/NAME.tru` (optional): run that script (path from the crate root) instead
 //!   of the golden file's own lines, so that an example is tested without a copy.
 //!
-//! `TRUBAL_BLESS=1 cargo test --profile ci --test golden` rewrites the expected files.
+//! `TRUBAL_BLESS=1 cargo test --profile ci --test it golden::` rewrites the expected files.
 
 use std::path::Path;
 use std::process::Command;

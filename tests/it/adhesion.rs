@@ -3,7 +3,7 @@
 //! References are computed here from the closed forms of Lian 1994 ch. 3 (with the corrected
 //! (3.29)), independently of src/physics/jkr.rs.
 
-mod common;
+use crate::common;
 use common::*;
 use std::f64::consts::PI;
 use trubal::sim::{Vec3, energy};

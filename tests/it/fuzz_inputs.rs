@@ -6,12 +6,12 @@
 //! names the target and the input number; the input is written to the temporary directory.
 //!
 //! CI runs `TRUBAL_FUZZ_INPUTS` inputs in all (default 100 000, about 3 s); the full run of
-//! doc/limits.md: `TRUBAL_FUZZ_INPUTS=1000000 cargo test --release --test fuzz_inputs --
+//! doc/limits.md: `TRUBAL_FUZZ_INPUTS=1000000 cargo test --release --test it fuzz_inputs:: --
 //! --nocapture`. No coverage guidance (cargo-fuzz needs a nightly compiler, which this
 //! project's machines do not have): the mutations are structured instead (numbers replaced
 //! by extreme values, keywords and commands inserted, lines duplicated, spliced, cut; bytes
 //! flipped in checkpoints, with the checksum recomputed so that the decoder sees them).
-//! `tests/fuzz_commands.rs` keeps running random command files through the binary.
+//! `tests/it/fuzz_commands.rs` keeps running random command files through the binary.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 

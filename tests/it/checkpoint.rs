@@ -219,7 +219,7 @@ fn diff(a: &Value, b: &Value, path: &str) -> Option<String> {
 // ---- the fixture ------------------------------------------------------------------------
 
 /// Writes `tests/fixtures/checkpoint-v{VERSION}.sav` and its facts (`.json`). Run once per
-/// format version: `cargo test --release --test checkpoint write_fixture -- --ignored`.
+/// format version: `cargo test --release --test it checkpoint::write_fixture -- --ignored`.
 /// Refuses to overwrite an existing fixture: old fixtures are evidence, never regenerated.
 #[test]
 #[ignore]
@@ -334,7 +334,7 @@ fn fixtures_of_every_version_still_load() {
     }
     assert!(
         versions.contains(&VERSION),
-        "no fixture for the current format version {VERSION}: run `cargo test --release --test checkpoint write_fixture -- --ignored`"
+        "no fixture for the current format version {VERSION}: run `cargo test --release --test it checkpoint::write_fixture -- --ignored`"
     );
 }
 

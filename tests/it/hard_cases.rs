@@ -3,7 +3,7 @@
 //! energy pump), a particle faster than the step through a wall (tunnelling), the step that
 //! follows the fastest contact (a warning, FRAction AUTO), and energy created slowly.
 
-mod common;
+use crate::common;
 use common::*;
 
 const GLASS: &str = "rad 30e-6 1\nymd 70e9 1\npra 0.3 1\ndensity 2650 1\n";

@@ -3,7 +3,7 @@
 //! strongest dashpots, liquid conservation, the ledger. Reference numbers are Lian 1994's
 //! (cases-lian1994.md §4.7), not produced by this code.
 
-mod common;
+use crate::common;
 use common::*;
 use std::f64::consts::PI;
 use trubal::sim::{Vec3, energy, liquid};

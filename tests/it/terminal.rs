@@ -271,7 +271,9 @@ fn a_pipe_gets_each_answer_as_it_is_produced() {
         .unwrap();
     let mut input = child.stdin.take().unwrap();
     let mut output = std::io::BufReader::new(child.stdout.take().unwrap());
-    input.write_all(b"start 1 1 1 10 10 1\nprint info\n").unwrap();
+    input
+        .write_all(b"start 1 1 1 10 10 1\nprint info\n")
+        .unwrap();
     input.flush().unwrap();
     let mut line = String::new();
     // Read while the input is still open: the answer must already be there.

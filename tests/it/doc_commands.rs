@@ -1,5 +1,5 @@
 //! `doc/commands.md` is generated from the command table; this test fails when it is out of
-//! date (`TRUBAL_BLESS=1 cargo test --profile ci --test doc_commands` rewrites it).
+//! date (`TRUBAL_BLESS=1 cargo test --profile ci --test it doc_commands::` rewrites it).
 
 #[test]
 fn doc_commands_is_up_to_date() {
@@ -10,7 +10,7 @@ fn doc_commands_is_up_to_date() {
     let have = std::fs::read_to_string("doc/commands.md").unwrap_or_default();
     assert!(
         have == want,
-        "doc/commands.md is out of date: run TRUBAL_BLESS=1 cargo test --profile ci --test doc_commands"
+        "doc/commands.md is out of date: run TRUBAL_BLESS=1 cargo test --profile ci --test it doc_commands::"
     );
 }
 

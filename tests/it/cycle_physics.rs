@@ -1,7 +1,7 @@
 //! The cycle against closed forms: Hertz impacts (binary and wall), restitution dashpot,
 //! oblique impact regimes, energy conservation and the ledger, search vs brute force.
 
-mod common;
+use crate::common;
 use common::*;
 use trubal::sim::{Vec3, energy, search};
 

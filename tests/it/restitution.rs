@@ -7,7 +7,7 @@
 //! `physics::restitution`). Before the second-order dashpot (`physics::dashpot`) e = 0.1
 //! came out 0.082 (wall) and 0.074 (sphere) at 1 m/s.
 
-mod common;
+use crate::common;
 use common::*;
 
 const MATERIAL: &str = "rad 0.01 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n";

@@ -10,7 +10,7 @@ use trubal::output::print;
 use trubal::session::Session;
 use trubal::sim::{Scene, Vec3, energy};
 
-/// A wet scene with a wall, a reference state and history rows (see tests/checkpoint.rs).
+/// A wet scene with a wall, a reference state and history rows (see tests/it/checkpoint.rs).
 const SCENE: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set history 5

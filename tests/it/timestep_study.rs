@@ -1,8 +1,8 @@
 //! The time-step study behind the default FRAction (doc/performance.md, "Speed against
-//! error"). Ignored in the suite: `cargo test --release --test timestep_study -- --ignored
+//! error"). Ignored in the suite: `cargo test --release --test it timestep_study:: -- --ignored
 //! --nocapture` prints the tables.
 
-mod common;
+use crate::common;
 use common::*;
 
 fn hertz_binary(fraction: f64) -> (f64, f64, f64, u64) {

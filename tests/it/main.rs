@@ -1,0 +1,25 @@
+//! The integration tests: one binary (one link, shared helpers in `common`), a module per
+//! subject. Run one subject with `cargo test --profile ci --test it NAME::`.
+
+mod common;
+
+mod adhesion;
+mod broken_pipe;
+mod checkpoint;
+mod cli;
+mod continuation;
+mod cycle_physics;
+mod doc_commands;
+mod experiments;
+mod fuzz_commands;
+mod fuzz_inputs;
+mod golden;
+mod hard_cases;
+mod json_output;
+mod liquid;
+mod plot;
+mod readme;
+mod restitution;
+mod terminal;
+mod threads;
+mod timestep_study;
