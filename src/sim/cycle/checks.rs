@@ -1,0 +1,259 @@
+//! Checks around a Cycle: the scene is complete before it starts (`check`), the warnings
+//! a user should see first (`warnings`), and particles that crossed a wall in a step
+//! (tunnelling: stop with a message, or delete them with `SET TUNnel DELETE`).
+
+use super::*;
+
+/// Checks that must pass before cycling (bad input gives a clear error, not a NaN).
+pub fn check(scene: &Scene) -> Result<Model, String> {
+    let model = params::build(scene)?;
+    let p = &scene.particles;
+    if !(model.dt > 0.0) && !p.is_empty() {
+        return Err("the time step is zero: check radii, densities and moduli".into());
+    }
+    // Periodic axes must be wider than two interaction ranges.
+    let rmax = scene.max_radius();
+    for k in 0..3 {
+        if scene.settings.periodic[k] && !p.is_empty() && scene.size[k] < 4.0 * rmax {
+            return Err(format!(
+                "the periodic work-space is too small along {}: {} < 4 × largest radius; enlarge it or `SET OPEn {}`",
+                ["x", "y", "z"][k],
+                scene.size[k],
+                ["X", "Y", "Z"][k]
+            ));
+        }
+    }
+    Ok(model)
+}
+
+/// Warnings about the scene before cycling (deep overlaps, walls through particles,
+/// servo gains that would make the wall hunt or diverge).
+pub fn warnings(scene: &Scene) -> Vec<String> {
+    let mut out = Vec::new();
+    let p = &scene.particles;
+    if !p.is_empty() {
+        let (pairs, _, _) = search::candidates(scene, 0.0);
+        // Pairs already touching in the last step (a running bed, a restarted one) are
+        // contacts with a history, not overlaps a command made.
+        let stored = scene.contacts.pairs();
+        let touching = |ida: u32, idb: u32| {
+            stored
+                .binary_search_by_key(&(ida, idb), |q| (q.ida, q.idb))
+                .is_ok_and(|k| scene.contacts.state(k).touching)
+        };
+        let deep = pairs
+            .iter()
+            .filter(|c| {
+                let (i, j) = (c.i as usize, c.j as usize);
+                let d = scene.branch(&p.pos[i], &p.pos[j]).norm();
+                p.radius[i] + p.radius[j] - d > 0.05 * p.radius[i].min(p.radius[j])
+                    && !touching(c.ida, c.idb)
+            })
+            .count();
+        if deep > 0 {
+            out.push(format!(
+                "{deep} particle pair(s) not in contact before overlap by more than 5 % of the smaller radius: they will fly apart"
+            ));
+        }
+    }
+    if let Ok(model) = params::build(scene)
+        && scene.settings.auto_step.is_none()
+        && let Some(w) = crate::sim::contact_time::warning(scene, &model, model.fraction)
+    {
+        out.push(w);
+    }
+    // A step the dashpot limits shrink far below the FRAction step (a viscous bridge at a
+    // tiny S_min: SET SMIN 1e-300 made Δt = 5e-302 s without a word).
+    if let Ok(model) = params::build(scene) {
+        let fraction_step = model.fraction * model.dt_rayleigh;
+        if model.dt_base < 0.01 * fraction_step && !scene.particles.is_empty() {
+            out.push(format!(
+                "the step is {:.3e} s, {:.1e} times below the FRAction step {:.3e} s: the viscous force of the bridges at S_min ({}) or Rayleigh contact damping (β = {:.3e} s) limits it; a larger SET SMIN (Lian: R/1000 to R/100) or a smaller β gives a longer step",
+                model.dt_base,
+                fraction_step / model.dt_base,
+                fraction_step,
+                scene
+                    .settings
+                    .smin
+                    .map_or("R*/100".to_string(), |s| format!("{s:.3e} m")),
+                scene.damping_pp.beta.max(scene.damping_pw.beta)
+            ));
+        }
+    }
+    if let Ok(model) = params::build(scene) {
+        for (w, wall) in scene.walls.iter().enumerate() {
+            if let Some(s) = wall.servo {
+                // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
+                // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
+                // the wall; above 1 the wall overshoots every step.
+                let m = &scene.materials[wall.material - 1];
+                let r = scene.max_radius();
+                let k =
+                    2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
+                let n = scene
+                    .contacts
+                    .wall_pairs
+                    .iter()
+                    .filter(|c| c.wall as usize == w)
+                    .count()
+                    .max(1) as f64;
+                let loop_gain = s.gain * k * n * model.dt;
+                if loop_gain > 1.0 {
+                    out.push(format!(
+                        "servo of wall {}: gain {} gives a loop gain of {loop_gain:.2e} per step (> 1): the wall will hunt or diverge; use g below {:.2e}",
+                        w + 1,
+                        s.gain,
+                        s.gain / loop_gain
+                    ));
+                }
+                // The contacts' dashpots close a second loop, without the step: the wall's
+                // speed g × (force error) makes a dashpot force c × speed at once, so
+                // g × n × c above 1 makes the speed change sign every step (c: the
+                // restitution dashpot of the largest particle at the same overlap, plus
+                // Rayleigh's β k).
+                let p = &scene.particles;
+                if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
+                    let pc = model.pair(p.material[i] as usize, wall.material);
+                    let (mi, ri) = (p.mass[i], p.radius[i]);
+                    let c = pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt()
+                        + scene.damping_pw.beta * k;
+                    let dash_gain = s.gain * n * c;
+                    if dash_gain > 1.0 {
+                        out.push(format!(
+                            "servo of wall {}: gain {} through the contacts' dashpots gives a loop gain of {dash_gain:.2e} (> 1): the wall's speed will change sign every step (hunting; the books then close less well); use g below {:.2e}",
+                            w + 1,
+                            s.gain,
+                            s.gain / dash_gain
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    for (w, wall) in scene.walls.iter().enumerate() {
+        let mut n = 0;
+        for i in 0..p.len() {
+            let (gap, _) = wall_gap(&wall.geom, &p.pos[i], p.radius[i]);
+            if gap < -0.5 * p.radius[i] {
+                n += 1;
+            }
+        }
+        if n > 0 {
+            out.push(format!(
+                "wall {} cuts through {n} particle(s) (overlap > R/2): they will be pushed out violently",
+                w + 1
+            ));
+        }
+    }
+    out
+}
+
+/// Particles whose centre lies behind a wall's surface (gap < −R: behind a plane, outside a
+/// container, inside an obstacle), as (particle, wall) in particle order: every particle
+/// against every wall when `all`, else the wall pairs (candidates) only.
+pub(super) fn behind_walls(scene: &Scene, all: bool) -> Vec<(usize, usize)> {
+    let p = &scene.particles;
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    let behind = |i: usize, w: usize| {
+        let (gap, _) = shapes[w].gap(&p.pos[i], p.radius[i]);
+        // (NaN is not "behind": a non-finite state is the blow-up check's.)
+        gap < -p.radius[i]
+    };
+    if all {
+        let mut out: Vec<(usize, usize)> = p
+            .pos
+            .par_chunks(CHUNK)
+            .enumerate()
+            .flat_map_iter(|(c, xs)| {
+                let behind = &behind;
+                let nw = shapes.len();
+                (0..xs.len()).flat_map(move |l| {
+                    let i = c * CHUNK + l;
+                    (0..nw).filter(move |&w| behind(i, w)).map(move |w| (i, w))
+                })
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    } else {
+        let mut out: Vec<(usize, usize)> = scene
+            .contacts
+            .wall_pairs
+            .iter()
+            .filter(|c| behind(c.i as usize, c.wall as usize))
+            .map(|c| (c.i as usize, c.wall as usize))
+            .collect();
+        out.sort_unstable();
+        out
+    }
+}
+
+/// What a crossing looks like: the particle, the wall, how far behind, the speeds against
+/// the step.
+pub(super) fn crossing(scene: &Scene, (i, w): (usize, usize), dt: f64) -> String {
+    let p = &scene.particles;
+    let wall = &scene.walls[w];
+    let (gap, n) = WallShape::of(&wall.geom).gap(&p.pos[i], p.radius[i]);
+    let v = p.vel[i];
+    let vw = surface_velocity(wall, &n);
+    // Approach speed towards the wall (n points from the particle to the wall).
+    let approach = (v - vw).dot(&n);
+    format!(
+        "particle {} crossed wall {} at cycle {}: its centre ({:.4e}, {:.4e}, {:.4e}) is {:.3e} m behind the wall's surface \
+         (radius {:.3e} m; it moves at {:.3e} m/s, {:.3e} m/s towards the wall, which moves at {:.3e} m/s: {:.3e} m per step of {:.3e} s)",
+        p.id[i],
+        w + 1,
+        scene.cycle,
+        p.pos[i].x,
+        p.pos[i].y,
+        p.pos[i].z,
+        -(gap + p.radius[i]),
+        p.radius[i],
+        v.norm(),
+        approach,
+        vw.norm(),
+        approach.abs() * dt,
+        dt
+    )
+}
+
+/// The stop of a run on a crossing (`SET TUNnel STOP`).
+pub(super) fn tunnelled(scene: &Scene, behind: &[(usize, usize)], dt: f64) -> Blowup {
+    let more = if behind.len() > 1 {
+        format!(" ({} particle-wall crossings in all)", behind.len())
+    } else {
+        String::new()
+    };
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "{}{more}. A wall's surface was passed between two steps or two re-mappings: the particle came too fast for the step, \
+             the wall moved too far in one step, or it entered behind the wall. \
+             Hint: a smaller FRAction (or FRAction AUTO), a slower wall (V, or the servo's vmax), walls inside the work-space; \
+             SET TUNnel DELETE removes such particles instead",
+            crossing(scene, behind[0], dt)
+        ),
+    }
+}
+
+/// Deletes the particles that crossed a wall (`SET TUNnel DELETE`), with a note each; what
+/// they held (kinetic energy and their contacts' stored energy) leaves the books with them.
+pub(super) fn delete_tunnelled(scene: &mut Scene, behind: &[(usize, usize)], dt: f64) {
+    let mut gone = vec![false; scene.particles.len()];
+    for &(i, w) in behind {
+        if !gone[i] {
+            gone[i] = true;
+            let note = format!(
+                "{}; deleted (SET TUNnel DELETE)",
+                crossing(scene, (i, w), dt)
+            );
+            scene.notes.push(note);
+        }
+    }
+    let before = crate::sim::energy::stored(scene).total();
+    let n = gone.iter().filter(|g| **g).count() as u64;
+    remove_where(scene, &gone);
+    let after = crate::sim::energy::stored(scene).total();
+    scene.ledger.commands += after - before;
+    scene.lost += n;
+}

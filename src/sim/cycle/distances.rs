@@ -1,0 +1,225 @@
+//! Search distances of the step: TOL and XRES (automatic or set), the rebuild of the
+//! candidate list, and the reach margins that let a pair approaching within a step be
+//! evaluated (`physics::dashpot`).
+
+use super::*;
+
+/// Search distances in use: TOL (gap below which pairs are candidates) and XRES.
+pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
+    let p = &scene.particles;
+    let rmean = if p.is_empty() {
+        0.0
+    } else {
+        p.radius.iter().sum::<f64>() / p.len() as f64
+    };
+    let mut need: f64 = 0.0;
+    // Live bonds must stay in the candidate list: JKR down to α_s, bridges up to S_c.
+    if model.adhesion {
+        for i in 0..model.nmat {
+            for j in 0..model.nmat {
+                let pc = &model.table[i * model.nmat + j];
+                let g = pc.gamma.max(pc.gamma_base);
+                if g > 0.0 {
+                    let rmax = scene.max_radius();
+                    let jk = crate::physics::jkr::Jkr {
+                        e_star: pc.e_star,
+                        r_star: rmax,
+                        gamma: g,
+                    };
+                    need = need.max(-jk.alpha_s());
+                }
+            }
+        }
+    }
+    if let Some(l) = &scene.liquid
+        && l.pvol > 0.0
+    {
+        for c in scene.contacts.iter() {
+            if let Some(b) = &c.s.bridge {
+                need = need.max(b.s_c);
+            }
+        }
+        // Bridges not formed yet: the largest possible volume (two largest spheres).
+        let rmax = scene.max_radius();
+        let v = l.pvol / 100.0 * 4.0 / 3.0 * std::f64::consts::PI * rmax.powi(3);
+        let b = crate::physics::bridge::Bridge {
+            r1: rmax,
+            r2: rmax,
+            volume: v,
+            gamma: l.gamma,
+            theta: l.theta,
+        };
+        need = need.max(crate::physics::bridge::rupture_distance(&b));
+    }
+    let auto = (0.35 * rmean).max(1.5 * need);
+    let tol = scene.settings.tol.unwrap_or(auto).max(1.5 * need);
+    let xres = scene
+        .settings
+        .xres
+        .map(|x| x.min(xres_of(tol)))
+        .unwrap_or(xres_of(tol));
+    (tol, xres)
+}
+
+/// The candidate list of a fast scene is made with up to this many times the automatic
+/// TOL ([`rebuild_tol`]).
+pub(super) const TOL_GROWTH: f64 = 2.0;
+
+/// The number of steps the candidate list of a fast scene should last at least, at the
+/// speed of its fastest particle ([`rebuild_tol`]).
+pub(super) const LIST_STEPS: f64 = 50.0;
+
+/// XRES for a TOL: just below TOL/(2√3) (Lian 1994 §5: no two particles can then have
+/// closed a gap of TOL since the last rebuild without some displacement component
+/// exceeding XRES).
+pub fn xres_of(tol: f64) -> f64 {
+    tol / (2.0 * 3f64.sqrt()) * 0.999
+}
+
+/// Whether TOL and XRES are both automatic, so that the rebuilds may use a larger TOL
+/// ([`rebuild_tol`]).
+pub(super) fn auto_search(scene: &Scene) -> bool {
+    scene.settings.tol.is_none() && scene.settings.xres.is_none()
+}
+
+/// The TOL of a rebuild when TOL and XRES are automatic: large enough that the list lasts
+/// [`LIST_STEPS`] steps at the fastest particle's largest velocity component v (XRES ≥
+/// LIST_STEPS · v Δt), between the automatic `base` and [`TOL_GROWTH`] × `base`. A falling
+/// or flowing scene then rebuilds its list up to half as often, for more candidate pairs
+/// to test in each step; a settled one keeps `base`. The candidate list may be any list
+/// that holds every pair with a gap below its TOL: the forces and positions are the same
+/// bits for any TOL. The TOL used is kept with the list (`ContactStore::tol`, saved in
+/// checkpoints) and the re-mapping test uses its XRES, so a restarted run rebuilds at the
+/// same steps with the same TOL. Measured (doc/performance.md, sixth session of
+/// 2026-12-03), S1 one thread side by side: the 50k bed (falling through its 5000 steps)
+/// 0.92 × the time with LIST_STEPS 50 (0.97 × with 20; 0.86 × with twice the TOL
+/// throughout), the 10k bed (settled after ~2000 steps) 1.03 × (0.98 × with 20).
+pub(super) fn rebuild_tol(scene: &Scene, base: f64, dt: f64) -> f64 {
+    if !auto_search(scene) {
+        return base;
+    }
+    let vmax = scene
+        .particles
+        .vel
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.amax()));
+    let want = 2.0 * 3f64.sqrt() * LIST_STEPS * vmax * dt / 0.999;
+    // (NaN or a step of zero: the base.)
+    if want > base {
+        want.min(TOL_GROWTH * base)
+    } else {
+        base
+    }
+}
+
+/// XRES of the re-mapping test: that of the TOL the list was made with when the search
+/// distances are automatic (see [`rebuild_tol`]), else the user's (`xres`).
+pub(super) fn xres_in_use(scene: &Scene, xres: f64) -> f64 {
+    if auto_search(scene) {
+        xres_of(scene.contacts.tol)
+    } else {
+        xres
+    }
+}
+
+/// Whether the list made with TOL `made` serves a scene whose automatic TOL is `base`.
+pub(super) fn tol_serves(scene: &Scene, made: f64, base: f64) -> bool {
+    made == base || (auto_search(scene) && made >= base && made <= TOL_GROWTH * base)
+}
+
+/// Rebuilds the candidate lists.
+pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
+    let parts = rayon::current_num_threads();
+    // The hot list is derived from the list being replaced (`merge` makes it anew): freed
+    // before the search, whose key lists made the rebuild's peak of memory with it (valgrind
+    // massif, S1 50k, two threads: peak RSS 68.3-68.8 -> 66.9-67.2 MB).
+    scene.contacts.hot = Vec::new();
+    let (pairs, walls, info) = search::candidates_in_parts(scene, tol, parts);
+    scene.contacts.merge(pairs, walls);
+    scene.contacts.tol = tol;
+    scene
+        .particles
+        .disp
+        .par_chunks_mut(CHUNK)
+        .for_each(|d| d.fill(Vec3::zeros()));
+    for w in scene.walls.iter_mut() {
+        w.travel = 0.0;
+    }
+    scene.contacts.max_disp = Some(0.0);
+    info
+}
+
+/// Particles per entry of [`Scene::reach_ext`]: the margin of reach is kept per group of
+/// consecutive particles (neighbours in space, the numbering follows it), so that the reach
+/// tests read it from a table that stays in the cache.
+pub const EXT_GROUP: usize = 64;
+
+/// Each group's margin of reach `Δt × its particles' largest velocity component` into `ext`
+/// ([`EXT_GROUP`]); the largest velocity component (any thread count: the same value).
+pub(super) fn reach_margins(vel: &[Vec3], dt: f64, ext: &mut Vec<f64>) -> f64 {
+    ext.resize(vel.len().div_ceil(EXT_GROUP), 0.0);
+    vel.par_chunks(CHUNK)
+        .zip(ext.par_chunks_mut(CHUNK / EXT_GROUP))
+        .map(|(v, e)| {
+            let mut vmax = 0.0f64;
+            for (v, e) in v.chunks(EXT_GROUP).zip(e.iter_mut()) {
+                let a = v.iter().fold(0.0f64, |m, v| m.max(v.amax()));
+                *e = a * dt;
+                vmax = if a > vmax { a } else { vmax };
+            }
+            vmax
+        })
+        .reduce(|| 0.0, f64::max)
+}
+
+/// The largest displacement component since the last rebuild (kept by the update; worked
+/// out when not known).
+pub(super) fn max_disp(scene: &mut Scene) -> f64 {
+    if let Some(d) = scene.contacts.max_disp {
+        return d;
+    }
+    let d = scene
+        .particles
+        .disp
+        .par_chunks(CHUNK)
+        .map(|d| d.iter().fold(0.0f64, |m, d| m.max(d.amax())))
+        .reduce(|| 0.0, f64::max);
+    scene.contacts.max_disp = Some(d);
+    d
+}
+
+/// The margins of this step ([`ContactStore::margins`], [`Scene::reach_ext`]): pairs
+/// approaching within half a step's travel get their share of the restitution dashpot
+/// (physics::dashpot), so they are evaluated within Δt × (a bound of their relative speed)
+/// of touching: |v_B − v_A|/2 ≤ (|v_A| + |v_B|)/2 < the sum of the two particles' largest
+/// velocity components (the reach tests keep of those only the ones that may approach); a
+/// particle–wall pair within its particle's margin plus the fastest wall's travel in a step
+/// (`margins[1]`). Zero without a dashpot. Returns whether the candidate
+/// list still holds every pair within those margins (gap at the last rebuild below TOL:
+/// closed since by at most 2√3 × the largest displacement component, and a wall by its
+/// travel).
+pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
+    if !(dt > 0.0) || !model.table.iter().any(|p| p.zeta > 0.0) || scene.particles.is_empty() {
+        scene.contacts.margins = [0.0; 2];
+        scene.reach_ext = Vec::new();
+        return true;
+    }
+    let v = reach_margins(&scene.particles.vel, dt, &mut scene.reach_ext);
+    let d = max_disp(scene);
+    if std::env::var("EXP").as_deref() == Ok("2") {
+        scene.contacts.margins = [0.0; 2];
+        return true;
+    }
+    let walls = scene
+        .walls
+        .iter()
+        .fold(0.0f64, |m, w| m.max(Vec3::from(w.vel).norm() + w.vr.abs()));
+    let travel = scene.walls.iter().fold(0.0f64, |m, w| m.max(w.travel));
+    // (Positive with a dashpot even when nothing moves: it also says "evaluate within the
+    // margins", e.g. a wall that approaches particles at rest.)
+    let m = [(2.0 * v * dt).max(f64::MIN_POSITIVE), walls * dt];
+    scene.contacts.margins = m;
+    let tol = scene.contacts.tol;
+    let s3 = 3f64.sqrt();
+    2.0 * s3 * d + m[0] < tol && s3 * d + travel + v * dt + m[1] < tol
+}

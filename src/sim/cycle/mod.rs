@@ -1,0 +1,513 @@
+//! `Cycle n`: the time step. Forces from the current positions (contacts, bridges, walls),
+//! then the leap-frog central-difference update with global mass-proportional damping,
+//! Lian (5.9)–(5.14):
+//!
+//! v_new = ((m/Δt − β/2) v_old + F + m g) / (m/Δt + β/2), β = α_R m;  x += v_new Δt,
+//!
+//! and the same for rotations with I = 2/5 m R². The energy ledger is updated exactly for the
+//! scheme: the damping loss is β |v̄|² Δt and the work of gravity m g·v̄ Δt with
+//! v̄ = (v_old + v_new)/2, so that ½ m v_new² − ½ m v_old² = (F + m g − β v̄)·v̄ Δt.
+//!
+//! The step along its seams (a function here calls down, never up):
+//! - this file: the driver — `run_watched` (the Cycle: snapshots, energy audit, interrupts),
+//!   `one_step` (forces, then update), priming contacts after a command changed the scene;
+//! - `checks`: is the scene complete (`check`), what to warn about (`warnings`), tunnelling;
+//! - `distances`: TOL/XRES, candidate-list rebuilds, per-group reach margins;
+//! - `forces`: orchestration of the contact forces (serial, tasks, chunk sums);
+//! - `pairs`: the pair loop over blocks of contact states (uniform particles, SIMD lanes);
+//! - `wall_loop`: particle–wall contacts and the walls' motion;
+//! - `update`: the leap-frog update, fixed components, removal of lost particles;
+//! - `fused`: one parallel region per step (forces and update of a chunk together);
+//! - `reach`: which pairs can touch within the step.
+
+use rayon::prelude::*;
+
+use super::contacts::{
+    self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
+    WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
+};
+use super::interact::{Acc, Kin, Laws, interact};
+use super::lanes;
+use super::leapfrog;
+use super::params::{self, Model};
+use super::scene::{Scene, TunnelAction, Vec3, Wall};
+use super::search;
+use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
+use crate::sim::model::{TangentialChoice, WallGeom};
+
+mod checks;
+mod distances;
+mod forces;
+mod fused;
+mod pairs;
+mod reach;
+mod update;
+mod wall_loop;
+pub use checks::*;
+pub use distances::*;
+use forces::*;
+use pairs::*;
+use update::*;
+use wall_loop::*;
+use fused::View;
+
+/// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
+/// chunk order, so results are bitwise independent of the number of threads.
+pub const CHUNK: usize = 1024;
+
+/// Why a `Cycle` stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Blowup {
+    /// Cycle number (1-based count of the scene) of the step that failed.
+    pub cycle: u64,
+    pub message: String,
+}
+
+/// Runs `n` cycles. On a blow-up the scene is restored to the last good snapshot and the
+/// error says where it happened.
+pub fn run(scene: &mut Scene, n: u64) -> Result<Model, Blowup> {
+    run_watched(scene, n, &mut |_, _| false).map(|(model, _)| model)
+}
+
+/// [`run`] with a watcher, called before each step with the scene and the number of steps
+/// done so far. When it answers `true` (an interrupt was asked for), the step about to run
+/// is the Cycle's last: the scene is left exactly as a `Cycle` of `done + 1` would have left
+/// it (the same bits, continuable). Returns the model and the number of steps run. The
+/// watcher is where the session draws its progress line; the core itself does no I/O.
+pub fn run_watched(
+    scene: &mut Scene,
+    n: u64,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<(Model, u64), Blowup> {
+    // With several threads the pool's other workers poll for the length of the Cycle
+    // instead of falling asleep between the step's parallel regions (`awake`).
+    let r = super::awake::while_running(|| run_steps(scene, n, watch));
+    // (Derived per step; not kept between commands.)
+    scene.reach_ext = Vec::new();
+    scene.contacts.margins = [0.0; 2];
+    r
+}
+
+/// The body of [`run`].
+fn run_steps(
+    scene: &mut Scene,
+    n: u64,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<(Model, u64), Blowup> {
+    let mut model = check(scene).map_err(|m| Blowup {
+        cycle: scene.cycle,
+        message: m,
+    })?;
+    if scene.particles.is_empty() {
+        // Step by step, as with particles, so that Cycle N; Cycle M == Cycle N+M exactly.
+        for _ in 0..n {
+            scene.cycle += 1;
+            scene.time += model.dt;
+        }
+        return Ok((model, n));
+    }
+    // A plane wall across a periodic axis makes the axis open (doc/limits.md; a checkpoint
+    // of an earlier version, or walls turned since, may hold one).
+    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
+    if opened != [false; 3] {
+        scene.notes.push(format!(
+            "the {} axis is now open: a plane wall crosses it, and a particle leaving through one side would re-enter behind the wall",
+            walls::axis_names(&opened)
+        ));
+    }
+    let (tol, xres) = search_distances(scene, &model);
+    // Commands may have changed contact states between Cycles: derive the pair liveness anew.
+    scene.contacts.clear_derived();
+    scene.maybe_outside = true;
+    let commanded = scene.contacts.stale;
+    if scene.contacts.stale {
+        prime(scene, &model, tol);
+    } else if !tol_serves(scene, scene.contacts.tol, tol) {
+        // Only the search distance changed: re-map, keep the states of the last step.
+        scene.contacts.remap = true;
+    }
+    // FRAction AUTO: the step of the last rebuild goes on (the same bits after SAve and
+    // RESTart, or across Cycle commands) unless a command changed the scene.
+    if let Some(kept) = scene.settings.auto_step {
+        let dt = if kept > 0.0 && !commanded {
+            kept.min(model.dt_base)
+        } else {
+            super::contact_time::auto_step(scene, &model, model.dt_base)
+        };
+        scene.settings.auto_step = Some(dt);
+        model.dt = dt;
+    }
+    // (A step too long for the fastest contact at the start is the session's pre-Cycle
+    // warning, `warnings`.)
+    let mut warned_step = scene.settings.auto_step.is_some()
+        || super::contact_time::warning(scene, &model, model.fraction).is_some();
+    let mut snapshot = snapshot_of(scene);
+    let every = scene.settings.snapshot_every.max(1);
+    // Energy runaway: no energy may appear that the ledger did not put in. The books'
+    // residual at the start (what commands left unbooked) is the reference; the energy
+    // created since is checked against the energy the scene had or was given (`Audit`).
+    let audit = Audit::of(scene);
+    // A snapshot is taken before step `s` (of this Cycle) when this holds.
+    let snapshot_before = |s: u64| s > 0 && s.is_multiple_of(every);
+    let mut ran = n;
+    for step in 0..n {
+        // An interrupt makes this step the last, as if the Cycle had been this long.
+        let last = watch(scene, step);
+        if snapshot_before(step) {
+            if let Some(e) = audit.check(scene) {
+                return Err(stop(scene, snapshot, e));
+            }
+            // The old snapshot goes before the new one is made (never three copies at once).
+            snapshot.particles = Default::default();
+            snapshot.contacts = Default::default();
+            snapshot = snapshot_of(scene);
+        }
+        let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
+        let rebuilds_before = scene.contacts.rebuilds;
+        let allowed = 1e3 * audit.scale(scene);
+        // The forces of the last step are kept for what reads them after the Cycle (PRint,
+        // plots, checkpoints), and those of the step before a snapshot for the snapshot.
+        let keep = last || step + 1 == n || snapshot_before(step + 1);
+        let mut result = one_step(scene, &mut model, (tol, xres), keep);
+        if result.is_ok() && scene.contacts.rebuilds != rebuilds_before && !warned_step {
+            // At each rebuild: a step too long for the fastest contact (once a Cycle).
+            if scene.settings.auto_step.is_none()
+                && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
+            {
+                scene.notes.push(w);
+                warned_step = true;
+            }
+        }
+        // A particle that leaves through an open side carrying far more energy than was
+        // ever put in is a blow-up, not an exit.
+        let carried = commands_before - scene.ledger.commands;
+        if result.is_ok() && scene.lost > lost_before && carried > allowed {
+            result = Err(Blowup {
+                cycle: scene.cycle,
+                message: format!(
+                    "energy runaway at cycle {}: {} particle(s) left the work-space carrying {carried:.3e} J, \
+                     more than 1000 times the energy put in ({:.3e} J). Hint: reduce FRAction, check \
+                     contact damping (istiff), servo gains and deep overlaps",
+                    scene.cycle,
+                    scene.lost - lost_before,
+                    allowed / 1e3
+                ),
+            });
+        }
+        if let Err(e) = result {
+            return Err(stop(scene, snapshot, e));
+        }
+        if scene.settings.history_every > 0
+            && scene.cycle.is_multiple_of(scene.settings.history_every)
+        {
+            super::record_history(scene);
+        }
+        if last {
+            ran = step + 1;
+            break;
+        }
+    }
+    // The end of the Cycle is audited too (a Cycle shorter than the snapshot interval).
+    if let Some(e) = audit.check(scene) {
+        return Err(stop(scene, snapshot, e));
+    }
+    Ok((model, ran))
+}
+
+/// A `Cycle` that failed: the scene goes back to the last good snapshot, and the message
+/// says so.
+fn stop(scene: &mut Scene, snapshot: Scene, mut e: Blowup) -> Blowup {
+    e.message.push_str(&format!(
+        "\nthe state of cycle {} (the last good snapshot) is kept: SAve it or change the scene",
+        snapshot.cycle
+    ));
+    restore(scene, snapshot);
+    e
+}
+
+/// The energy audit of a `Cycle`: stored energy plus what was dissipated may not exceed the
+/// energy put in (the ledger's input) by more than the energy the scene had or was given —
+/// however slowly it grows (the residual at the start, what commands left unbooked, is
+/// subtracted). The books of a healthy run close to ~1e-3 of the input (doc/timestep.md);
+/// energy created on the scale of all the energy there is, is a blow-up.
+struct Audit {
+    /// Residual of the books at the start.
+    residual: f64,
+    /// Stored energy at the start.
+    stored: f64,
+    /// The least energy scale: every particle pressed against its like to an overlap of
+    /// 1 % of its radius (Hertz, 8/15 E* √R* α^{5/2}), so that a scene at rest is not
+    /// stopped for the round-off of its books.
+    floor: f64,
+}
+
+impl Audit {
+    fn of(scene: &Scene) -> Audit {
+        let p = &scene.particles;
+        let floor = (0..p.len())
+            .map(|i| {
+                let m = &scene.materials[p.material[i] as usize - 1];
+                let e_star = m.young / (2.0 * (1.0 - m.poisson * m.poisson));
+                let r_star = 0.5 * p.radius[i];
+                8.0 / 15.0 * e_star * r_star.sqrt() * (0.01 * p.radius[i]).powf(2.5)
+            })
+            .sum::<f64>();
+        Audit {
+            residual: super::energy::residual(scene),
+            stored: super::energy::stored(scene).total(),
+            floor,
+        }
+    }
+
+    /// The energy scale of the scene: the largest of the energy put in so far, the energy
+    /// stored at the start and the floor.
+    fn scale(&self, scene: &Scene) -> f64 {
+        scene
+            .ledger
+            .input()
+            .abs()
+            .max(self.stored.abs())
+            .max(self.floor)
+            .max(1e-300)
+    }
+
+    /// A runaway, if the energy created since the start exceeds the scene's scale (or the
+    /// stored energy is not finite).
+    fn check(&self, scene: &Scene) -> Option<Blowup> {
+        let stored = super::energy::stored(scene).total();
+        let created = super::energy::residual(scene) - self.residual;
+        let scale = self.scale(scene);
+        (!stored.is_finite() || !created.is_finite() || created > scale)
+            .then(|| runaway(scene, created, scale))
+    }
+}
+
+/// The blow-up snapshot: the scene without what a restore can make anew, the particles'
+/// displacements since the last rebuild and the candidate pairs without a state
+/// ([`ContactStore::lean_clone`]; the list is marked for re-mapping). At S1 50k this is
+/// 11.9 MB instead of 17.7 MB, held through the whole `Cycle`.
+pub fn snapshot_of(scene: &mut Scene) -> Scene {
+    let contacts = std::mem::take(&mut scene.contacts);
+    let disp = std::mem::take(&mut scene.particles.disp);
+    let mut s = scene.clone();
+    scene.contacts = contacts;
+    scene.particles.disp = disp;
+    s.contacts = scene.contacts.lean_clone();
+    s
+}
+
+/// Puts the snapshot back: the displacements since the last rebuild are zero, as the
+/// re-mapping that the restored list is marked for leaves them.
+pub fn restore(scene: &mut Scene, snapshot: Scene) {
+    *scene = snapshot;
+    let n = scene.particles.len();
+    scene.particles.disp = vec![Vec3::zeros(); n];
+}
+
+/// Describes an energy runaway: how much energy appeared, which particle carries the most
+/// kinetic energy, and what it may be.
+fn runaway(scene: &Scene, created: f64, scale: f64) -> Blowup {
+    let p = &scene.particles;
+    let mut worst = 0;
+    let mut kmax = 0.0;
+    for i in 0..p.len() {
+        let k = 0.5 * p.mass[i] * p.vel[i].norm_squared();
+        if k > kmax {
+            kmax = k;
+            worst = i;
+        }
+    }
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "energy runaway at cycle {}: {:.3e} J appeared that the energy ledger did not put in, more than the energy the scene holds or was given ({:.3e} J); \
+             particle {} at ({:.4e}, {:.4e}, {:.4e}) moves at {:.3e} m/s. \
+             Hint: check deep overlaps, servo gains and contact damping (istiff); a step too long for the fastest contacts shows as a warning (FRAction AUTO follows it)",
+            scene.cycle,
+            created,
+            scale,
+            p.id.get(worst).copied().unwrap_or(0),
+            p.pos.get(worst).map_or(0.0, |x| x.x),
+            p.pos.get(worst).map_or(0.0, |x| x.y),
+            p.pos.get(worst).map_or(0.0, |x| x.z),
+            p.vel.get(worst).map_or(0.0, |v| v.norm()),
+        ),
+    }
+}
+
+/// One time step; `keep`: leave the forces and moments in the particle arrays (otherwise the
+/// update clears them as it goes, which saves the next step a pass over them).
+pub fn one_step(
+    scene: &mut Scene,
+    model: &mut Model,
+    (tol, xres): (f64, f64),
+    keep: bool,
+) -> Result<(), Blowup> {
+    let mut dt = model.dt;
+    if !set_margins(scene, model, dt) {
+        scene.contacts.remap = true;
+    }
+    let rebuilt = scene.contacts.stale || scene.contacts.remap;
+    if rebuilt {
+        let tol = rebuild_tol(scene, tol, dt);
+        rebuild(scene, tol);
+        // FRAction AUTO: the step follows the fastest contact at every rebuild.
+        if scene.settings.auto_step.is_some() {
+            dt = super::contact_time::auto_step(scene, model, model.dt_base);
+            scene.settings.auto_step = Some(dt);
+            model.dt = dt;
+        }
+        set_margins(scene, model, dt);
+    }
+    let model = &*model;
+    let xres = xres_in_use(scene, xres);
+    let mut renumbered = false;
+    // Particles behind a wall's surface: every particle at a rebuild (one that crossed in a
+    // step moved far enough to trigger it, as does a wall that jumped), the wall pairs at
+    // every step; before those that left the work-space are removed (one may have left
+    // through the wall first).
+    if !scene.walls.is_empty() {
+        let behind = behind_walls(scene, rebuilt);
+        if !behind.is_empty() {
+            match scene.settings.tunnel {
+                TunnelAction::Stop => return Err(tunnelled(scene, &behind, dt)),
+                TunnelAction::Delete => {
+                    delete_tunnelled(scene, &behind, dt);
+                    renumbered = true;
+                }
+            }
+        }
+    }
+    renumbered |= remove_lost(scene);
+    if renumbered {
+        // (The particles' numbering changed: their margins again.)
+        set_margins(scene, model, dt);
+    }
+    let conserve = scene.liquid.is_some()
+        && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
+    let threads = rayon::current_num_threads();
+    let one_region = match step_regions() {
+        Some(n) => n == 1,
+        None => threads <= super::awake::cores(),
+    };
+    if threads > 1 && one_region && !conserve {
+        // Both steps in one parallel region (`fused`): the same bits. (With more threads
+        // than cores two regions are faster: a task that waits for another holds a core;
+        // 3 threads on 2 cores took 6 × the time of two regions, 1.3 × without the wait.)
+        let mv = Mover::of(scene, model);
+        let (acc, parts) = forces_fused(scene, model, &mv, keep);
+        let wall_work = move_walls(scene, dt);
+        return finish_move(scene, (xres, keep), acc, wall_work, &parts, dt);
+    }
+    let acc = forces(scene, model, dt);
+    if conserve {
+        super::liquid::settle(scene);
+    }
+    move_all(scene, model, xres, acc, keep)
+}
+
+/// `TRUBAL_STEP_REGIONS` = 1 or 2: the step with several threads in one parallel region or
+/// in two (the force step, then the update), whatever the number of cores; otherwise
+/// (`None`) one region unless there are more threads than cores. For measurements and
+/// tests: both give the same bits.
+fn step_regions() -> Option<u8> {
+    static REGIONS: std::sync::OnceLock<Option<u8>> = std::sync::OnceLock::new();
+    *REGIONS.get_or_init(|| match std::env::var("TRUBAL_STEP_REGIONS").as_deref() {
+        Ok("1") => Some(1),
+        Ok("2") => Some(2),
+        _ => None,
+    })
+}
+
+/// Primes the contact states if commands changed the scene (no-op otherwise, or when the
+/// scene cannot cycle yet).
+pub fn prime_if_stale(scene: &mut Scene) {
+    if !scene.contacts.stale || scene.particles.is_empty() {
+        return;
+    }
+    if let Ok(model) = check(scene) {
+        let (tol, _) = search_distances(scene, &model);
+        prime(scene, &model, tol);
+        scene.contacts.tol = tol;
+    }
+}
+
+/// Re-evaluates the contact states at the current positions without moving anything (after
+/// commands changed the scene): initial overlaps get their strain energy, which is booked as
+/// energy put in by the commands.
+pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
+    let before = super::energy::stored(scene).total();
+    rebuild(scene, tol);
+    let _ = forces(scene, model, 0.0);
+    finish_deferred(scene, model.rotation);
+    let after = super::energy::stored(scene).total();
+    scene.ledger.commands += after - before;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `blocks` blocks of pairs over `np` particles, pair k's first particle k·np/len.
+    fn hot_list(blocks: usize, np: usize) -> Vec<HotPair> {
+        let n = blocks * BLOCK;
+        (0..n)
+            .map(|k| HotPair {
+                i: (k * np / n) as u32,
+                j: ((k * np / n + 1) % np) as u32,
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    fn check_cover(ranges: &[PairRange], n: usize, np: usize) {
+        assert_eq!(ranges[0].pairs.start, 0);
+        assert_eq!(ranges[0].parts.start, 0);
+        for w in ranges.windows(2) {
+            assert_eq!(w[0].pairs.end, w[1].pairs.start);
+            assert_eq!(w[0].parts.end, w[1].parts.start);
+            assert_eq!(w[0].pairs.end % BLOCK, 0, "whole blocks");
+        }
+        assert_eq!(ranges.last().map(|r| r.pairs.end), Some(n));
+        assert_eq!(ranges.last().map(|r| r.parts.end), Some(np));
+    }
+
+    /// Uniform cost: two ranges of 20 blocks each. Pairs measured twice as slow per unit in
+    /// the first half of the list: the first range gets 15 blocks (time 2x for the cut x
+    /// blocks in, against 2(20 − x) + 20 for the rest).
+    #[test]
+    fn the_cut_follows_the_measured_rates() {
+        let np = 4000;
+        let hot = hot_list(40, np);
+        let (r, costs) = pair_ranges(&hot, np, 2, &[]);
+        check_cover(&r, hot.len(), np);
+        assert_eq!(r[0].pairs.end, 20 * BLOCK);
+        assert_eq!(costs, vec![20 * BLOCK, 20 * BLOCK]);
+        assert_eq!(r[1].parts.start, hot[20 * BLOCK].i as usize);
+
+        let (r, costs) = pair_ranges(&hot, np, 2, &[(0.5, 2.0), (1.0, 1.0)]);
+        check_cover(&r, hot.len(), np);
+        assert_eq!(r[0].pairs.end, 15 * BLOCK);
+        assert_eq!(costs, vec![15 * BLOCK, 25 * BLOCK]);
+    }
+
+    /// Rates relative to the mean time per unit of cost, clamped.
+    #[test]
+    fn balance_rates_are_relative_to_the_mean() {
+        assert!(Balance::default().rates().is_none());
+        assert!(!Balance::default().measured());
+        let b = Balance {
+            tasks: vec![(0.5, 100, 2.0), (1.0, 100, 1.0)],
+        };
+        assert!(b.measured());
+        let rates = b.rates().unwrap();
+        // Mean 3 s / 200 = 0.015 s per unit.
+        assert!((rates[0].1 - 2.0 / 1.5).abs() < 1e-12);
+        assert!((rates[1].1 - 1.0 / 1.5).abs() < 1e-12);
+        let skewed = Balance {
+            tasks: vec![(0.05, 10, 10.0), (1.0, 190, 0.01)],
+        };
+        let rates = skewed.rates().unwrap();
+        assert_eq!((rates[0].1, rates[1].1), (2.0, 0.5));
+    }
+}
