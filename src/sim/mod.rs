@@ -14,6 +14,7 @@ pub mod leapfrog;
 pub mod liquid;
 pub mod model;
 pub mod params;
+pub mod place;
 pub mod reference;
 pub mod rng;
 pub mod scene;

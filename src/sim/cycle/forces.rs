@@ -11,7 +11,12 @@ pub(super) fn forces(scene: &mut Scene, model: &Model, dt: f64) -> Acc {
 
 /// Steps 1 and 2 of a cycle in one parallel region (several threads, see `fused`): the
 /// energy increments and the update's chunk sums.
-pub(super) fn forces_fused(scene: &mut Scene, model: &Model, mv: &Mover, keep: bool) -> (Acc, Vec<ChunkSums>) {
+pub(super) fn forces_fused(
+    scene: &mut Scene,
+    model: &Model,
+    mv: &Mover,
+    keep: bool,
+) -> (Acc, Vec<ChunkSums>) {
     let (acc, parts) = forces_or_fused(scene, model, model.dt, Some((mv, keep)));
     (acc, parts.unwrap_or_default())
 }
@@ -372,7 +377,10 @@ pub(super) fn serial_pairs<const ADH: bool, const LIQ: bool, const UNI: bool>(
 /// The tasks' results (per task: the energy increments of its pair blocks, of its wall
 /// blocks, and its time) as one sum of the pair blocks in block order and the wall blocks'
 /// list in block order; each task's time is added to its share of `balance`.
-pub(super) fn task_sums(results: &[(Vec<Acc>, Vec<Acc>, f64)], balance: &mut Balance) -> (Acc, Vec<Acc>) {
+pub(super) fn task_sums(
+    results: &[(Vec<Acc>, Vec<Acc>, f64)],
+    balance: &mut Balance,
+) -> (Acc, Vec<Acc>) {
     let mut acc = Acc::default();
     let mut wall_acc = Vec::new();
     for (accs, wall_accs, _) in results {

@@ -46,10 +46,10 @@ mod wall_loop;
 pub use checks::*;
 pub use distances::*;
 use forces::*;
+use fused::View;
 use pairs::*;
 use update::*;
 use wall_loop::*;
-use fused::View;
 
 /// Fixed chunk size of the parallel loops: partial sums are formed per chunk and added in
 /// chunk order, so results are bitwise independent of the number of threads.

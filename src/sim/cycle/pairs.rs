@@ -223,7 +223,12 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
 
 /// Velocity of B's contact point relative to A's (the pair's `Kin::v_rel`).
 #[inline(always)]
-pub(super) fn rel_velocity(c: &PairCtx, (i, j): (usize, usize), (ri, rj): (f64, f64), n: &Vec3) -> Vec3 {
+pub(super) fn rel_velocity(
+    c: &PairCtx,
+    (i, j): (usize, usize),
+    (ri, rj): (f64, f64),
+    n: &Vec3,
+) -> Vec3 {
     c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(n)
 }
 

@@ -442,7 +442,14 @@ pub(super) fn finish_move(
 
 /// Δt/m·inv and Δt/I·inv (I = 0.4 m R², a solid sphere) for a chunk of particles, as the
 /// update computes them (Lian (5.9)–(5.10) with the mass-damping factor `inv`).
-pub(super) fn step_factors(mass: &[f64], radius: &[f64], dt: f64, inv: f64, sv: &mut [f64], sw: &mut [f64]) {
+pub(super) fn step_factors(
+    mass: &[f64],
+    radius: &[f64],
+    dt: f64,
+    inv: f64,
+    sv: &mut [f64],
+    sw: &mut [f64],
+) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::is_x86_feature_detected!("avx2") {

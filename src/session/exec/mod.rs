@@ -1,0 +1,99 @@
+//! Applies a command to the scene. Every function here either succeeds or returns an error
+//! and leaves the scene as it was (the caller works on a copy for multi-step changes).
+
+use crate::lang::command::*;
+use crate::sim::generate::sphere_mass;
+use crate::sim::place;
+use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Scene, Vec3, Wall};
+use crate::sim::walls;
+
+mod materials;
+mod model;
+mod motion;
+mod walls_cmd;
+
+fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
+    if m > MAX_MATERIALS {
+        return Err(format!(
+            "material type {m} is beyond the limit of {MAX_MATERIALS}"
+        ));
+    }
+    if m > scene.materials.len() {
+        scene.materials.resize(m, Material::default());
+    }
+    Ok(&mut scene.materials[m - 1])
+}
+
+fn existing_material(scene: &Scene, m: usize) -> Result<(), String> {
+    if m == 0 || m > scene.materials.len() || scene.materials[m - 1] == Material::default() {
+        return Err(format!(
+            "material type {m} is not defined: give it YMD, PRA and Density first"
+        ));
+    }
+    Ok(())
+}
+
+/// Applies a scene command: the session's handlers by command group, and particle placement
+/// through `sim::place`.
+pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
+    match cmd {
+        Command::Radius { .. }
+        | Command::Density { .. }
+        | Command::Ymd { .. }
+        | Command::Pra { .. }
+        | Command::Friction { .. }
+        | Command::Cohesion { .. } => materials::apply(scene, cmd),
+        Command::Agglomerate {
+            nagg,
+            centre,
+            radius,
+        } => place::define_region(scene, *nagg, *centre, *radius),
+        Command::Create {
+            pos,
+            vel,
+            spin,
+            size,
+            material,
+        } => place::create(scene, *pos, *vel, *spin, *size, *material),
+        Command::Agenerate {
+            size,
+            material,
+            nagg,
+            origin,
+            step,
+        } => place::lattice(scene, *size, *material, *nagg, *origin, *step),
+        Command::Rgenerate {
+            n,
+            size,
+            material,
+            nagg,
+        } => place::random(scene, *n, *size, *material, *nagg),
+        Command::Move { nagg, d } => place::move_agglomerate(scene, *nagg, *d),
+        Command::RgenerateSeed { n } => place::discard_random(scene, *n),
+        Command::Dwall(_) | Command::Awall { .. } => walls_cmd::apply(scene, cmd),
+        Command::Damping(_)
+        | Command::Fraction { .. }
+        | Command::Liquid { .. }
+        | Command::Window { .. }
+        | Command::TwoD
+        | Command::Set(_) => model::apply(scene, cmd),
+        Command::Fix { .. }
+        | Command::Fmm { .. }
+        | Command::Fro
+        | Command::Gravity { .. }
+        | Command::Cgravity { .. }
+        | Command::Velocity { .. }
+        | Command::Vmu { .. }
+        | Command::Zero { .. }
+        | Command::Reset => motion::apply(scene, cmd),
+        other => Err(not_here(other)),
+    }
+}
+
+/// The error of a command that is not this handler's (the dispatch above is wrong).
+fn not_here(cmd: &Command) -> String {
+    format!(
+        "internal: {} is not a scene command",
+        crate::lang::parse::command_name(cmd)
+    )
+}
