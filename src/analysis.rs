@@ -1,4 +1,4 @@
-//! Agglomerate measures (Lian §6–7, cases-lian1994 §5): bonds of the reference state against
+//! Agglomerate measures (Lian §6–7, doc/spec/cases-lian1994.md §5): bonds of the reference state against
 //! now (damage ratio (6.2), newly-made ratio, bond probability (6.4)), and clusters.
 
 use serde_json::{Value, json};

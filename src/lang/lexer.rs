@@ -1,6 +1,6 @@
 //! Splits one line of the command language into tokens (nom).
 //!
-//! Lexical rules (doc/commands.md, `../shared/spec/commands.md`): separators are runs of
+//! Lexical rules (doc/commands.md, `doc/spec/commands.md`): separators are runs of
 //! blanks, tabs, commas, slashes and round brackets; `;` or `#` start a comment that runs to the
 //! end of the line. A word in double quotes is taken as it is (`save "runs/a.sav"`). Every
 //! token keeps its column span so that errors can point at it.

@@ -1,7 +1,7 @@
 //! Hertz normal contact of elastic spheres (no adhesion), effective material properties and the
 //! Rayleigh critical time step.
 //!
-//! Conventions (see `shared/spec/DECISIONS.md`): SI units; the overlap (relative approach) `α`
+//! Conventions (see `doc/spec/DECISIONS.md`): SI units; the overlap (relative approach) `α`
 //! is positive in compression and the normal force is compressive-positive. Equation numbers
 //! are those of Lian (1994), `seeds/000_6b8655e566374cea.txt`.
 //!
@@ -114,14 +114,14 @@ pub fn r_star(r1: f64, r2: f64) -> f64 {
 }
 
 /// Effective radius for a sphere of radius `r` on a plane wall (rigid half-space): `R* = R`
-/// (the `R2 → ∞` limit of Lian 1994 (3.5); DECISIONS.md "Walls").
+/// (the `R2 → ∞` limit of Lian 1994 (3.5); doc/spec/DECISIONS.md, "Contact laws").
 pub fn r_star_plane(r: f64) -> f64 {
     r
 }
 
 /// Effective radius for a sphere of radius `r` inside a spherical container of radius `d`
 /// (concave wall): `R* = R d / (d − R)`, i.e. Lian 1994 (3.5) with `R2 = −d`
-/// (DECISIONS.md "Walls"). Requires `d > r`; returns `+∞` when `d <= r` (conformal or
+/// (doc/spec/DECISIONS.md, "Contact laws"). Requires `d > r`; returns `+∞` when `d <= r` (conformal or
 /// impossible geometry, which the caller must reject).
 pub fn r_star_container(r: f64, d: f64) -> f64 {
     if d > r {
@@ -133,13 +133,13 @@ pub fn r_star_container(r: f64, d: f64) -> f64 {
 
 /// Effective radius for a sphere of radius `r` touching a spherical obstacle/indenter of radius
 /// `d` from outside: `R* = R d / (d + R)`, i.e. Lian 1994 (3.5) with `R2 = d`
-/// (DECISIONS.md "Walls").
+/// (doc/spec/DECISIONS.md, "Contact laws").
 pub fn r_star_obstacle(r: f64, d: f64) -> f64 {
     r_star(r, d)
 }
 
 /// Rayleigh critical time step `Δt_R = π R_min sqrt(ρ/G) / (0.1631 ν + 0.8766)`
-/// (DECISIONS.md "Time integration"; Lian 1994 §5 only names the Rayleigh-wave criterion, see
+/// (doc/spec/DECISIONS.md, "Time integration and time step"; Lian 1994 §5 only names the Rayleigh-wave criterion, see
 /// spec §10 item 1). `0.1631 ν + 0.8766` is the usual linear fit of the Rayleigh-wave speed
 /// ratio `c_R / c_S`; `g` is the shear modulus `G`.
 pub fn rayleigh_dt(r_min: f64, rho: f64, g: f64, nu: f64) -> f64 {

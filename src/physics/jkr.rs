@@ -1,12 +1,12 @@
 //! JKR adhesive normal contact of elastic spheres (Johnson, Kendall & Roberts 1971) as used in
 //! Lian (1994) §3.3, plus the Savkoor–Briggs peeling relations (3.100)–(3.101).
 //!
-//! Conventions (`shared/spec/DECISIONS.md`): `γ` is the surface energy **per surface** (work of
+//! Conventions (`doc/spec/DECISIONS.md`): `γ` is the surface energy **per surface** (work of
 //! adhesion `Γ = 2γ` for like solids), the pull-off force is `P_c = 3πγR*`, the approach `α` is
 //! positive in compression and negative at separation, and the force `P` is compressive-positive.
 //!
 //! Corrected approach–radius relation (the printed (3.29) has a spurious ½, see
-//! `physics-lian1994.md` §1.3):
+//! doc/spec/physics-lian1994.md §1.3):
 //! `α(a) = a²/R* − sqrt(4πγa/E*)`, and the load is (3.24) `P(a) = 4E*a³/(3R*) − sqrt(16πγE*a³)`.
 //!
 //! ## Dimensionless form used internally
@@ -106,7 +106,7 @@ impl Jkr {
     }
 
     /// Approach as a function of contact radius, `α = a²/R* − sqrt(4πγa/E*)`: Lian 1994 (3.29)
-    /// **corrected** (the printed `a²/(2R*)` is a typo; see `physics-lian1994.md` §1.3).
+    /// **corrected** (the printed `a²/(2R*)` is a typo; see doc/spec/physics-lian1994.md §1.3).
     /// Negative `a` is treated as 0.
     pub fn alpha_of_a(&self, a: f64) -> f64 {
         let a = a.max(0.0);
@@ -248,7 +248,7 @@ impl Jkr {
 
     /// JKR normal force and contact radius `(P, a)` at approach `alpha`, `P` from Lian 1994
     /// (3.24) at `a =` [`Jkr::solve_a`]`(alpha, a_guess)` (corrected (3.29)); drift-free,
-    /// as required by DECISIONS.md. For `alpha ≤ α_s` it returns the separation point
+    /// as required by doc/spec/DECISIONS.md. For `alpha ≤ α_s` it returns the separation point
     /// `(−5/9 P_c, a_s)`; breaking the contact there is the caller's decision.
     pub fn force(&self, alpha: f64, a_guess: f64) -> (f64, f64) {
         if self.is_hertz() {

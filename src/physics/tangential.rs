@@ -6,7 +6,7 @@
 //! positive direction, the normal force before and after this step's normal update, and returns
 //! the new `T`, the frictional dissipation of the step and the tangent stiffness.
 //! Equation numbers are those of Lian (1994), `seeds/000_6b8655e566374cea.txt`; see also
-//! `shared/spec/physics-lian1994.md` §2 and §7 and `shared/spec/DECISIONS.md`.
+//! `doc/spec/physics-lian1994.md` §2 and §7 and `doc/spec/DECISIONS.md`.
 //!
 //! Two laws:
 //! * [`mindlin_deresiewicz`] (`SET TANGENTIAL MD`, default): Mindlin–Deresiewicz micro-slip with
@@ -16,7 +16,7 @@
 //! * [`noslip_coulomb`] (`SET TANGENTIAL NOSLIP`): linear spring `k_t = 8 G* a` (3.93)–(3.94),
 //!   (5.18) with a Coulomb cap at `μ P_e`.
 //!
-//! # Decisions on the open points of the thesis (physics-lian1994.md §2.3 flags)
+//! # Decisions on the open points of the thesis (doc/spec/physics-lian1994.md §2.3 flags)
 //! * **Updated normal force.** `c_j` uses `P_e^new = P_e + ΔP_e` in its denominators, as in
 //!   (A.45), (A.46), (A.52), (A.61) (flag 1). The caller updates `N` before `T` (§2.4).
 //! * **The `c_j = a` test** is the product form `(-1)^j ΔT ≤ μ ΔP_e ⇒ c_j = a` (flag 2), evaluated

@@ -1,7 +1,7 @@
 //! The time step against the scene's fastest contact: the duration of a Hertz impact at the
 //! largest approach speed, `t_c = 2.868 (m*²/(R* E*² v))^{1/5}` (Hertz theory on Lian 1994
 //! (3.14)–(3.15), `physics::hertz::impact_duration`), compared with Δt. The Rayleigh step
-//! (DECISIONS.md) depends on the materials and sizes only; a contact at 100 m/s lasts about
+//! (doc/spec/DECISIONS.md) depends on the materials and sizes only; a contact at 100 m/s lasts about
 //! 2.5 times less than one at 1 m/s, so a step chosen for a settling bed can leave a fast
 //! impact with a handful of steps. Fewer than [`WARN_STEPS`] steps per contact gives a
 //! warning; `FRAction AUTO` takes Δt = min(FRAction × Δt_R, t_c/[`AUTO_STEPS`]) at every

@@ -2,7 +2,7 @@
 //! overlap check and the agglomerate regions of `AGGlomerate` (Lian §5.3).
 //!
 //! A generated particle is *inside* a region when the whole particle is inside: its centre
-//! lies within R_A − R of the region centre (DECISIONS.md). Without a region, the particle
+//! lies within R_A − R of the region centre (doc/spec/DECISIONS.md). Without a region, the particle
 //! must lie in the work-space: its centre in [0, L) on periodic axes, in [R, L − R] on open
 //! axes. Overlap: centre distance below (R_i + R_j)(1 − 1e-9), so touching lattice spheres are
 //! accepted despite round-off (`SET GENoverlap` changes the tolerance, e.g. to build agglomerates

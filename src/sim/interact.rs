@@ -1,6 +1,6 @@
 //! The force of one contact (particle–particle or particle–wall): normal law (Hertz or JKR),
 //! contact damping, tangential law, and the liquid bridge. Lian §5.6.2 (with the sign
-//! corrections of physics-lian1994 §2.4) and §5.7.
+//! corrections of doc/spec/physics-lian1994.md §2.4) and §5.7.
 
 use super::contacts::{BridgeState, ContactState};
 use super::params::PairConst;
@@ -47,7 +47,7 @@ pub struct Laws<'a> {
     pub beta: f64,
     pub liquid: Option<&'a Liquid>,
     pub bridge: BridgeChoice,
-    /// Minimum gap of the viscous force (None: R*/100 of each pair, DECISIONS.md).
+    /// Minimum gap of the viscous force (None: R*/100 of each pair, doc/spec/DECISIONS.md).
     pub smin: Option<f64>,
     /// Impact flag: contacts made now use the base surface energy.
     pub impact: bool,
@@ -192,7 +192,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             gamma,
         };
         if !s.touching && alpha >= 0.0 {
-            // Snap-in at first touch: a = a0, P = −8/9 Pc (DECISIONS.md). The separation
+            // Snap-in at first touch: a = a0, P = −8/9 Pc (doc/spec/DECISIONS.md). The separation
             // radius a_s (3.117) is computed once here.
             s.touching = true;
             s.a = j.a0();
@@ -267,7 +267,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let mut bridge_c = 0.0; // viscous coefficient 6πηR*²/max(S, S_min)
     let mut sgap = 0.0;
     if let Some(liq) = laws.liquid.filter(|_| LIQ) {
-        // Formation on solid contact (DECISIONS.md); touching within round-off counts.
+        // Formation on solid contact (doc/spec/DECISIONS.md); touching within round-off counts.
         if s.bridge.is_none() && liq.pvol > 0.0 && k.gap <= 1e-6 * k.r1 {
             let (volume, share) = match laws.liquid_share {
                 // Lian: the nominal volume, pvol % of the mean volume of the two spheres.
@@ -448,7 +448,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
 
 /// Tangential force on B: rotate the history into the current contact plane, advance the
 /// signed resultant displacement (Lian (5.22)–(5.26), corrected sign rule of
-/// physics-lian1994 §2.4 item 6) and apply the chosen law.
+/// doc/spec/physics-lian1994.md §2.4 item 6) and apply the chosen law.
 #[inline(always)]
 fn tangential_step(
     k: &Kin,

@@ -7,7 +7,7 @@ use crate::physics::bridge::Bridge;
 use crate::sim::model::LiquidMode;
 
 /// Bridge volume for a pair: pvol % of the mean volume of the two spheres (a wall pair uses
-/// the particle's volume) (DECISIONS.md).
+/// the particle's volume) (doc/spec/DECISIONS.md).
 pub fn bridge_volume(pvol: f64, r1: f64, r2: f64) -> f64 {
     let v = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
     let v2 = if r2.is_finite() { v(r2) } else { v(r1) };

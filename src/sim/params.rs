@@ -12,7 +12,7 @@ pub struct PairConst {
     pub g_star: f64,
     /// Smaller of the two friction coefficients (TRUBAL rule).
     pub mu: f64,
-    /// Surface energy sqrt(γ1 γ2) (DECISIONS.md).
+    /// Surface energy sqrt(γ1 γ2) (doc/spec/DECISIONS.md).
     pub gamma: f64,
     /// The same for contacts made after an impact.
     pub gamma_base: f64,

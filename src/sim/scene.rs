@@ -213,7 +213,7 @@ pub struct Wall {
     pub travel: f64,
 }
 
-/// Rayleigh damping parameters for one contact set (Lian §5.8; DECISIONS.md).
+/// Rayleigh damping parameters for one contact set (Lian §5.8; doc/spec/DECISIONS.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Rayleigh {
     /// Mass-proportional coefficient α_R = frac·2π·freq (1/s).

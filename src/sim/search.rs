@@ -1,4 +1,4 @@
-//! Contact search by box-mapped link lists (Lian §5.5, physics-lian1994 §5), modern form.
+//! Contact search by box-mapped link lists (Lian §5.5, doc/spec/physics-lian1994.md §5), modern form.
 //!
 //! Two ways to fill the boxes, both giving exactly the pairs with gap < TOL (the merge sorts
 //! them, so the choice never changes a result):

@@ -1,5 +1,5 @@
 //! Wall geometry: gap, contact normal and surface velocity for plane walls, spherical
-//! containers and spherical obstacles (Lian (5.7), (5.8); DECISIONS.md "Walls").
+//! containers and spherical obstacles (Lian (5.7), (5.8); doc/spec/DECISIONS.md, "Contact laws").
 
 use crate::sim::model::WallGeom;
 
@@ -120,7 +120,7 @@ pub fn axis_names(axes: &[bool; 3]) -> String {
 }
 
 /// Effective radius R* of a particle against a wall: plane R, container R d/(d − R),
-/// obstacle R d/(d + R) (DECISIONS.md).
+/// obstacle R d/(d + R) (doc/spec/DECISIONS.md).
 #[inline]
 pub fn wall_r_star(geom: &WallGeom, r: f64) -> f64 {
     match *geom {

@@ -1,5 +1,5 @@
 //! Continuation is exact: `Cycle N; SAve; (new session) RESTart; Cycle M` and `Cycle N; Cycle M`
-//! give bitwise the same state as `Cycle N+M` (DECISIONS.md, "Output, determinism,
+//! give bitwise the same state as `Cycle N+M` (doc/spec/DECISIONS.md, "Output, determinism,
 //! checkpoints"), for a dry frictional scene with walls, an adhesive (JKR) scene and a wet
 //! (liquid bridge) scene. The split points are chosen so that some fall on a step after which
 //! the candidate list is due for a rebuild (the case where a continuation used to re-evaluate

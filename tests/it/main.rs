@@ -4,6 +4,7 @@
 mod common;
 
 mod adhesion;
+mod architecture;
 mod broken_pipe;
 mod checkpoint;
 mod cli;

@@ -49,7 +49,7 @@ fn rebound(wall: bool, e: f64, v: f64, gap: f64, cycles: u64) -> f64 {
 
 #[test]
 fn restitution_holds_at_the_default_step() {
-    // The step at FRAction 0.2 (Rayleigh, DECISIONS.md).
+    // The step at FRAction 0.2 (Rayleigh, doc/spec/DECISIONS.md).
     let g: f64 = 1e8 / 2.6;
     let dt = 0.2 * std::f64::consts::PI * 0.01 * (2500.0f64 / g).sqrt() / (0.1631 * 0.3 + 0.8766);
     let mut worst: f64 = 0.0;

@@ -1,5 +1,5 @@
 //! Lian's fitted half-filling angle, Lian 1994 (5.37)–(5.49) with the two
-//! sign corrections of physics-lian1994 §3.5 (slopes of (5.42) and (5.43)),
+//! sign corrections of doc/spec/physics-lian1994.md §3.5 (slopes of (5.42) and (5.43)),
 //! and the sphere–plane force of Rabinovich et al. (2005) as used by Olsson
 //! (2017) eqs (33)–(35) (with α² = 2d/R, the corrected (35)).
 //!
@@ -223,7 +223,7 @@ mod tests {
         assert!(worst[0] < worst[1]);
     }
 
-    /// Reference values of physics-lian1994 §3.6 (R = 30 µm, V = 0.1 % of the
+    /// Reference values of doc/spec/physics-lian1994.md §3.6 (R = 30 µm, V = 0.1 % of the
     /// particle volume, γ = 0.025 N/m, θ = 0), within 0.5 %.
     #[test]
     fn reference_forces_of_physics_report() {

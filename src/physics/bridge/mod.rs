@@ -192,10 +192,10 @@ fn laplace_cache(n: &Norm) -> Option<Arc<Branch>> {
     branch
 }
 
-/// Nominal bridge volume (m³) for `LIQuid pvol …` (DECISIONS.md): `pvol` % of
+/// Nominal bridge volume (m³) for `LIQuid pvol …` (doc/spec/DECISIONS.md): `pvol` % of
 /// the mean volume of the two spheres, `V = pvol/100 · (V1 + V2)/2`; for a
 /// wall (`r2 = ∞`) `pvol` % of the particle's volume. With `pvol = 0.1` this is
-/// Lian's "0.1 % of the particle volume" (physics-lian1994 §3.8).
+/// Lian's "0.1 % of the particle volume" (doc/spec/physics-lian1994.md §3.8).
 pub fn nominal_volume(pvol_percent: f64, r1: f64, r2: f64) -> f64 {
     let vol = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
     let mean = if r2.is_infinite() {
@@ -326,7 +326,7 @@ pub fn half_filling_angle(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
 /// Energy (J) needed to pull the bridge from gap `s` to rupture,
 /// `∫_s^{S_c} F dS` (`s < 0` counts as 0; 0 beyond rupture). This is the static
 /// bond energy released into the energy ledger when the bridge ruptures
-/// (physics-lian1994 §3.8: C(29)). For `Laplace` it is the surface-energy
+/// (doc/spec/physics-lian1994.md §3.8: C(29)). For `Laplace` it is the surface-energy
 /// difference `E(S_c) − E(s)` of (4.35).
 pub fn bond_energy(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
     BridgeCoeffs::new(model, b).bond_energy(s)

@@ -100,7 +100,7 @@ fn willett_star(v: f64, theta: f64, k: f64) -> f64 {
 }
 
 /// Willett et al. (2000) rupture distance as used by Olsson (2017) eqs
-/// (52)/(53) (corrected as in olsson2017.md): with the harmonic-mean radius
+/// (52)/(53) (corrected as in doc/spec/olsson2017.md): with the harmonic-mean radius
 /// `R_h = 2R1R2/(R1 + R2)` (`= 2R` for a plane), `V* = V/R_h³` and
 /// `ρ = R_small/R_large` (0 for a plane),
 /// `S_c = R_h (1 + θ(ρ + 1)/4)(V*^{1/3} + (ρ/2 − 2/5) V*^{2/3})`.
@@ -128,7 +128,7 @@ mod tests {
     }
 
     /// Equal spheres: (5.31)–(5.36) must reduce to (4.37), S_c* = (1 + θ/2) V*^{1/3},
-    /// and the values listed in cases-lian1994 §4.7.
+    /// and the values listed in doc/spec/cases-lian1994.md §4.7.
     #[test]
     fn equal_spheres_reduce_to_4_37() {
         let expect = [

@@ -206,10 +206,6 @@ pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
     }
     let v = reach_margins(&scene.particles.vel, dt, &mut scene.reach_ext);
     let d = max_disp(scene);
-    if std::env::var("EXP").as_deref() == Ok("2") {
-        scene.contacts.margins = [0.0; 2];
-        return true;
-    }
     let walls = scene
         .walls
         .iter()
