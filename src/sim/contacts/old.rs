@@ -1,0 +1,121 @@
+//! The contact state as older checkpoint formats laid it out, read into the current state:
+//! version 1 stored every contact state in one flat layout (with a contact normal that was
+//! written and never read); version 2 had no `v_prev` (the velocity-dependent forces were
+//! evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
+//! pair as isolated).
+use std::cell::Cell;
+
+use serde::{Deserialize, Deserializer};
+
+use super::{BridgeState, ContactExt, TangentialState, Vec3};
+
+thread_local! {
+    /// The format version being decoded (0: the current one).
+    static READING: Cell<u32> = const { Cell::new(0) };
+}
+
+/// Runs `f` (a decoding of a whole checkpoint payload) with contact states read in the
+/// layout of format `version`.
+pub fn reading<R>(version: u32, f: impl FnOnce() -> R) -> R {
+    READING.with(|r| r.set(version));
+    let out = f();
+    READING.with(|r| r.set(0));
+    out
+}
+
+/// The format version being decoded (0: the current one).
+pub fn version() -> u32 {
+    READING.with(|r| r.get())
+}
+
+/// The contact state as format version 1 wrote it (frozen: never change).
+#[derive(Deserialize)]
+struct V1 {
+    touching: bool,
+    overlap: f64,
+    normal_force: f64,
+    damp_force: f64,
+    a_s: f64,
+    tang_energy: f64,
+    a: f64,
+    gamma: f64,
+    delta: Vec3,
+    tforce: Vec3,
+    tdamp: Vec3,
+    tdelta: f64,
+    tang: TangentialState,
+    #[allow(dead_code)]
+    normal: Vec3,
+    bridge: Option<Box<BridgeState>>,
+    released: [f64; 2],
+}
+
+impl From<V1> for super::ContactState {
+    fn from(o: V1) -> Self {
+        let ext = ContactExt {
+            a_s: o.a_s,
+            gamma: o.gamma,
+            delta: o.delta,
+            tdelta: o.tdelta,
+            tang: o.tang,
+            released: o.released,
+        };
+        super::ContactState {
+            touching: o.touching,
+            overlap: o.overlap,
+            normal_force: o.normal_force,
+            damp_force: o.damp_force,
+            v_prev: f64::INFINITY,
+            tang_energy: o.tang_energy,
+            a: o.a,
+            tforce: o.tforce,
+            tdamp: o.tdamp,
+            ext: (ext != ContactExt::default()).then(|| Box::new(ext)),
+            bridge: o.bridge,
+        }
+    }
+}
+
+/// The contact state as format version 2 wrote it (frozen: never change).
+#[derive(Deserialize)]
+struct V2 {
+    touching: bool,
+    overlap: f64,
+    normal_force: f64,
+    damp_force: f64,
+    tang_energy: f64,
+    a: f64,
+    tforce: Vec3,
+    tdamp: Vec3,
+    ext: Option<Box<ContactExt>>,
+    bridge: Option<Box<BridgeState>>,
+}
+
+impl From<V2> for super::ContactState {
+    fn from(o: V2) -> Self {
+        super::ContactState {
+            touching: o.touching,
+            overlap: o.overlap,
+            normal_force: o.normal_force,
+            damp_force: o.damp_force,
+            v_prev: f64::INFINITY,
+            tang_energy: o.tang_energy,
+            a: o.a,
+            tforce: o.tforce,
+            tdamp: o.tdamp,
+            ext: o.ext,
+            bridge: o.bridge,
+        }
+    }
+}
+
+/// Reads a contact state in the layout of the checkpoint being decoded.
+pub fn deserialize_state<'de, D: Deserializer<'de>>(
+    de: D,
+) -> Result<super::ContactState, D::Error> {
+    match version() {
+        1 => V1::deserialize(de).map(Into::into),
+        2 => V2::deserialize(de).map(Into::into),
+        _ => super::ContactState::deserialize(de),
+    }
+}

@@ -1,0 +1,158 @@
+//! The state of one contact: what every law keeps (`ContactState`), the optional
+//! extension of JKR, Mindlin–Deresiewicz and the liquid-return fields (`ContactExt`), and a
+//! liquid bridge (`BridgeState`).
+
+use super::*;
+
+/// State of a liquid bridge (Lian §5.7).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BridgeState {
+    /// Liquid volume (m³).
+    pub volume: f64,
+    /// Rupture distance S_c (m) of the bridge model in use.
+    pub s_c: f64,
+    /// Static (capillary) force of the last step, attractive magnitude (N).
+    pub f_static: f64,
+    /// Viscous normal force of the last step, compressive positive (N).
+    pub f_visc: f64,
+    /// Gap of the last step (m).
+    pub gap: f64,
+    /// Work done against the static force since formation (J).
+    pub work: f64,
+    /// Liquid drawn from particle A and B (conserving mode; zero in Lian's mode).
+    pub share: [f64; 2],
+    /// Not yet settled with the particles' liquid (conserving mode).
+    pub fresh: bool,
+    /// Tangential viscous force on B of the last step (Goldman, `SET GOLdman ON`).
+    pub f_tang: Vec3,
+    /// Precomputed shape coefficients of the bridge model (rebuilt on load).
+    pub coeffs: BridgeCoeffs,
+}
+
+impl BridgeState {
+    pub fn new(model: BridgeModel, b: Bridge, gap: f64, share: [f64; 2]) -> Self {
+        let coeffs = BridgeCoeffs::new(model, &b);
+        BridgeState {
+            volume: b.volume,
+            s_c: coeffs.rupture_distance(),
+            f_static: 0.0,
+            f_visc: 0.0,
+            gap,
+            work: 0.0,
+            share,
+            fresh: share != [0.0; 2],
+            f_tang: Vec3::zeros(),
+            coeffs,
+        }
+    }
+
+    /// Recomputes the coefficients for another model or new liquid parameters.
+    pub fn rebuild(&mut self, model: BridgeModel) {
+        self.coeffs = BridgeCoeffs::new(model, self.coeffs.bridge());
+        self.s_c = self.coeffs.rupture_distance();
+    }
+
+    /// Half-filling angle on the first sphere at the last gap (rad).
+    pub fn phi(&self) -> f64 {
+        crate::physics::bridge::half_filling_angle(
+            self.coeffs.model(),
+            self.coeffs.bridge(),
+            self.gap.max(0.0),
+        )
+    }
+}
+
+/// State of one contact: the part every contact law reads and writes at every step, kept
+/// small (the force loop streams it), with the state of the laws only some scenes use (JKR,
+/// Mindlin–Deresiewicz, liquid bridges) behind pointers that stay empty otherwise ("model
+/// only what a scene needs": a Hertz contact with the no-slip law is 120 bytes).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactState {
+    /// A solid contact is active (Hertz: overlap > 0; JKR: made and not yet detached).
+    pub touching: bool,
+    /// Overlap α (positive = compression) of the last step.
+    pub overlap: f64,
+    /// Elastic normal force P (compressive positive).
+    pub normal_force: f64,
+    /// Dashpot normal force of the last step (restitution and Rayleigh).
+    pub damp_force: f64,
+    /// Separation rate of the last step if it had a velocity-dependent normal force (the
+    /// history of `physics::dashpot::others`); +∞ otherwise.
+    pub v_prev: f64,
+    /// Stored tangential elastic energy.
+    pub tang_energy: f64,
+    /// Contact radius a.
+    pub a: f64,
+    /// Tangential force on B.
+    pub tforce: Vec3,
+    /// Tangential dashpot force on B (Rayleigh contact damping).
+    pub tdamp: Vec3,
+    /// JKR and Mindlin–Deresiewicz state, and liquid to return; `None` while all of it is
+    /// at its default (Hertz contacts with the no-slip law never allocate it).
+    pub ext: Option<Box<ContactExt>>,
+    /// Liquid bridge, if any.
+    pub bridge: Option<Box<BridgeState>>,
+}
+
+/// The part of a contact's state that only some laws use.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ContactExt {
+    /// JKR separation radius a_s (3.117), computed at snap-in.
+    pub a_s: f64,
+    /// Surface energy of this contact (J/m²); 0 for a Hertz contact.
+    pub gamma: f64,
+    /// Accumulated tangential displacement vector δ (of B relative to A); kept by the
+    /// Mindlin–Deresiewicz law (the no-slip law, like LIGGGHTS' and LAMMPS' shear history,
+    /// keeps only the force).
+    pub delta: Vec3,
+    /// Signed resultant tangential displacement (Lian (5.23)).
+    pub tdelta: f64,
+    /// Signed resultant tangential law state.
+    pub tang: TangentialState,
+    /// Liquid returned to A and B by a bridge that ruptured in this step (conserving mode).
+    pub released: [f64; 2],
+}
+
+impl Default for ContactState {
+    fn default() -> ContactState {
+        ContactState {
+            touching: false,
+            overlap: 0.0,
+            normal_force: 0.0,
+            damp_force: 0.0,
+            v_prev: f64::INFINITY,
+            tang_energy: 0.0,
+            a: 0.0,
+            tforce: Vec3::zeros(),
+            tdamp: Vec3::zeros(),
+            ext: None,
+            bridge: None,
+        }
+    }
+}
+
+pub(super) static DEFAULT_EXT: std::sync::LazyLock<ContactExt> =
+    std::sync::LazyLock::new(ContactExt::default);
+
+impl ContactState {
+    /// The law-specific state (the default values if the contact has none).
+    pub fn ext(&self) -> &ContactExt {
+        self.ext.as_deref().unwrap_or(&DEFAULT_EXT)
+    }
+    /// The law-specific state, allocated (at its defaults) if the contact had none.
+    pub fn ext_mut(&mut self) -> &mut ContactExt {
+        self.ext.get_or_insert_with(Box::default)
+    }
+    /// The pair must be evaluated in the next step whether or not it is within reach: a
+    /// solid contact, a bridge, or a dashpot force or separation rate of the last step to
+    /// pair with (an approach that turned away books the second half of its force and drops
+    /// its rate).
+    #[inline(always)]
+    pub fn live(&self) -> bool {
+        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite()
+    }
+    /// Surface energy of the contact (0: Hertz).
+    pub fn gamma(&self) -> f64 {
+        self.ext.as_ref().map_or(0.0, |e| e.gamma)
+    }
+}
