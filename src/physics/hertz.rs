@@ -38,6 +38,16 @@ pub fn contact_radius(r_star: f64, overlap: f64) -> f64 {
     }
 }
 
+/// Contact radius and normal force of a touching Hertz contact, `a = sqrt(R* α)` and
+/// `P = 4/3 E* a α` (= 4/3 E* a³/R*); Lian 1994 (3.14)–(3.15). The form both contact kernels
+/// evaluate (`sim::interact` and the vectorised `sim::lanes`), so that they agree bit for bit;
+/// `overlap > 0` is the caller's.
+#[inline(always)]
+pub fn radius_and_force(e_star: f64, r_star: f64, overlap: f64) -> (f64, f64) {
+    let a = (r_star * overlap).sqrt();
+    (a, 4.0 / 3.0 * e_star * a * overlap)
+}
+
 /// Hertz normal force `P = 4/3 E* sqrt(R*) α^{3/2}` (compressive positive); Lian 1994 (3.14),
 /// (3.15) combined (`a³ = 3PR*/(4E*)`, `α = a²/R*`). Zero for `overlap <= 0`.
 pub fn force(e_star: f64, r_star: f64, overlap: f64) -> f64 {
@@ -149,6 +159,16 @@ pub fn rayleigh_dt(r_min: f64, rho: f64, g: f64, nu: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// (3.14)–(3.15): a² = R* α and P = 4/3 E* a³/R*, the same force as `force`.
+    #[test]
+    fn radius_and_force_is_hertz() {
+        let (e, r, alpha) = (3.8e10, 15e-6, 2e-8);
+        let (a, p) = radius_and_force(e, r, alpha);
+        assert!((a * a - r * alpha).abs() < 1e-15 * r * alpha);
+        assert!((p - 4.0 / 3.0 * e * a.powi(3) / r).abs() < 1e-14 * p);
+        assert!((p - force(e, r, alpha)).abs() < 1e-14 * p);
+    }
 
     const R: f64 = 30e-6;
     const E: f64 = 70e9;

@@ -642,6 +642,75 @@ pub fn mindlin_deresiewicz(state: &mut TangentialState, inp: &TangentialInput) -
     o
 }
 
+/// Rotation of a shear vector into a new contact plane, keeping its length; Lian 1994
+/// (5.19)–(5.21): `w = v − n (n·v)`, `v' = w |v|/|w|`. A zero vector stays; a vector along
+/// the new normal (no projection) becomes zero. Branch-free (selects), so that the vectorised
+/// kernel (`sim::lanes`) can use it as the general one (`sim::interact`) does.
+#[inline(always)]
+pub fn rotate_into_plane(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    let [ox, oy, oz] = v;
+    let [nx, ny, nz] = n;
+    let len2 = 0.0 + (ox * ox + oy * oy + oz * oz);
+    let nd = nx * ox + ny * oy + nz * oz;
+    let (wx, wy, wz) = (ox - nx * nd, oy - ny * nd, oz - nz * nd);
+    let wl2 = 0.0 + (wx * wx + wy * wy + wz * wz);
+    let r = (len2 / wl2).sqrt();
+    let keep = len2 == 0.0;
+    let proj = wl2 > 0.0;
+    [
+        select(keep, ox, select(proj, wx * r, 0.0)),
+        select(keep, oy, select(proj, wy * r, 0.0)),
+        select(keep, oz, select(proj, wz * r, 0.0)),
+    ]
+}
+
+/// One step of the vector no-slip law (`SET TANgential NOSLIP`, the law of the contact
+/// kernels): the spring `T = T_old − k_t Δδ` with `k_t = 8 G* a` (3.93)–(3.94), (5.18),
+/// capped at `|T| ≤ μ P_e` along its own direction (`P_e = P + 2 P_c` with adhesion, (3.103);
+/// a tensile `P_e` gives no capacity). `t_old` is the force of the last step already rotated
+/// into the contact plane, `dd` the step's tangential displacement of B relative to A
+/// (the force is the one on B). Returns the new force, the work done on the spring over the
+/// step `−½ (T_old + T)·Δδ` and its stored energy `|T|²/(2 k_t)`: the friction loss is
+/// `work − Δstored`. Branch-free, for both kernels.
+#[inline(always)]
+pub fn noslip_spring(t_old: [f64; 3], dd: [f64; 3], kt: f64, mu: f64, pe: f64) -> NoSlipStep {
+    let [tx, ty, tz] = t_old;
+    let [ddx, ddy, ddz] = dd;
+    let (fx0, fy0, fz0) = (tx - ddx * kt, ty - ddy * kt, tz - ddz * kt);
+    let cap = mu * pe.max(0.0);
+    let fl2 = 0.0 + (fx0 * fx0 + fy0 * fy0 + fz0 * fz0);
+    let scale = select(fl2 > cap * cap, cap / fl2.sqrt(), 1.0);
+    let (fx, fy, fz) = (fx0 * scale, fy0 * scale, fz0 * scale);
+    let (sx, sy, sz) = (tx + fx, ty + fy, tz + fz);
+    let work = -0.5 * (sx * ddx + sy * ddy + sz * ddz);
+    let energy = select(
+        kt > 0.0,
+        (0.0 + (fx * fx + fy * fy + fz * fz)) / (2.0 * kt),
+        0.0,
+    );
+    NoSlipStep {
+        force: [fx, fy, fz],
+        work,
+        energy,
+    }
+}
+
+/// What [`noslip_spring`] gives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoSlipStep {
+    /// The new tangential force on B.
+    pub force: [f64; 3],
+    /// Work done on the spring over the step.
+    pub work: f64,
+    /// Energy stored in the spring.
+    pub energy: f64,
+}
+
+#[inline(always)]
+fn select(c: bool, a: f64, b: f64) -> f64 {
+    if c { a } else { b }
+}
+
 /// Linear "Mindlin no-slip + Coulomb" law: `ΔT = 8 G* a Δδ` (Lian 1994 (3.93)–(3.94), (5.18)),
 /// capped at `|T| ≤ μ P_e` keeping the sign, `P_e = P + 2P_c` with adhesion (3.103), `P` without.
 ///
@@ -724,6 +793,73 @@ mod tests {
             d_delta: dd,
         }
     }
+    /// (5.19)–(5.21): the rotated shear vector lies in the new plane with its old length; a
+    /// vector in the plane is unchanged, one along the normal vanishes, zero stays zero.
+    #[test]
+    fn rotation_into_the_contact_plane() {
+        let n = [0.0, 0.6, 0.8];
+        let v = [3.0, 4.0, -1.0];
+        let r = rotate_into_plane(v, n);
+        let dot = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+        let len = |x: [f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        assert!(dot.abs() < 1e-15, "{dot}");
+        assert!((len(r) - len(v)).abs() < 1e-14 * len(v));
+        // The projection's direction: v − n (n·v) = (3, 4 − 0.6·1.6, −1 − 0.8·1.6).
+        let w = [3.0, 4.0 - 0.96, -1.0 - 1.28];
+        let k = len(v) / len(w);
+        for c in 0..3 {
+            assert!((r[c] - w[c] * k).abs() < 1e-14);
+        }
+        let inplane = [0.0, 0.8, -0.6];
+        assert_eq!(rotate_into_plane(inplane, n), inplane);
+        assert_eq!(rotate_into_plane([0.0, 1.2, 1.6], n), [0.0; 3]);
+        assert_eq!(rotate_into_plane([0.0; 3], n), [0.0; 3]);
+    }
+
+    /// The vector no-slip law: below the cap T = T_old − 8 G* a Δδ, stored T²/(2 k_t) and no
+    /// loss from rest; at the cap |T| = μ P_e along the trial force, and the loss is the work
+    /// minus the change of stored energy; a tensile P_e carries nothing. Along one direction
+    /// it gives the force of the scalar law [`noslip_coulomb`].
+    #[test]
+    fn vector_noslip_spring_closed_forms() {
+        let (g, a, p) = (g_star(), 5e-6, 0.01);
+        let kt = 8.0 * g * a;
+        // Elastic from rest: T = −k_t Δδ, work = stored = k_t |Δδ|²/2.
+        let dd = [1e-9, -2e-9, 0.0];
+        let st = noslip_spring([0.0; 3], dd, kt, MU, p);
+        for c in 0..3 {
+            assert!((st.force[c] + kt * dd[c]).abs() <= 1e-15 * kt * 2e-9);
+        }
+        let d2 = 1e-18 + 4e-18;
+        assert!((st.energy - 0.5 * kt * d2).abs() < 1e-12 * st.energy);
+        assert!((st.work - st.energy).abs() < 1e-12 * st.energy);
+        // Far beyond the cap: |T| = μ P along the trial direction.
+        let big = [1e-5, 0.0, 0.0];
+        let st = noslip_spring([0.0; 3], big, kt, MU, p);
+        assert!((st.force[0] + MU * p).abs() < 1e-15);
+        assert_eq!(st.force[1], 0.0);
+        // The loss of that step: work − stored > 0.
+        assert!(st.work - st.energy > 0.0);
+        // No capacity under tension.
+        let st = noslip_spring([1e-3, 0.0, 0.0], big, kt, MU, -p);
+        assert_eq!(st.force, [0.0; 3]);
+        // Collinear steps against the scalar law (force on B = −T of the contact).
+        let mut state = TangentialState::default();
+        let mut t = [0.0; 3];
+        for k in 0..40 {
+            let h = if k < 25 { 2e-9 } else { -3e-9 };
+            let sc = noslip_coulomb(&mut state, &inp(p, p, a, h));
+            let _ = sc;
+            t = noslip_spring(t, [h, 0.0, 0.0], kt, MU, p).force;
+            assert!(
+                (t[0] + state.t).abs() <= 1e-12 * state.t.abs().max(1e-12),
+                "step {k}: vector {} scalar {}",
+                t[0],
+                state.t
+            );
+        }
+    }
+
     /// Virgin Mindlin loading (3.107): T(δ).
     fn t_load(mu_p: f64, a: f64, delta: f64) -> f64 {
         let x = 1.0 - 16.0 * g_star() * a * delta / (3.0 * mu_p);

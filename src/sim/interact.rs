@@ -250,10 +250,10 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
                 e.gamma = 0.0;
             }
         }
-        let a = (k.r_star * alpha).sqrt();
-        s.a = a;
         // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.
-        s.normal_force = 4.0 / 3.0 * pc.e_star * a * alpha;
+        let (a, p) = hertz::radius_and_force(pc.e_star, k.r_star, alpha);
+        s.a = a;
+        s.normal_force = p;
         kn = 2.0 * pc.e_star * a;
     } else if s.touching {
         reset_solid(s, acc);
@@ -463,19 +463,7 @@ fn tangential_step(
     let n = k.n;
     // Rotation of the contact plane (5.19)–(5.21): project the old vectors on the new plane
     // and keep their lengths.
-    let rotate = |v: Vec3| {
-        let len2 = v.norm_squared();
-        if len2 == 0.0 {
-            return v;
-        }
-        let w = v - n * n.dot(&v);
-        let wl2 = w.norm_squared();
-        if wl2 > 0.0 {
-            w * (len2 / wl2).sqrt()
-        } else {
-            Vec3::zeros()
-        }
-    };
+    let rotate = |v: Vec3| Vec3::from(tangential::rotate_into_plane(v.into(), n.into()));
     s.tforce = rotate(s.tforce);
     let v_t = k.v_rel - n * k.v_rel.dot(&n);
     let dd = v_t * dt;
@@ -484,24 +472,12 @@ fn tangential_step(
     match laws.tangential {
         TangentialChoice::NoSlip => {
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
-            let old = s.tforce;
-            let mut f = old - dd * kt0;
             let pe = p_new + 2.0 * pcrit;
-            let cap = pc.mu * pe.max(0.0);
-            let fl2 = f.norm_squared();
-            if fl2 > cap * cap {
-                f *= cap / fl2.sqrt();
-            }
+            let step = tangential::noslip_spring(s.tforce.into(), dd.into(), kt0, pc.mu, pe);
             // Energy: work done on the spring minus the change of its stored energy.
-            let work = -0.5 * (old + f).dot(&dd);
-            let e_new = if kt0 > 0.0 {
-                f.norm_squared() / (2.0 * kt0)
-            } else {
-                0.0
-            };
-            acc.friction += work - (e_new - s.tang_energy);
-            s.tang_energy = e_new;
-            s.tforce = f;
+            acc.friction += step.work - (step.energy - s.tang_energy);
+            s.tang_energy = step.energy;
+            s.tforce = Vec3::from(step.force);
         }
         TangentialChoice::Md => {
             let t_old = s.tforce;

@@ -16,7 +16,7 @@ use super::contacts::ContactState;
 use super::interact::Kin;
 use super::params::PairConst;
 use super::scene::Vec3;
-use crate::physics::dashpot;
+use crate::physics::{dashpot, hertz, tangential};
 
 /// Contacts per batch.
 pub const SUB: usize = 32;
@@ -229,8 +229,7 @@ fn hertz_noslip_impl(b: &mut Batch, dt: f64) {
         let p_old = b.normal[l];
         let (e_star, r_star, m_star) = (b.e_star[l], b.r_star[l], b.m_star[l]);
         // Hertz (3.14)-(3.15).
-        let a = (r_star * alpha).sqrt();
-        let p = 4.0 / 3.0 * e_star * a * alpha;
+        let (a, p) = hertz::radius_and_force(e_star, r_star, alpha);
         let fn0 = 0.0 + p;
         // Restitution dashpot D (R*α)^{1/4} α' over the step with the implicit midpoint
         // velocity (physics::dashpot), clamped so the total stays compressive.
@@ -256,36 +255,18 @@ fn hertz_noslip_impl(b: &mut Batch, dt: f64) {
         let e_damp_n = -0.5 * (fd + fd_prev) * v_n * dt;
         let fn_b = fn0 + fd;
         // Rotation of the shear force into the new contact plane, keeping its length.
-        let (ox, oy, oz) = (b.tfx[l], b.tfy[l], b.tfz[l]);
-        let len2 = 0.0 + (ox * ox + oy * oy + oz * oz);
-        let nd = nx * ox + ny * oy + nz * oz;
-        let (wx, wy, wz) = (ox - nx * nd, oy - ny * nd, oz - nz * nd);
-        let wl2 = 0.0 + (wx * wx + wy * wy + wz * wz);
-        let r = (len2 / wl2).sqrt();
-        let keep = len2 == 0.0;
-        let proj = wl2 > 0.0;
-        let tx = sel(keep, ox, sel(proj, wx * r, 0.0));
-        let ty = sel(keep, oy, sel(proj, wy * r, 0.0));
-        let tz = sel(keep, oz, sel(proj, wz * r, 0.0));
+        let [tx, ty, tz] =
+            tangential::rotate_into_plane([b.tfx[l], b.tfy[l], b.tfz[l]], [nx, ny, nz]);
         // Tangential relative velocity and displacement increment.
         let vn2 = vx * nx + vy * ny + vz * nz;
         let (vtx, vty, vtz) = (vx - nx * vn2, vy - ny * vn2, vz - nz * vn2);
         let (ddx, ddy, ddz) = (vtx * dt, vty * dt, vtz * dt);
         let kt0 = 8.0 * b.g_star[l] * a;
         // No-slip spring k_t = 8 G* a with the Coulomb cap μ P.
-        let (fx0, fy0, fz0) = (tx - ddx * kt0, ty - ddy * kt0, tz - ddz * kt0);
         let pe = p + 2.0 * 0.0;
-        let cap = b.mu[l] * pe.max(0.0);
-        let fl2 = 0.0 + (fx0 * fx0 + fy0 * fy0 + fz0 * fz0);
-        let scale = sel(fl2 > cap * cap, cap / fl2.sqrt(), 1.0);
-        let (fx, fy, fz) = (fx0 * scale, fy0 * scale, fz0 * scale);
-        let (sx, sy, sz) = (tx + fx, ty + fy, tz + fz);
-        let work = -0.5 * (sx * ddx + sy * ddy + sz * ddz);
-        let e_new = sel(
-            kt0 > 0.0,
-            (0.0 + (fx * fx + fy * fy + fz * fz)) / (2.0 * kt0),
-            0.0,
-        );
+        let step = tangential::noslip_spring([tx, ty, tz], [ddx, ddy, ddz], kt0, b.mu[l], pe);
+        let [fx, fy, fz] = step.force;
+        let (work, e_new) = (step.work, step.energy);
         let e_friction = work - (e_new - b.tang_energy[l]);
         // Rayleigh tangential dashpot: zero (β = 0); the last step's is booked.
         let (ftx, fty, ftz) = (fx + 0.0, fy + 0.0, fz + 0.0);
