@@ -214,7 +214,7 @@ impl Session {
             s.create_index = None;
         }
         let r = self.execute_one(cmd);
-        // Only an AGEnerate right after another joins its lattice (`exec::layer_order`).
+        // Only an AGEnerate right after another joins its lattice (`sim::place::layer_order`).
         if r.is_ok()
             && !matches!(cmd, Command::Agenerate { .. })
             && let Some(s) = self.scene.as_mut()

@@ -70,6 +70,9 @@ pub struct Model {
     /// The particles' common radius, mass and material (no command changes them during a
     /// `Cycle`; particles lost through an open side leave the rest uniform).
     pub uniform: Option<Uniform>,
+    /// How the `Cycle` runs (threads, parallel regions, vector instructions): decided once
+    /// per `Cycle`, never changes a result.
+    pub plan: crate::sim::cycle::plan::ExecPlan,
 }
 
 impl Model {
@@ -200,5 +203,6 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         fraction,
         dt_rayleigh: dt_r,
         uniform: Uniform::of(p),
+        plan: crate::sim::cycle::plan::ExecPlan::detect(),
     })
 }

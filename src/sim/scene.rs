@@ -422,7 +422,7 @@ pub struct Scene {
     /// The particles the last command placed, if it was an AGEnerate (derived, not saved;
     /// any other command forgets them, SAve included, so a RESTart sees the same): the next
     /// AGEnerate into the same agglomerate orders them with its own (a BCC lattice is two
-    /// AGEnerate commands; see `session::exec::layer_order`).
+    /// AGEnerate commands; see `sim::place::layer_order`).
     #[serde(skip)]
     pub lattice_run: Option<LatticeRun>,
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;

@@ -143,6 +143,21 @@ pub type StepParts<'a> = (
 /// Cloning (the blow-up snapshot, command undo) copies the state, not the derived per-step
 /// buffers `out` and `hot` (rebuilt when needed). In a checkpoint every pair is written with
 /// its state inline ([`PairWithState`]), as format versions 1 and 2 always did.
+///
+/// # The flags, as a state machine
+///
+/// | flag | set by | cleared by | meaning while set |
+/// |---|---|---|---|
+/// | `stale` | any command that changes the scene (placement, radii, materials, walls, SET, LIQuid, MOve) | `cycle::prime` at the start of the next `Cycle` | the candidate list and the contact states do not match the particles: rebuild, then evaluate every state at the current positions (Δt = 0) |
+/// | `remap` | the update, when a displacement component since the last rebuild exceeds XRES or a wall travelled that far; the start of a `Cycle` when TOL grew | the rebuild before the next force step | the candidate list may miss pairs; the states are the last step's and are carried by id, never re-evaluated |
+/// | `deferred` | the force step with several threads (or walls) | the update of each chunk (`finish_chunk`) | the particles' sums are partial: shared particles, wall forces and moment scaling are still to be added |
+/// | `zeroed` | the update, when it cleared a chunk's forces after use | a step whose forces are kept (the last of a `Cycle`, the one before a snapshot) | the force and moment arrays are zero, the next force step need not clear them |
+///
+/// `stale` and `remap` are never both acted on: `stale` wins (a full re-evaluation includes the
+/// rebuild). Saved (`serial.rs`): the pairs with their states, the wall pairs, `stale`,
+/// `remap`, `tol` and `rebuilds`; the other flags and buffers are derived and start afresh
+/// after `RESTart` (the first `Cycle` re-derives them without changing a state, so a
+/// continued run is bitwise the uninterrupted one).
 #[derive(Default)]
 pub struct ContactStore {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).

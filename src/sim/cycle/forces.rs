@@ -260,7 +260,7 @@ pub(super) fn pair_forces<const ADH: bool, const LIQ: bool>(
     let acc;
     let wall_acc;
     {
-        if rayon::current_num_threads() == 1 {
+        if ctx.model.plan.threads == 1 {
             wall_out.pieces.resize_with(1, WallPiece::default);
             wall_acc =
                 wall_forces::<ADH, LIQ>(wall_pairs, &mut wall_out.pieces[0], walls, wall_ctx, np);
@@ -276,7 +276,7 @@ pub(super) fn pair_forces<const ADH: bool, const LIQ: bool>(
                 serial_pairs::<ADH, LIQ, false>(parts, (force, moment), &ctx, rotation)
             };
         } else {
-            split_if_needed(scatter, hot, np);
+            split_if_needed(scatter, hot, np, ctx.model.plan.threads);
             out.resize(scatter.slots, PairForce::default());
             let inc = &*scatter;
             let ranges = &inc.ranges;
@@ -398,8 +398,12 @@ pub(super) fn task_sums(
 /// With several threads, once per rebuild: one task per thread (measured: more tasks make
 /// more particles shared), balanced on the contacts of this step and on what the tasks took
 /// since the last split.
-pub(super) fn split_if_needed(scatter: &mut Incidence, hot: &mut [HotPair], np: usize) {
-    let threads = rayon::current_num_threads();
+pub(super) fn split_if_needed(
+    scatter: &mut Incidence,
+    hot: &mut [HotPair],
+    np: usize,
+    threads: usize,
+) {
     if scatter.needs_split(np, threads) {
         let rates = scatter.balance.rates().unwrap_or_default();
         let (ranges, costs) = pair_ranges(hot, np, threads, &rates);

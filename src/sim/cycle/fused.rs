@@ -295,7 +295,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         ..
     } = scene;
     let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = contacts.step_parts();
-    split_if_needed(scatter, hot, np);
+    split_if_needed(scatter, hot, np, model.plan.threads);
     out.resize(scatter.slots, PairForce::default());
     let plan = plan(scatter, np, wall_pairs);
     let ChunkPlan {

@@ -40,6 +40,7 @@ mod distances;
 mod forces;
 mod fused;
 mod pairs;
+pub mod plan;
 mod reach;
 mod update;
 mod wall_loop;
@@ -385,12 +386,7 @@ pub fn one_step(
     }
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
-    let threads = rayon::current_num_threads();
-    let one_region = match step_regions() {
-        Some(n) => n == 1,
-        None => threads <= super::awake::cores(),
-    };
-    if threads > 1 && one_region && !conserve {
+    if model.plan.threads > 1 && model.plan.one_region && !conserve {
         // Both steps in one parallel region (`fused`): the same bits. (With more threads
         // than cores two regions are faster: a task that waits for another holds a core;
         // 3 threads on 2 cores took 6 × the time of two regions, 1.3 × without the wait.)
@@ -404,19 +400,6 @@ pub fn one_step(
         super::liquid::settle(scene);
     }
     move_all(scene, model, xres, acc, keep)
-}
-
-/// `TRUBAL_STEP_REGIONS` = 1 or 2: the step with several threads in one parallel region or
-/// in two (the force step, then the update), whatever the number of cores; otherwise
-/// (`None`) one region unless there are more threads than cores. For measurements and
-/// tests: both give the same bits.
-fn step_regions() -> Option<u8> {
-    static REGIONS: std::sync::OnceLock<Option<u8>> = std::sync::OnceLock::new();
-    *REGIONS.get_or_init(|| match std::env::var("TRUBAL_STEP_REGIONS").as_deref() {
-        Ok("1") => Some(1),
-        Ok("2") => Some(2),
-        _ => None,
-    })
 }
 
 /// Primes the contact states if commands changed the scene (no-op otherwise, or when the
