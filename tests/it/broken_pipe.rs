@@ -1,7 +1,7 @@
 //! Output to a pipe whose reader has gone (`trubal file | head -1`) never panics: write errors
 //! on standard output and standard error are ignored and the run finishes normally.
 
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 /// A pipe whose read end is already closed: every write to it fails with EPIPE.
 fn broken() -> Stdio {
@@ -30,7 +30,7 @@ fn closed_stdout_does_not_panic() {
     text.push_str("save end.sav\n");
     script(&dir, &text);
     for json in [false, true] {
-        let mut cmd = Command::new(env!("CARGO_BIN_EXE_trubal"));
+        let mut cmd = crate::common::trubal();
         cmd.arg("run.tru").current_dir(&dir);
         if json {
             cmd.arg("--json");
@@ -61,7 +61,7 @@ fn closed_stderr_does_not_panic() {
     // Both streams into one closed pipe (`trubal file 2>&1 | head -1`).
     let (reader, writer) = std::io::pipe().unwrap();
     drop(reader);
-    let status = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let status = crate::common::trubal()
         .args(["run.tru", "--keep-going"])
         .current_dir(&dir)
         .stdout(Stdio::from(writer.try_clone().unwrap()))
@@ -77,7 +77,7 @@ fn closed_stderr_does_not_panic() {
 #[test]
 fn help_and_version_into_a_closed_pipe() {
     for arg in ["--help", "--version", "--bogus"] {
-        let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+        let out = crate::common::trubal()
             .arg(arg)
             .stdout(broken())
             .stderr(broken())

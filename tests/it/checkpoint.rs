@@ -5,7 +5,6 @@
 //! nothing; a failed SAve keeps the old file.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::{Value, json};
 use trubal::checkpoint::{self, HEADER, OLDEST_READABLE, VERSION, fnv1a, from_bytes, to_bytes};
@@ -47,8 +46,8 @@ plot save
 cycle 40";
 
 fn session(lines: &str) -> Session {
-    let mut s =
-        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
+    let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
+        .with_diagnostics(Box::new(std::io::sink()));
     for (k, l) in lines.lines().enumerate() {
         if let Err(e) = s.run_line(l) {
             panic!("line {}: `{l}`: {}", k + 1, e.message);
@@ -635,7 +634,7 @@ fn scratch(tag: &str) -> PathBuf {
 /// Runs a command file in `dir` with --keep-going --json; returns (stdout, stderr).
 fn trubal(dir: &Path, script: &str) -> (String, String) {
     std::fs::write(dir.join("run.tru"), script).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .args(["run.tru", "--keep-going", "--json"])
         .current_dir(dir)
         .output()

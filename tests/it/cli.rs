@@ -2,7 +2,7 @@
 //! file:line:column, show a caret, change nothing and never panic.
 
 use std::io::Write;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 fn run(input: &str, args: &[&str]) -> (bool, String, String) {
     let dir = std::env::temp_dir().join(format!(
@@ -11,7 +11,7 @@ fn run(input: &str, args: &[&str]) -> (bool, String, String) {
         rand_tag(input)
     ));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let mut child = crate::common::trubal()
         .args(args)
         .current_dir(&dir)
         .stdin(Stdio::piped())
@@ -173,7 +173,7 @@ fn batch_mode_reads_trubal_dat() {
         format!("{SETUP}create 0.05 0.05 0.05 0 0 0 0 0 0 1 1\nprint info\n"),
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .current_dir(&dir)
         .stdin(Stdio::null())
         .output()
@@ -197,7 +197,7 @@ fn log_file_echoes_commands() {
         "start 1 1 1 1 1 1 log\nprint grid\nlog off\nprint grid\n",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .arg("in.tru")
         .current_dir(&dir)
         .output()
@@ -215,7 +215,7 @@ fn run_file_bytes(tag: &str, bytes: &[u8], args: &[&str]) -> (Option<i32>, Strin
     let dir = std::env::temp_dir().join(format!("trubal-clif-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("in.tru"), bytes).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .arg("in.tru")
         .args(args)
         .current_dir(&dir)
@@ -280,10 +280,7 @@ fn the_material_is_asked_for_by_the_first_command_that_needs_it() {
 #[test]
 fn version_quit_and_help_of_a_command() {
     for flag in ["-V", "--version"] {
-        let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
-            .arg(flag)
-            .output()
-            .unwrap();
+        let out = crate::common::trubal().arg(flag).output().unwrap();
         assert!(out.status.success());
         assert!(String::from_utf8_lossy(&out.stdout).starts_with("trubal "));
     }

@@ -12,8 +12,8 @@ use trubal::session::Session;
 use trubal::sim::Scene;
 
 fn session_in(dir: &std::path::Path, lines: &str) -> Session {
-    let mut s =
-        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
+    let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
+        .with_diagnostics(Box::new(std::io::sink()));
     s.dir = dir.to_path_buf();
     for (k, l) in lines.lines().enumerate() {
         if let Err(e) = s.run_line(l) {

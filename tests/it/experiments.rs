@@ -34,10 +34,10 @@ struct Run {
 impl Run {
     fn new(lines: &str) -> Run {
         let out = Sink::default();
-        let mut s =
-            Session::new(Box::new(out.clone()), true).with_diagnostics(Box::new(std::io::sink()));
+        let mut s = crate::common::session_with(Box::new(out.clone()), true)
+            .with_diagnostics(Box::new(std::io::sink()));
         let mut r = Run {
-            s: Session::new(Box::new(std::io::sink()), true)
+            s: crate::common::session_with(Box::new(std::io::sink()), true)
                 .with_diagnostics(Box::new(std::io::sink())),
             out,
         };
@@ -283,8 +283,8 @@ agen 1 1 1 34.641016151377545e-6 34.641016151377545e-6 34.641016151377545e-6 69.
 /// 128 us. Returns (damage ratio, |residual| / input, largest cluster share, relax message).
 fn reduced_impact(base: &Session, v: f64) -> (f64, f64, f64) {
     let out = Sink::default();
-    let mut s =
-        Session::new(Box::new(out.clone()), true).with_diagnostics(Box::new(std::io::sink()));
+    let mut s = crate::common::session_with(Box::new(out.clone()), true)
+        .with_diagnostics(Box::new(std::io::sink()));
     s.scene = base.scene.clone();
     let mut r = Run { s, out };
     let h = {

@@ -10,7 +10,7 @@
 //! periodic axes (`LIQuid 1e308 …`, `SET TOL 1e99`) wrapped the search's span test, and an
 //! AGEnerate step far below the particle size enumerated ~1e20 lattice sites.
 
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 /// A small deterministic generator (64-bit LCG, the high bits).
@@ -262,7 +262,7 @@ fn run(seed: u64, dir: &std::path::Path) -> Result<(), String> {
     let threads = if seed.is_multiple_of(2) { "1" } else { "2" };
     // Every fourth file with machine-readable output.
     let json: &[&str] = if seed % 4 == 1 { &["--json"] } else { &[] };
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let mut child = crate::common::trubal()
         .args(["--threads", threads, "--keep-going"])
         .args(json)
         .arg("d.tru")

@@ -18,7 +18,6 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use trubal::checkpoint::{HEADER, fnv1a, from_bytes};
 use trubal::lang::command::Command;
 use trubal::lang::parse::parse_line;
-use trubal::session::Session;
 
 /// xorshift64*: small, seeded, fixed forever.
 struct Rng(u64);
@@ -278,8 +277,8 @@ fn skipped(c: &Command) -> bool {
 /// Runs a mutated command file in a session (each line parsed first; lines with a skipped
 /// command are left out).
 fn run_session(text: &str) {
-    let mut s =
-        Session::new(Box::new(std::io::sink()), false).with_diagnostics(Box::new(std::io::sink()));
+    let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
+        .with_diagnostics(Box::new(std::io::sink()));
     s.vars.insert("v".into(), "1".into());
     for line in text.lines().take(60) {
         if let Ok(parsed) = parse_line(line)

@@ -11,7 +11,6 @@
 //! `TRUBAL_BLESS=1 cargo test --profile ci --test it golden::` rewrites the expected files.
 
 use std::path::Path;
-use std::process::Command;
 
 fn tokens(s: &str) -> Vec<String> {
     s.split(|c: char| c.is_whitespace() || "[]{},:\"()".contains(c))
@@ -66,7 +65,7 @@ fn run_one(tru: &Path) -> Result<(), String> {
     ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_trubal"));
+    let mut cmd = crate::common::trubal();
     cmd.arg(std::fs::canonicalize(&script).unwrap())
         .current_dir(&dir);
     if json {

@@ -2,12 +2,10 @@
 //! doc/output.md, and numbers read back to the very same f64 bits.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::process::Command;
 
 use serde_json::Value;
 use trubal::lang::command::{ContactsFilter, PrintItem};
 use trubal::output::print;
-use trubal::session::Session;
 use trubal::sim::{Scene, Vec3, energy};
 
 /// A wet scene with a wall, a reference state and history rows (see tests/it/checkpoint.rs).
@@ -92,7 +90,7 @@ fn run_json(script: &str) -> String {
     ));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("run.tru"), script).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .args(["run.tru", "--json"])
         .current_dir(&dir)
         .output()
@@ -253,8 +251,8 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
 // ---- exact numbers ------------------------------------------------------------------------
 
 fn scene() -> Scene {
-    let mut s =
-        Session::new(Box::new(std::io::sink()), true).with_diagnostics(Box::new(std::io::sink()));
+    let mut s = crate::common::session_with(Box::new(std::io::sink()), true)
+        .with_diagnostics(Box::new(std::io::sink()));
     for l in format!("{SCENE}\nplot save\ncycle 40").lines() {
         s.run_line(l).unwrap();
     }
@@ -390,7 +388,7 @@ fn binary_json_equals_the_saved_state() {
         format!("{SCENE}\ncycle 57\nprint balls energy\nsave now.sav\n"),
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .args(["run.tru", "--json"])
         .current_dir(&dir)
         .output()

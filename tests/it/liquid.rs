@@ -232,7 +232,7 @@ fn liquid_bad_input() {
     // Outside the fitted range of Lian's polynomials: a warning names the range.
     let mut out = Vec::new();
     {
-        let mut s2 = trubal::session::Session::new(Box::new(std::io::sink()), false)
+        let mut s2 = crate::common::session_with(Box::new(std::io::sink()), false)
             .with_diagnostics(Box::new(std::io::sink()));
         for l in [
             "start 1 1 1 10 10 1",

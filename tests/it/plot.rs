@@ -30,7 +30,8 @@ impl Shared {
 fn session() -> (Session, Shared) {
     let out = Shared::default();
     (
-        Session::new(Box::new(out.clone()), false).with_diagnostics(Box::new(std::io::sink())),
+        crate::common::session_with(Box::new(out.clone()), false)
+            .with_diagnostics(Box::new(std::io::sink())),
         out,
     )
 }
@@ -204,7 +205,7 @@ fn the_example_script_runs() {
     .replace("cycle 12000\n", "cycle 200\n");
     let file = dir.join("examples.tru");
     std::fs::write(&file, script).expect("write");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .arg(&file)
         .current_dir(&dir)
         .output()

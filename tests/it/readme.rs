@@ -2,7 +2,6 @@
 //! the save/restart example continues exactly like the uninterrupted run.
 
 use std::path::Path;
-use std::process::Command;
 
 fn blocks() -> Vec<(String, String)> {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
@@ -27,7 +26,7 @@ fn blocks() -> Vec<(String, String)> {
 }
 
 fn run(dir: &Path, file: &str) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let out = crate::common::trubal()
         .args([file, "--json"])
         .current_dir(dir)
         .output()

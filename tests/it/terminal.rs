@@ -36,6 +36,7 @@ impl Pty {
             .env("HOME", &dir)
             .env("TERM", "xterm")
             .env("TRUBAL_PROGRESS_AFTER", "0.2")
+            .env("RAYON_NUM_THREADS", "1")
             .stdin(Stdio::from(slave.try_clone().unwrap()))
             .stdout(Stdio::from(slave.try_clone().unwrap()))
             .stderr(Stdio::from(slave))
@@ -171,7 +172,7 @@ fn ctrl_c_stops_a_cycle_at_a_step_and_the_state_continues_bitwise() {
     // The same scene run for exactly that many cycles in a file: the same bytes.
     let script = format!("{SCENE}cycle {ran}\nsave whole.sav\n");
     std::fs::write(dir.join("whole.tru"), script).unwrap();
-    let st = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let st = crate::common::trubal()
         .arg("whole.tru")
         .current_dir(&dir)
         .stdout(Stdio::null())
@@ -202,7 +203,7 @@ fn interrupted_file_run(tag: &str, script: &str, signals: &[f64]) -> (Option<i32
     let dir = tmpdir(tag);
     std::fs::write(dir.join("run.tru"), script).unwrap();
     let out = std::fs::File::create(dir.join("out.txt")).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let mut child = crate::common::trubal()
         .arg("run.tru")
         .current_dir(&dir)
         .env("TRUBAL_PROGRESS_AFTER", "0")
@@ -262,7 +263,7 @@ fn a_second_ctrl_c_quits_at_once() {
 /// command (the output is written as it is produced, not when the input ends).
 #[test]
 fn a_pipe_gets_each_answer_as_it_is_produced() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trubal"))
+    let mut child = crate::common::trubal()
         .arg("-")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -2,8 +2,6 @@
 //! threads prints exactly the same JSON (forces are summed in a fixed order, energy partial
 //! sums per fixed chunk).
 
-use std::process::Command;
-
 /// Runs trubal with `args` in folder `dir`; its standard output (it must succeed).
 fn trubal(dir: &std::path::Path, args: &[&str]) -> String {
     trubal_regions(dir, args, None)
@@ -12,7 +10,7 @@ fn trubal(dir: &std::path::Path, args: &[&str]) -> String {
 /// As [`trubal`], with the step in `regions` parallel regions (`TRUBAL_STEP_REGIONS`: 1, the
 /// force step and the update together; 2, one after the other) whatever the cores.
 fn trubal_regions(dir: &std::path::Path, args: &[&str], regions: Option<&str>) -> String {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_trubal"));
+    let mut cmd = crate::common::trubal();
     cmd.current_dir(dir).args(args);
     if let Some(r) = regions {
         cmd.env("TRUBAL_STEP_REGIONS", r);
@@ -72,6 +70,10 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
             3000,
         ),
         ("wide", 0.04, 6000, "", 1000),
+        // Three force tasks in one region (one task with a neighbour on each side) on the
+        // two cores: each step waits for the task that has no core (up to 2 ms), so this one
+        // runs fewer steps.
+        ("three", 0.02, 1500, "", 300),
     ] {
         let deck = format!(
             "start {w} {w} 0.08 {cap} {cap} 6\nset open all\nrad 1e-3 1\ndensity 2500 1\nymd 1e7 1\npra 0.3 1\n\
@@ -83,13 +85,12 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
         );
         std::fs::write(dir.join(format!("{name}.tru")), deck).unwrap();
         let mut saved = Vec::new();
-        let runs = [
-            ("1", None),
-            ("2", Some("1")),
-            ("2", Some("2")),
-            ("3", Some("1")),
-        ];
-        for (t, regions) in runs {
+        let runs: &[(&str, Option<&str>)] = if name == "three" {
+            &[("1", None), ("3", Some("1"))]
+        } else {
+            &[("1", None), ("2", Some("1")), ("2", Some("2"))]
+        };
+        for &(t, regions) in runs {
             let f = format!("{name}_t{t}_{}.sav", regions.unwrap_or("-"));
             let deck = format!("{name}.tru");
             let set = format!("f={f}");
