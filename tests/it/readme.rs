@@ -83,3 +83,20 @@ fn readme_command_files_run_and_save_restart_is_exact() {
     assert_eq!(continued, uninterrupted);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// CI runs exactly the README's test line.
+#[test]
+fn ci_runs_the_readme_test_command() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let ci = std::fs::read_to_string(root.join(".ci/run")).unwrap();
+    let line = readme
+        .lines()
+        .find(|l| l.contains("# the tests (what CI runs)"))
+        .expect("the README's test line");
+    let command = line.split('#').next().unwrap().trim();
+    assert!(
+        ci.lines().any(|l| l.trim() == command),
+        ".ci/run does not run `{command}`"
+    );
+}
