@@ -326,9 +326,27 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
 /// positive or within its range where the program keeps it so (a damaged payload with a
 /// recomputed checksum can hold anything). The message names the first bad field.
 fn check_numbers(scene: &Scene) -> Result<(), String> {
-    let fin = |x: f64| x.is_finite();
-    let fin3 = |v: &[f64]| v.iter().all(|x| x.is_finite());
-    let bad = |what: String| Err::<(), String>(what);
+    check_scene_values(scene)?;
+    check_particle_values(scene)?;
+    check_wall_values(scene)?;
+    check_contact_values(scene)?;
+    check_ledger_values(scene)
+}
+
+fn fin(x: f64) -> bool {
+    x.is_finite()
+}
+
+fn fin3(v: &[f64]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn bad(what: String) -> Result<(), String> {
+    Err(what)
+}
+
+/// Part of [`check_numbers`]: the scene's own values: work-space, time, gravity, damping, liquid, settings, sizes, materials, regions.
+fn check_scene_values(scene: &Scene) -> Result<(), String> {
     if !(scene.size.iter().all(|&x| x > 0.0 && x.is_finite())) {
         return bad("the work-space size is not positive and finite".into());
     }
@@ -402,6 +420,11 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
             return bad(format!("agglomerate region {} is not finite", k + 1));
         }
     }
+    Ok(())
+}
+
+/// Part of [`check_numbers`]: the particles' vectors, radii, masses and liquid.
+fn check_particle_values(scene: &Scene) -> Result<(), String> {
     let p = &scene.particles;
     for i in 0..p.len() {
         let named =
@@ -426,6 +449,11 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
             return named("liquid");
         }
     }
+    Ok(())
+}
+
+/// Part of [`check_numbers`]: the walls' geometry, motion, servo and forces.
+fn check_wall_values(scene: &Scene) -> Result<(), String> {
     for (k, w) in scene.walls.iter().enumerate() {
         use crate::sim::model::WallGeom;
         let geom_ok = match w.geom {
@@ -455,6 +483,11 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Part of [`check_numbers`]: the contact states of particle pairs and particle–wall pairs, and the list's TOL.
+fn check_contact_values(scene: &Scene) -> Result<(), String> {
     let state_ok = |s: &crate::sim::contacts::ContactState| {
         let e = s.ext();
         let t = &e.tang;
@@ -511,6 +544,11 @@ fn check_numbers(scene: &Scene) -> Result<(), String> {
     if !(scene.contacts.tol >= 0.0 && fin(scene.contacts.tol)) {
         return bad("the candidate list's TOL is not finite".into());
     }
+    Ok(())
+}
+
+/// Part of [`check_numbers`]: the energy ledger, the reference state and the history rows.
+fn check_ledger_values(scene: &Scene) -> Result<(), String> {
     let l = &scene.ledger;
     if ![
         l.commands,

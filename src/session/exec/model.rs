@@ -53,54 +53,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             gsurf,
             theta_deg,
             eta,
-        } => {
-            if *pvol == 0.0 {
-                scene.liquid = None;
-                scene.contacts.for_each_state_mut(|_, s| s.bridge = None);
-                for c in scene.contacts.wall_pairs.iter_mut() {
-                    c.s.bridge = None;
-                }
-                return Ok("all liquid bridges removed".into());
-            }
-            let l = crate::sim::scene::Liquid {
-                pvol: *pvol,
-                gamma: *gsurf,
-                theta: theta_deg.to_radians(),
-                eta: *eta,
-            };
-            // Check the bridges of the smallest and largest sizes in use (equal and unequal
-            // pairs; a unit sphere if there are no particles yet) against the chosen
-            // model's validity range.
-            let model = crate::sim::interact::bridge_model(scene.settings.bridge);
-            let mut radii: Vec<f64> = scene.particles.radius.clone();
-            radii.sort_by(f64::total_cmp);
-            let (rmin, rmax) = (
-                radii.first().copied().unwrap_or(1.0),
-                radii.last().copied().unwrap_or(1.0),
-            );
-            let mut warn = Vec::new();
-            for (r1, r2) in [(rmin, rmin), (rmin, rmax)] {
-                let b = crate::physics::bridge::Bridge {
-                    r1,
-                    r2,
-                    volume: crate::sim::liquid::bridge_volume(*pvol, r1, r2),
-                    gamma: *gsurf,
-                    theta: l.theta,
-                };
-                match crate::physics::bridge::validate(model, &b) {
-                    Ok(w) => warn.extend(w),
-                    Err(e) => return Err(format!("LIQuid: {e}")),
-                }
-            }
-            let mut seen = std::collections::HashSet::new();
-            warn.retain(|w| seen.insert(w.clone()));
-            let warn: String = warn.iter().map(|w| format!("warning: {w}\n")).collect();
-            scene.liquid = Some(l);
-            // Existing bridges take the new parameters (rupture distance recomputed).
-            crate::sim::liquid::reissue(scene);
-            scene.contacts.stale = true;
-            Ok(warn)
-        }
+        } => liquid(scene, *pvol, *gsurf, *theta_deg, *eta),
         Command::Window { bounds } => {
             if bounds[0] > bounds[1] || bounds[2] > bounds[3] || bounds[4] > bounds[5] {
                 return Err("Window needs x1 <= x2, y1 <= y2, z1 <= z2".into());
@@ -112,52 +65,113 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             scene.settings.two_d = true;
             Ok(String::new())
         }
-        Command::Set(s) => {
-            if let Setting::Boundary { axes, periodic } = s {
-                let mut want = scene.settings.periodic;
-                for k in 0..3 {
-                    if axes[k] {
-                        want[k] = *periodic;
-                    }
-                }
-                for (w, wall) in scene.walls.iter().enumerate() {
-                    let crossed = walls::crossed_axes(&wall.geom, &want);
-                    if crossed != [false; 3] {
-                        return Err(format!(
-                            "plane wall {} crosses the {} axis, which must stay open (a particle leaving through one side would re-enter behind the wall); turn the wall parallel to the axis first (AWAll n P ...)",
-                            w + 1,
-                            walls::axis_names(&crossed)
-                        ));
-                    }
-                }
-            }
-            let st = &mut scene.settings;
-            match s {
-                Setting::Tol(v) => st.tol = *v,
-                Setting::Xres(v) => st.xres = *v,
-                Setting::Smin(v) => st.smin = *v,
-                Setting::Bridge(b) => st.bridge = *b,
-                Setting::Tangential(t) => st.tangential = *t,
-                Setting::Liquid(m) => st.liquid_mode = *m,
-                Setting::Boundary { axes, periodic } => {
-                    for k in 0..3 {
-                        if axes[k] {
-                            st.periodic[k] = *periodic;
-                        }
-                    }
-                }
-                Setting::OutDir(d) => st.out_dir = d.clone(),
-                Setting::View(v) => st.view = *v,
-                Setting::Snapshot(n) => st.snapshot_every = *n,
-                Setting::History(n) => st.history_every = *n,
-                Setting::GenOverlap(f) => st.gen_overlap = *f,
-                Setting::Fragment(e) => st.fragment_eps = *e,
-                Setting::Goldman(on) => st.goldman = *on,
-                Setting::Tunnel(t) => st.tunnel = *t,
-            }
-            scene.contacts.stale = true;
-            Ok(String::new())
-        }
+        Command::Set(s) => set(scene, s),
         other => Err(not_here(other)),
     }
+}
+
+/// `LIQuid pvol gsurf gcon gvis`: the liquid of every bridge (pvol = 0 removes them all),
+/// checked against the chosen bridge model's validity range for the sizes in use.
+fn liquid(
+    scene: &mut Scene,
+    pvol: f64,
+    gsurf: f64,
+    theta_deg: f64,
+    eta: f64,
+) -> Result<String, String> {
+    if pvol == 0.0 {
+        scene.liquid = None;
+        scene.contacts.for_each_state_mut(|_, s| s.bridge = None);
+        for c in scene.contacts.wall_pairs.iter_mut() {
+            c.s.bridge = None;
+        }
+        return Ok("all liquid bridges removed".into());
+    }
+    let l = crate::sim::scene::Liquid {
+        pvol,
+        gamma: gsurf,
+        theta: theta_deg.to_radians(),
+        eta,
+    };
+    // Check the bridges of the smallest and largest sizes in use (equal and unequal
+    // pairs; a unit sphere if there are no particles yet) against the chosen
+    // model's validity range.
+    let model = crate::sim::interact::bridge_model(scene.settings.bridge);
+    let mut radii: Vec<f64> = scene.particles.radius.clone();
+    radii.sort_by(f64::total_cmp);
+    let (rmin, rmax) = (
+        radii.first().copied().unwrap_or(1.0),
+        radii.last().copied().unwrap_or(1.0),
+    );
+    let mut warn = Vec::new();
+    for (r1, r2) in [(rmin, rmin), (rmin, rmax)] {
+        let b = crate::physics::bridge::Bridge {
+            r1,
+            r2,
+            volume: crate::sim::liquid::bridge_volume(pvol, r1, r2),
+            gamma: gsurf,
+            theta: l.theta,
+        };
+        match crate::physics::bridge::validate(model, &b) {
+            Ok(w) => warn.extend(w),
+            Err(e) => return Err(format!("LIQuid: {e}")),
+        }
+    }
+    let mut seen = std::collections::HashSet::new();
+    warn.retain(|w| seen.insert(w.clone()));
+    let warn: String = warn.iter().map(|w| format!("warning: {w}\n")).collect();
+    scene.liquid = Some(l);
+    // Existing bridges take the new parameters (rupture distance recomputed).
+    crate::sim::liquid::reissue(scene);
+    scene.contacts.stale = true;
+    Ok(warn)
+}
+
+/// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
+/// crosses them).
+fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
+    if let Setting::Boundary { axes, periodic } = s {
+        let mut want = scene.settings.periodic;
+        for k in 0..3 {
+            if axes[k] {
+                want[k] = *periodic;
+            }
+        }
+        for (w, wall) in scene.walls.iter().enumerate() {
+            let crossed = walls::crossed_axes(&wall.geom, &want);
+            if crossed != [false; 3] {
+                return Err(format!(
+                    "plane wall {} crosses the {} axis, which must stay open (a particle leaving through one side would re-enter behind the wall); turn the wall parallel to the axis first (AWAll n P ...)",
+                    w + 1,
+                    walls::axis_names(&crossed)
+                ));
+            }
+        }
+    }
+    let st = &mut scene.settings;
+    match s {
+        Setting::Tol(v) => st.tol = *v,
+        Setting::Xres(v) => st.xres = *v,
+        Setting::Smin(v) => st.smin = *v,
+        Setting::Bridge(b) => st.bridge = *b,
+        Setting::Tangential(t) => st.tangential = *t,
+        Setting::Liquid(m) => st.liquid_mode = *m,
+        Setting::Boundary { axes, periodic } => {
+            for k in 0..3 {
+                if axes[k] {
+                    st.periodic[k] = *periodic;
+                }
+            }
+        }
+        Setting::OutDir(d) => st.out_dir = d.clone(),
+        Setting::View(v) => st.view = *v,
+        Setting::Snapshot(n) => st.snapshot_every = *n,
+        Setting::History(n) => st.history_every = *n,
+        Setting::GenOverlap(f) => st.gen_overlap = *f,
+        Setting::Fragment(e) => st.fragment_eps = *e,
+        Setting::Goldman(on) => st.goldman = *on,
+        Setting::Tunnel(t) => st.tunnel = *t,
+    }
+    scene.contacts.stale = true;
+    Ok(String::new())
 }

@@ -81,54 +81,7 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
         }
     }
     if let Ok(model) = params::build(scene) {
-        for (w, wall) in scene.walls.iter().enumerate() {
-            if let Some(s) = wall.servo {
-                // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
-                // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
-                // the wall; above 1 the wall overshoots every step.
-                let m = &scene.materials[wall.material - 1];
-                let r = scene.max_radius();
-                let k =
-                    2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
-                let n = scene
-                    .contacts
-                    .wall_pairs
-                    .iter()
-                    .filter(|c| c.wall as usize == w)
-                    .count()
-                    .max(1) as f64;
-                let loop_gain = s.gain * k * n * model.dt;
-                if loop_gain > 1.0 {
-                    out.push(format!(
-                        "servo of wall {}: gain {} gives a loop gain of {loop_gain:.2e} per step (> 1): the wall will hunt or diverge; use g below {:.2e}",
-                        w + 1,
-                        s.gain,
-                        s.gain / loop_gain
-                    ));
-                }
-                // The contacts' dashpots close a second loop, without the step: the wall's
-                // speed g × (force error) makes a dashpot force c × speed at once, so
-                // g × n × c above 1 makes the speed change sign every step (c: the
-                // restitution dashpot of the largest particle at the same overlap, plus
-                // Rayleigh's β k).
-                let p = &scene.particles;
-                if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
-                    let pc = model.pair(p.material[i] as usize, wall.material);
-                    let (mi, ri) = (p.mass[i], p.radius[i]);
-                    let c = pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt()
-                        + scene.damping_pw.beta * k;
-                    let dash_gain = s.gain * n * c;
-                    if dash_gain > 1.0 {
-                        out.push(format!(
-                            "servo of wall {}: gain {} through the contacts' dashpots gives a loop gain of {dash_gain:.2e} (> 1): the wall's speed will change sign every step (hunting; the books then close less well); use g below {:.2e}",
-                            w + 1,
-                            s.gain,
-                            s.gain / dash_gain
-                        ));
-                    }
-                }
-            }
-        }
+        out.extend(servo_warnings(scene, &model));
     }
     for (w, wall) in scene.walls.iter().enumerate() {
         let mut n = 0;
@@ -143,6 +96,60 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
                 "wall {} cuts through {n} particle(s) (overlap > R/2): they will be pushed out violently",
                 w + 1
             ));
+        }
+    }
+    out
+}
+
+/// Servo walls whose gain makes them hunt: through the contacts' stiffness over a step, or
+/// through the contacts' dashpots at once.
+fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
+    let mut out = Vec::new();
+    for (w, wall) in scene.walls.iter().enumerate() {
+        if let Some(s) = wall.servo {
+            // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
+            // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
+            // the wall; above 1 the wall overshoots every step.
+            let m = &scene.materials[wall.material - 1];
+            let r = scene.max_radius();
+            let k = 2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
+            let n = scene
+                .contacts
+                .wall_pairs
+                .iter()
+                .filter(|c| c.wall as usize == w)
+                .count()
+                .max(1) as f64;
+            let loop_gain = s.gain * k * n * model.dt;
+            if loop_gain > 1.0 {
+                out.push(format!(
+                    "servo of wall {}: gain {} gives a loop gain of {loop_gain:.2e} per step (> 1): the wall will hunt or diverge; use g below {:.2e}",
+                    w + 1,
+                    s.gain,
+                    s.gain / loop_gain
+                ));
+            }
+            // The contacts' dashpots close a second loop, without the step: the wall's
+            // speed g × (force error) makes a dashpot force c × speed at once, so
+            // g × n × c above 1 makes the speed change sign every step (c: the
+            // restitution dashpot of the largest particle at the same overlap, plus
+            // Rayleigh's β k).
+            let p = &scene.particles;
+            if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
+                let pc = model.pair(p.material[i] as usize, wall.material);
+                let (mi, ri) = (p.mass[i], p.radius[i]);
+                let c =
+                    pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt() + scene.damping_pw.beta * k;
+                let dash_gain = s.gain * n * c;
+                if dash_gain > 1.0 {
+                    out.push(format!(
+                        "servo of wall {}: gain {} through the contacts' dashpots gives a loop gain of {dash_gain:.2e} (> 1): the wall's speed will change sign every step (hunting; the books then close less well); use g below {:.2e}",
+                        w + 1,
+                        s.gain,
+                        s.gain / dash_gain
+                    ));
+                }
+            }
         }
     }
     out

@@ -107,37 +107,7 @@ fn run_steps(
         }
         return Ok((model, n));
     }
-    // A plane wall across a periodic axis makes the axis open (doc/limits.md; a checkpoint
-    // of an earlier version, or walls turned since, may hold one).
-    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
-    if opened != [false; 3] {
-        scene.notes.push(format!(
-            "the {} axis is now open: a plane wall crosses it, and a particle leaving through one side would re-enter behind the wall",
-            walls::axis_names(&opened)
-        ));
-    }
-    let (tol, xres) = search_distances(scene, &model);
-    // Commands may have changed contact states between Cycles: derive the pair liveness anew.
-    scene.contacts.clear_derived();
-    scene.maybe_outside = true;
-    let commanded = scene.contacts.stale;
-    if scene.contacts.stale {
-        prime(scene, &model, tol);
-    } else if !tol_serves(scene, scene.contacts.tol, tol) {
-        // Only the search distance changed: re-map, keep the states of the last step.
-        scene.contacts.remap = true;
-    }
-    // FRAction AUTO: the step of the last rebuild goes on (the same bits after SAve and
-    // RESTart, or across Cycle commands) unless a command changed the scene.
-    if let Some(kept) = scene.settings.auto_step {
-        let dt = if kept > 0.0 && !commanded {
-            kept.min(model.dt_base)
-        } else {
-            super::contact_time::auto_step(scene, &model, model.dt_base)
-        };
-        scene.settings.auto_step = Some(dt);
-        model.dt = dt;
-    }
+    let (tol, xres) = prepare(scene, &mut model);
     // (A step too long for the fastest contact at the start is the session's pre-Cycle
     // warning, `warnings`.)
     let mut warned_step = scene.settings.auto_step.is_some()
@@ -213,6 +183,44 @@ fn run_steps(
         return Err(stop(scene, snapshot, e));
     }
     Ok((model, ran))
+}
+
+/// The start of a Cycle with particles: plane walls open the periodic axes they cross, the
+/// search distances, the contact states primed if a command changed the scene (else a
+/// re-mapping if only TOL changed), and the step of `FRAction AUTO`. Returns TOL and XRES.
+fn prepare(scene: &mut Scene, model: &mut Model) -> (f64, f64) {
+    // A plane wall across a periodic axis makes the axis open (doc/limits.md; a checkpoint
+    // of an earlier version, or walls turned since, may hold one).
+    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
+    if opened != [false; 3] {
+        scene.notes.push(format!(
+            "the {} axis is now open: a plane wall crosses it, and a particle leaving through one side would re-enter behind the wall",
+            walls::axis_names(&opened)
+        ));
+    }
+    let (tol, xres) = search_distances(scene, model);
+    // Commands may have changed contact states between Cycles: derive the pair liveness anew.
+    scene.contacts.clear_derived();
+    scene.maybe_outside = true;
+    let commanded = scene.contacts.stale;
+    if scene.contacts.stale {
+        prime(scene, model, tol);
+    } else if !tol_serves(scene, scene.contacts.tol, tol) {
+        // Only the search distance changed: re-map, keep the states of the last step.
+        scene.contacts.remap = true;
+    }
+    // FRAction AUTO: the step of the last rebuild goes on (the same bits after SAve and
+    // RESTart, or across Cycle commands) unless a command changed the scene.
+    if let Some(kept) = scene.settings.auto_step {
+        let dt = if kept > 0.0 && !commanded {
+            kept.min(model.dt_base)
+        } else {
+            super::contact_time::auto_step(scene, model, model.dt_base)
+        };
+        scene.settings.auto_step = Some(dt);
+        model.dt = dt;
+    }
+    (tol, xres)
 }
 
 /// A `Cycle` that failed: the scene goes back to the last good snapshot, and the message
