@@ -611,7 +611,7 @@ fn few_particles_of_a_bcc_agglomerate_are_shared_between_two_threads() {
         .build()
         .unwrap();
     pool.install(|| (0..3).for_each(|_| step(&mut sc)));
-    let inc = &sc.contacts.scatter;
+    let inc = &sc.contacts.step.scatter;
     assert_eq!(inc.threads, 2);
     let shared = inc.shared_list.len() as f64 / sc.particles.len() as f64;
     assert!(shared < 0.2, "shared fraction {shared}");

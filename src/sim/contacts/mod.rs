@@ -150,8 +150,8 @@ pub type StepParts<'a> = (
 /// |---|---|---|---|
 /// | `stale` | any command that changes the scene (placement, radii, materials, walls, SET, LIQuid, MOve) | `cycle::prime` at the start of the next `Cycle` | the candidate list and the contact states do not match the particles: rebuild, then evaluate every state at the current positions (Δt = 0) |
 /// | `remap` | the update, when a displacement component since the last rebuild exceeds XRES or a wall travelled that far; the start of a `Cycle` when TOL grew | the rebuild before the next force step | the candidate list may miss pairs; the states are the last step's and are carried by id, never re-evaluated |
-/// | `deferred` | the force step with several threads (or walls) | the update of each chunk (`finish_chunk`) | the particles' sums are partial: shared particles, wall forces and moment scaling are still to be added |
-/// | `zeroed` | the update, when it cleared a chunk's forces after use | a step whose forces are kept (the last of a `Cycle`, the one before a snapshot) | the force and moment arrays are zero, the next force step need not clear them |
+/// | `step.deferred` | the force step with several threads (or walls) | the update of each chunk (`finish_chunk`) | the particles' sums are partial: shared particles, wall forces and moment scaling are still to be added |
+/// | `step.zeroed` | the update, when it cleared a chunk's forces after use | a step whose forces are kept (the last of a `Cycle`, the one before a snapshot) | the force and moment arrays are zero, the next force step need not clear them |
 ///
 /// `stale` and `remap` are never both acted on: `stale` wins (a full re-evaluation includes the
 /// rebuild). Saved (`serial.rs`): the pairs with their states, the wall pairs, `stale`,
@@ -160,6 +160,30 @@ pub type StepParts<'a> = (
 /// continued run is bitwise the uninterrupted one).
 #[derive(Default)]
 pub struct ContactStore {
+    pairs: Vec<Pair>,
+    blocks: Vec<Vec<ContactState>>,
+    pub wall_pairs: Vec<WallPair>,
+    /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
+    /// states at the current positions (`cycle::prime`) before the next step.
+    pub stale: bool,
+    /// Particles moved more than XRES (or TOL changed) since the last rebuild: rebuild the
+    /// candidate list before the next force evaluation. The contact states are those of the
+    /// last step and must not be re-evaluated (that would advance history-dependent laws twice
+    /// and break exact continuation across `Cycle` commands and `SAve`/`RESTart`).
+    pub remap: bool,
+    /// Search distance used at the last rebuild.
+    pub tol: f64,
+    /// Number of rebuilds so far (for PRint Entries).
+    pub rebuilds: u64,
+    /// Per-step working buffers (derived, never saved; see [`StepBuffers`]).
+    pub step: StepBuffers,
+}
+
+/// The contact store's per-step working buffers: derived from the pairs and the particles,
+/// never saved, rebuilt when needed (`ContactStore::clear_derived` drops them). Kept apart
+/// from the saved state so that what a checkpoint holds is plain.
+#[derive(Default)]
+pub struct StepBuffers {
     /// Per-pair forces of the current step (derived; not saved; used with several threads).
     pub out: Vec<PairForce>,
     /// Forces of the wall pairs evaluated in the current step (derived; not saved).
@@ -180,21 +204,6 @@ pub struct ContactStore {
     /// Derived with `hot` (several threads): the pairs of each particle, in pair order
     /// (empty: not built yet).
     pub scatter: Incidence,
-    pairs: Vec<Pair>,
-    blocks: Vec<Vec<ContactState>>,
-    pub wall_pairs: Vec<WallPair>,
-    /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
-    /// states at the current positions (`cycle::prime`) before the next step.
-    pub stale: bool,
-    /// Particles moved more than XRES (or TOL changed) since the last rebuild: rebuild the
-    /// candidate list before the next force evaluation. The contact states are those of the
-    /// last step and must not be re-evaluated (that would advance history-dependent laws twice
-    /// and break exact continuation across `Cycle` commands and `SAve`/`RESTart`).
-    pub remap: bool,
-    /// Search distance used at the last rebuild.
-    pub tol: f64,
-    /// Number of rebuilds so far (for PRint Entries).
-    pub rebuilds: u64,
     /// How far beyond touching particle pairs and particle–wall pairs are evaluated in the
     /// current step (`interact::Laws::margin`; derived, set by `cycle::one_step`).
     pub margins: [f64; 2],
@@ -328,7 +337,7 @@ impl ContactStore {
         if p.slot == NO_STATE {
             p.slot = b.len() as u32;
             b.push(ContactState::default());
-            if let Some(h) = self.hot.get_mut(k) {
+            if let Some(h) = self.step.hot.get_mut(k) {
                 h.slot = p.slot;
             }
         }
@@ -360,17 +369,17 @@ impl ContactStore {
     /// The parts the force loop works on: hot pairs, pairs, blocks of states (one per
     /// `BLOCK` pairs) and the per-pair force slots.
     pub fn step_parts(&mut self) -> StepParts<'_> {
-        if self.hot.len() != self.pairs.len() {
+        if self.step.hot.len() != self.pairs.len() {
             self.build_hot();
         }
         (
-            &mut self.hot,
+            &mut self.step.hot,
             &mut self.pairs,
             &mut self.blocks,
-            &mut self.out,
-            &mut self.scatter,
+            &mut self.step.out,
+            &mut self.step.scatter,
             &mut self.wall_pairs,
-            &mut self.wall_out,
+            &mut self.step.wall_out,
         )
     }
 
@@ -501,8 +510,8 @@ impl ContactStore {
         // Sort the small keys (not the pairs with their states), then walk both sorted lists.
         let new_pairs = new_pairs.into().into_sorted();
         // The hot list goes first: a rebuild holds the old and the new lists at once.
-        self.hot = Vec::new();
-        self.scatter.clear();
+        self.step.hot = Vec::new();
+        self.step.scatter.clear();
         let old_pairs = std::mem::take(&mut self.pairs);
         // The old states are cloned, not moved: a clone allocates the boxes of the
         // Mindlin–Deresiewicz, JKR and bridge states anew, in pair order, so the force loop
@@ -615,25 +624,25 @@ impl ContactStore {
 
     /// Drops the derived per-step buffers (rebuilt when needed; not part of the state).
     pub fn clear_derived(&mut self) {
-        self.max_disp = None;
-        self.margins = [0.0; 2];
-        self.out.clear();
-        self.wall_out = WallOut::default();
-        self.deferred = false;
-        self.zeroed = false;
+        self.step.max_disp = None;
+        self.step.margins = [0.0; 2];
+        self.step.out.clear();
+        self.step.wall_out = WallOut::default();
+        self.step.deferred = false;
+        self.step.zeroed = false;
         self.clear_hot();
     }
 
     /// Drops the hot list and what is derived from it.
     fn clear_hot(&mut self) {
-        self.hot.clear();
-        self.scatter.clear();
+        self.step.hot.clear();
+        self.step.scatter.clear();
     }
 
     /// Builds the compact [`HotPair`] list from the pairs (blocks in parallel: once per
     /// rebuild, one random read of a state per pair that has one).
     pub fn build_hot(&mut self) {
-        let mut hot = std::mem::take(&mut self.hot);
+        let mut hot = std::mem::take(&mut self.step.hot);
         hot.clear();
         hot.resize(self.pairs.len(), HotPair::default());
         hot.par_chunks_mut(BLOCK)
@@ -651,7 +660,7 @@ impl ContactStore {
                     };
                 }
             });
-        self.hot = hot;
+        self.step.hot = hot;
     }
 
     /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges

@@ -133,7 +133,7 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
     // The hot list is derived from the list being replaced (`merge` makes it anew): freed
     // before the search, whose key lists made the rebuild's peak of memory with it (valgrind
     // massif, S1 50k, two threads: peak RSS 68.3-68.8 -> 66.9-67.2 MB).
-    scene.contacts.hot = Vec::new();
+    scene.contacts.step.hot = Vec::new();
     let (pairs, walls, info) = search::candidates_in_parts(scene, tol, parts);
     scene.contacts.merge(pairs, walls);
     scene.contacts.tol = tol;
@@ -145,7 +145,7 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
     for w in scene.walls.iter_mut() {
         w.travel = 0.0;
     }
-    scene.contacts.max_disp = Some(0.0);
+    scene.contacts.step.max_disp = Some(0.0);
     info
 }
 
@@ -175,7 +175,7 @@ pub(super) fn reach_margins(vel: &[Vec3], dt: f64, ext: &mut Vec<f64>) -> f64 {
 /// The largest displacement component since the last rebuild (kept by the update; worked
 /// out when not known).
 pub(super) fn max_disp(scene: &mut Scene) -> f64 {
-    if let Some(d) = scene.contacts.max_disp {
+    if let Some(d) = scene.contacts.step.max_disp {
         return d;
     }
     let d = scene
@@ -184,7 +184,7 @@ pub(super) fn max_disp(scene: &mut Scene) -> f64 {
         .par_chunks(CHUNK)
         .map(|d| d.iter().fold(0.0f64, |m, d| m.max(d.amax())))
         .reduce(|| 0.0, f64::max);
-    scene.contacts.max_disp = Some(d);
+    scene.contacts.step.max_disp = Some(d);
     d
 }
 
@@ -200,7 +200,7 @@ pub(super) fn max_disp(scene: &mut Scene) -> f64 {
 /// travel).
 pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
     if !(dt > 0.0) || !model.table.iter().any(|p| p.zeta > 0.0) || scene.particles.is_empty() {
-        scene.contacts.margins = [0.0; 2];
+        scene.contacts.step.margins = [0.0; 2];
         scene.reach_ext = Vec::new();
         return true;
     }
@@ -214,7 +214,7 @@ pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
     // (Positive with a dashpot even when nothing moves: it also says "evaluate within the
     // margins", e.g. a wall that approaches particles at rest.)
     let m = [(2.0 * v * dt).max(f64::MIN_POSITIVE), walls * dt];
-    scene.contacts.margins = m;
+    scene.contacts.step.margins = m;
     let tol = scene.contacts.tol;
     let s3 = 3f64.sqrt();
     2.0 * s3 * d + m[0] < tol && s3 * d + travel + v * dt + m[1] < tol

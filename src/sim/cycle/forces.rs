@@ -58,7 +58,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
         goldman: scene.settings.goldman,
         // (Only in a step, with the margins of its particles: not while priming.)
         margin: if dt > 0.0 && scene.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP) {
-            scene.contacts.margins[0]
+            scene.contacts.step.margins[0]
         } else {
             0.0
         },
@@ -70,7 +70,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
     let laws_pw = Laws {
         beta: scene.damping_pw.beta,
         margin: if laws_pp.margin > 0.0 {
-            scene.contacts.margins[1]
+            scene.contacts.step.margins[1]
         } else {
             0.0
         },
@@ -99,11 +99,15 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
     // order) and the energy increments (per block). The particles get theirs in the update
     // (`move_all` or, in one region, `fused`, chunk by chunk), after their moments are
     // scaled by the radius and, with several threads, after the shared particles' sums.
-    scene.contacts.wall_out.sum_walls(scene.walls.len());
-    for (w, f) in scene.walls.iter_mut().zip(&scene.contacts.wall_out.on_wall) {
+    scene.contacts.step.wall_out.sum_walls(scene.walls.len());
+    for (w, f) in scene
+        .walls
+        .iter_mut()
+        .zip(&scene.contacts.step.wall_out.on_wall)
+    {
         w.force = *f;
     }
-    scene.contacts.deferred = parts.is_none();
+    scene.contacts.step.deferred = parts.is_none();
     (acc, parts)
 }
 
@@ -141,7 +145,7 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         laws: laws_pw,
         ..ctx
     };
-    let zeroed = std::mem::take(&mut scene.contacts.zeroed);
+    let zeroed = std::mem::take(&mut scene.contacts.step.zeroed);
     let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
     let force = &mut scene.particles.force;
     let moment = &mut scene.particles.moment;
@@ -211,13 +215,17 @@ pub(super) fn finish_chunk(
 
 /// The deferred part of the force step without the update (after `prime`).
 pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
-    if !std::mem::take(&mut scene.contacts.deferred) {
+    if !std::mem::take(&mut scene.contacts.step.deferred) {
         return;
     }
     let contacts = &scene.contacts;
     let left = Left {
-        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
-        walls: &contacts.wall_out.pieces,
+        scatter: Some((
+            &contacts.step.scatter,
+            &contacts.step.hot,
+            &contacts.step.out,
+        )),
+        walls: &contacts.step.wall_out.pieces,
     };
     let p = &mut scene.particles;
     let radius = &p.radius;

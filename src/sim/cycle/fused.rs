@@ -283,7 +283,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
     mv: &Mover,
     keep: bool,
 ) -> (Acc, Vec<Acc>, Vec<ChunkSums>) {
-    let zeroed = std::mem::take(&mut scene.contacts.zeroed);
+    let zeroed = std::mem::take(&mut scene.contacts.step.zeroed);
     let np = scene.particles.len();
     let Scene {
         particles: p,

@@ -85,7 +85,7 @@ pub fn run_watched(
     let r = super::awake::while_running(|| run_steps(scene, n, watch));
     // (Derived per step; not kept between commands.)
     scene.reach_ext = Vec::new();
-    scene.contacts.margins = [0.0; 2];
+    scene.contacts.step.margins = [0.0; 2];
     r
 }
 

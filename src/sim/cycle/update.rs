@@ -15,11 +15,15 @@ pub(super) fn move_all(
 ) -> Result<(), Blowup> {
     let wall_work = move_walls(scene, model.dt);
     let mv = Mover::of(scene, model);
-    let deferred = std::mem::take(&mut scene.contacts.deferred);
+    let deferred = std::mem::take(&mut scene.contacts.step.deferred);
     let contacts = &scene.contacts;
     let left = deferred.then_some(Left {
-        scatter: Some((&contacts.scatter, &contacts.hot, &contacts.out)),
-        walls: &contacts.wall_out.pieces,
+        scatter: Some((
+            &contacts.step.scatter,
+            &contacts.step.hot,
+            &contacts.step.out,
+        )),
+        walls: &contacts.step.wall_out.pieces,
     });
     let p = &mut scene.particles;
     let fixed_arrays = (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]);
@@ -365,7 +369,7 @@ pub(super) fn finish_move(
     parts: &[ChunkSums],
     dt: f64,
 ) -> Result<(), Blowup> {
-    scene.contacts.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
+    scene.contacts.step.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;
@@ -418,7 +422,7 @@ pub(super) fn finish_move(
     }
     // A wall that moved more than XRES since the last rebuild is re-mapped like a particle
     // (its travel closes a gap as much as a particle's displacement).
-    scene.contacts.max_disp = Some(max_disp);
+    scene.contacts.step.max_disp = Some(max_disp);
     if max_disp > xres || scene.walls.iter().any(|w| w.travel > xres) {
         scene.contacts.remap = true;
     }
