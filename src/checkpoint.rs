@@ -292,7 +292,7 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
         if i >= n || j >= n || pair.ida >= pair.idb {
             return Err("a contact refers to a particle that does not exist".into());
         }
-        if !c.stale && (p.id[i] != pair.ida || p.id[j] != pair.idb) {
+        if !c.is_stale() && (p.id[i] != pair.ida || p.id[j] != pair.idb) {
             return Err("a contact's particle indices do not match its ids".into());
         }
         if k > 0 && (c.pairs()[k - 1].ida, c.pairs()[k - 1].idb) >= (pair.ida, pair.idb) {
@@ -303,7 +303,7 @@ pub fn check_consistency(scene: &Scene) -> Result<(), String> {
         if wp.i as usize >= n || wp.wall as usize >= scene.walls.len() {
             return Err("a wall contact refers to a particle or wall that does not exist".into());
         }
-        if !c.stale && p.id[wp.i as usize] != wp.id {
+        if !c.is_stale() && p.id[wp.i as usize] != wp.id {
             return Err("a wall contact's particle index does not match its id".into());
         }
         if k > 0 && (c.wall_pairs[k - 1].id, c.wall_pairs[k - 1].wall) >= (wp.id, wp.wall) {
@@ -541,7 +541,7 @@ fn check_contact_values(scene: &Scene) -> Result<(), String> {
             ));
         }
     }
-    if !(scene.contacts.tol >= 0.0 && fin(scene.contacts.tol)) {
+    if !(scene.contacts.tol() >= 0.0 && fin(scene.contacts.tol())) {
         return bad("the candidate list's TOL is not finite".into());
     }
     Ok(())

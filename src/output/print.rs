@@ -310,12 +310,12 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
         xres,
         pairs.len(),
         walls.len(),
-        scene.contacts.rebuilds
+        scene.contacts.rebuilds()
     );
     // The list in use may have been made with a larger TOL (automatic TOL, fast particles:
     // cycle::rebuild_tol).
-    let list_tol = scene.contacts.tol;
-    let s = if list_tol > tol && scene.contacts.rebuilds > 0 {
+    let list_tol = scene.contacts.tol();
+    let s = if list_tol > tol && scene.contacts.rebuilds() > 0 {
         format!(
             "{s}the candidate list in use was made with TOL {:.4e} m, XRES {:.4e} m (grown for fast particles)\n",
             list_tol,
@@ -329,7 +329,7 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
         "entries": g.entries, "max_entries_per_box": g.max_entries_per_box,
         "empty_boxes": g.empty_boxes, "tol": tol, "xres": xres,
         "candidate_pairs": pairs.len(), "wall_candidates": walls.len(),
-        "rebuilds": scene.contacts.rebuilds, "list_tol": list_tol,
+        "rebuilds": scene.contacts.rebuilds(), "list_tol": list_tol,
     });
     (s, j)
 }

@@ -88,7 +88,7 @@ pub fn create(
         index: idx,
         kinetic: None,
     });
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     Ok(String::new())
 }
 
@@ -175,7 +175,7 @@ pub fn lattice(
         );
     }
     layer_order(scene, first_new, nagg);
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     Ok(format!(
         "AGEnerate: {made} particles generated ({skipped} sites skipped for overlap); {} in all",
         scene.particles.len()
@@ -260,7 +260,7 @@ pub fn random(
     for (k, id) in scene.particles.id[start..].iter_mut().enumerate() {
         *id = first_id + k as u32;
     }
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     if made < n {
         Ok(format!(
             "RGEnerate: only {made} of {n} particles placed: the try limit ({limit} tries) was reached"
@@ -292,7 +292,7 @@ pub fn move_agglomerate(scene: &mut Scene, nagg: usize, d: [f64; 3]) -> Result<S
         }
     }
     // Bonds inside the agglomerate keep their geometry; pairs with others are re-made.
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     Ok(format!("moved {moved} particles of agglomerate {nagg}"))
 }
 

@@ -142,8 +142,8 @@ fn facts(sc: &Scene) -> Value {
             "i": c.i, "id": c.id, "wall": c.wall, "s": contact_facts(&c.s),
         })).collect::<Vec<_>>(),
         "contacts": {
-            "stale": sc.contacts.stale, "remap": sc.contacts.remap, "tol": f(sc.contacts.tol),
-            "rebuilds": sc.contacts.rebuilds,
+            "stale": sc.contacts.is_stale(), "remap": sc.contacts.needs_remap(), "tol": f(sc.contacts.tol()),
+            "rebuilds": sc.contacts.rebuilds(),
         },
         "settings": {
             "tol": st.tol.map(f), "xres": st.xres.map(f), "smin": st.smin.map(f),

@@ -109,7 +109,7 @@ fn check_continuation(tag: &str, setup: &str, total: u64, splits: &[u64]) -> usi
         // Cycle N; Cycle M in one session.
         let mut two = session_in(&dir, setup);
         run(&mut two, &format!("cycle {n}"));
-        if two.scene.as_ref().unwrap().contacts.remap {
+        if two.scene.as_ref().unwrap().contacts.needs_remap() {
             stale_splits += 1;
         }
         run(&mut two, &format!("cycle {}", total - n));
@@ -333,17 +333,17 @@ fn a_grown_tol_changes_the_rebuilds_and_nothing_else() {
         }
     }
     assert_eq!(a.ledger, b.ledger);
-    let base = b.contacts.tol;
+    let base = b.contacts.tol();
     assert!(
-        a.contacts.tol > base && a.contacts.tol <= 2.0 * base,
+        a.contacts.tol() > base && a.contacts.tol() <= 2.0 * base,
         "TOL {} (automatic {base})",
-        a.contacts.tol
+        a.contacts.tol()
     );
     assert!(
-        a.contacts.rebuilds < b.contacts.rebuilds,
+        a.contacts.rebuilds() < b.contacts.rebuilds(),
         "{} rebuilds with the grown TOL, {} without",
-        a.contacts.rebuilds,
-        b.contacts.rebuilds
+        a.contacts.rebuilds(),
+        b.contacts.rebuilds()
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -380,7 +380,7 @@ fn a_scene_restored_from_the_blow_up_snapshot_goes_on_as_the_original() {
         assert_eq!(touching(&snapshot), touching(&original), "{tag}");
         let mut restored = original.clone();
         trubal::sim::cycle::restore(&mut restored, snapshot);
-        assert!(restored.contacts.remap, "{tag}");
+        assert!(restored.contacts.needs_remap(), "{tag}");
         for sc in [&mut original, &mut restored] {
             trubal::sim::cycle::run(sc, 1500).unwrap();
         }

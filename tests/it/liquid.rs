@@ -91,7 +91,7 @@ fn viscous_approach_matches_the_analytic_decay() {
     sc.particles.fixed = vec![0b111111, 0];
     let v0 = -0.05;
     set_velocity(&mut sc, 1, Vec3::new(v0, 0.0, 0.0));
-    sc.contacts.stale = true;
+    sc.contacts.mark_stale();
     let m = 2650.0 * 4.0 / 3.0 * PI * R.powi(3);
     let c = 6.0 * PI * eta * (R / 2.0).powi(2) / m;
     let mut checked = 0;
@@ -266,7 +266,7 @@ fn goldman_tangential_viscosity() {
         sc.particles.pos[1].x = 4e-4 + 2.0 * R + s0;
         sc.particles.fixed = vec![0b111111, 0];
         set_velocity(&mut sc, 1, Vec3::new(0.0, 0.01, 0.0));
-        sc.contacts.stale = true;
+        sc.contacts.mark_stale();
         trubal::sim::cycle::run(&mut sc, 2).unwrap();
         let ft = sc.contacts.pair(0).s.bridge.as_ref().unwrap().f_tang;
         if on {

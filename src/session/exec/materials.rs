@@ -25,7 +25,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                     p.mass[i] = sphere_mass(rho, *r);
                 }
             }
-            scene.contacts.stale = true;
+            scene.contacts.mark_stale();
             Ok(String::new())
         }
         Command::Density { rho, material } => {
@@ -54,7 +54,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             let m = material_mut(scene, *material)?;
             m.gamma = *gamma;
             m.gamma_base = base.unwrap_or(*gamma);
-            scene.contacts.stale = true;
+            scene.contacts.mark_stale();
             Ok(String::new())
         }
         other => Err(not_here(other)),

@@ -123,7 +123,7 @@ fn liquid(
     scene.liquid = Some(l);
     // Existing bridges take the new parameters (rupture distance recomputed).
     crate::sim::liquid::reissue(scene);
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     Ok(warn)
 }
 
@@ -172,6 +172,6 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
     }
-    scene.contacts.stale = true;
+    scene.contacts.mark_stale();
     Ok(String::new())
 }

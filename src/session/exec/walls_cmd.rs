@@ -27,7 +27,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 disp: [0.0; 3],
                 travel: 0.0,
             });
-            scene.contacts.stale = true;
+            scene.contacts.mark_stale();
             let opened = open_crossed_axes(scene);
             Ok(format!("wall {} defined{opened}", scene.walls.len()))
         }
@@ -58,7 +58,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             if opts.servo.is_some() {
                 w.servo = opts.servo;
             }
-            scene.contacts.stale = true;
+            scene.contacts.mark_stale();
             let opened = open_crossed_axes(scene);
             Ok(opened.trim_start_matches("; ").to_string())
         }

@@ -165,16 +165,16 @@ pub struct ContactStore {
     pub wall_pairs: Vec<WallPair>,
     /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
     /// states at the current positions (`cycle::prime`) before the next step.
-    pub stale: bool,
+    stale: bool,
     /// Particles moved more than XRES (or TOL changed) since the last rebuild: rebuild the
     /// candidate list before the next force evaluation. The contact states are those of the
     /// last step and must not be re-evaluated (that would advance history-dependent laws twice
     /// and break exact continuation across `Cycle` commands and `SAve`/`RESTart`).
-    pub remap: bool,
+    remap: bool,
     /// Search distance used at the last rebuild.
-    pub tol: f64,
+    tol: f64,
     /// Number of rebuilds so far (for PRint Entries).
-    pub rebuilds: u64,
+    rebuilds: u64,
     /// Per-step working buffers (derived, never saved; see [`StepBuffers`]).
     pub step: StepBuffers,
 }
@@ -305,6 +305,42 @@ fn carry<K, T, I: Ord>(
 }
 
 impl ContactStore {
+    /// A command changed the scene: the next `Cycle` rebuilds and re-evaluates (the flags'
+    /// table above).
+    pub fn mark_stale(&mut self) {
+        self.stale = true;
+    }
+
+    /// Whether a command changed the scene since the contacts were last evaluated.
+    pub fn is_stale(&self) -> bool {
+        self.stale
+    }
+
+    /// The candidate list must be rebuilt before the next force step (the states are kept).
+    pub fn request_remap(&mut self) {
+        self.remap = true;
+    }
+
+    /// Whether a rebuild is due before the next force step.
+    pub fn needs_remap(&self) -> bool {
+        self.remap
+    }
+
+    /// The search distance TOL of the last rebuild.
+    pub fn tol(&self) -> f64 {
+        self.tol
+    }
+
+    /// Records the search distance of a rebuild.
+    pub fn set_tol(&mut self, tol: f64) {
+        self.tol = tol;
+    }
+
+    /// Rebuilds of the candidate list so far (PRint Entries).
+    pub fn rebuilds(&self) -> u64 {
+        self.rebuilds
+    }
+
     /// Number of candidate pairs.
     pub fn len(&self) -> usize {
         self.pairs.len()

@@ -116,7 +116,7 @@ pub(super) fn rebuild_tol(scene: &Scene, base: f64, dt: f64) -> f64 {
 /// distances are automatic (see [`rebuild_tol`]), else the user's (`xres`).
 pub(super) fn xres_in_use(scene: &Scene, xres: f64) -> f64 {
     if auto_search(scene) {
-        xres_of(scene.contacts.tol)
+        xres_of(scene.contacts.tol())
     } else {
         xres
     }
@@ -136,7 +136,7 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
     scene.contacts.step.hot = Vec::new();
     let (pairs, walls, info) = search::candidates_in_parts(scene, tol, parts);
     scene.contacts.merge(pairs, walls);
-    scene.contacts.tol = tol;
+    scene.contacts.set_tol(tol);
     scene
         .particles
         .disp
@@ -215,7 +215,7 @@ pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
     // margins", e.g. a wall that approaches particles at rest.)
     let m = [(2.0 * v * dt).max(f64::MIN_POSITIVE), walls * dt];
     scene.contacts.step.margins = m;
-    let tol = scene.contacts.tol;
+    let tol = scene.contacts.tol();
     let s3 = 3f64.sqrt();
     2.0 * s3 * d + m[0] < tol && s3 * d + travel + v * dt + m[1] < tol
 }

@@ -134,13 +134,13 @@ fn run_steps(
             snapshot = snapshot_of(scene);
         }
         let (lost_before, commands_before) = (scene.lost, scene.ledger.commands);
-        let rebuilds_before = scene.contacts.rebuilds;
+        let rebuilds_before = scene.contacts.rebuilds();
         let allowed = 1e3 * audit.scale(scene);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
         let keep = last || step + 1 == n || snapshot_before(step + 1);
         let mut result = one_step(scene, &mut model, (tol, xres), keep);
-        if result.is_ok() && scene.contacts.rebuilds != rebuilds_before && !warned_step {
+        if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
             if scene.settings.auto_step.is_none()
                 && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
@@ -202,12 +202,12 @@ fn prepare(scene: &mut Scene, model: &mut Model) -> (f64, f64) {
     // Commands may have changed contact states between Cycles: derive the pair liveness anew.
     scene.contacts.clear_derived();
     scene.maybe_outside = true;
-    let commanded = scene.contacts.stale;
-    if scene.contacts.stale {
+    let commanded = scene.contacts.is_stale();
+    if scene.contacts.is_stale() {
         prime(scene, model, tol);
-    } else if !tol_serves(scene, scene.contacts.tol, tol) {
+    } else if !tol_serves(scene, scene.contacts.tol(), tol) {
         // Only the search distance changed: re-map, keep the states of the last step.
-        scene.contacts.remap = true;
+        scene.contacts.request_remap();
     }
     // FRAction AUTO: the step of the last rebuild goes on (the same bits after SAve and
     // RESTart, or across Cycle commands) unless a command changed the scene.
@@ -354,9 +354,9 @@ pub fn one_step(
 ) -> Result<(), Blowup> {
     let mut dt = model.dt;
     if !set_margins(scene, model, dt) {
-        scene.contacts.remap = true;
+        scene.contacts.request_remap();
     }
-    let rebuilt = scene.contacts.stale || scene.contacts.remap;
+    let rebuilt = scene.contacts.is_stale() || scene.contacts.needs_remap();
     if rebuilt {
         let tol = rebuild_tol(scene, tol, dt);
         rebuild(scene, tol);
@@ -413,13 +413,13 @@ pub fn one_step(
 /// Primes the contact states if commands changed the scene (no-op otherwise, or when the
 /// scene cannot cycle yet).
 pub fn prime_if_stale(scene: &mut Scene) {
-    if !scene.contacts.stale || scene.particles.is_empty() {
+    if !scene.contacts.is_stale() || scene.particles.is_empty() {
         return;
     }
     if let Ok(model) = check(scene) {
         let (tol, _) = search_distances(scene, &model);
         prime(scene, &model, tol);
-        scene.contacts.tol = tol;
+        scene.contacts.set_tol(tol);
     }
 }
 

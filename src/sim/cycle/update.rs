@@ -424,7 +424,7 @@ pub(super) fn finish_move(
     // (its travel closes a gap as much as a particle's displacement).
     scene.contacts.step.max_disp = Some(max_disp);
     if max_disp > xres || scene.walls.iter().any(|w| w.travel > xres) {
-        scene.contacts.remap = true;
+        scene.contacts.request_remap();
     }
 
     let l = &mut scene.ledger;
