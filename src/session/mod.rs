@@ -211,7 +211,7 @@ impl Session {
         if !matches!(cmd, Command::Create { .. })
             && let Some(s) = self.scene.as_mut()
         {
-            s.create_index = None;
+            s.derived.create_index = None;
         }
         let r = self.execute_one(cmd);
         // Only an AGEnerate right after another joins its lattice (`sim::place::layer_order`).
@@ -219,7 +219,7 @@ impl Session {
             && !matches!(cmd, Command::Agenerate { .. })
             && let Some(s) = self.scene.as_mut()
         {
-            s.lattice_run = None;
+            s.derived.lattice_run = None;
         }
         r
     }
@@ -338,7 +338,7 @@ impl Session {
             interrupt::requested()
         });
         progress.finish();
-        let notes = std::mem::take(&mut scene.notes);
+        let notes = std::mem::take(&mut scene.derived.notes);
         let balls = scene.particles.len();
         let at = scene.cycle;
         let ran = match run {
@@ -387,7 +387,7 @@ impl Session {
                 progress.tick(s.cycle, s.time, s.particles.len(), d);
                 interrupt::requested()
             });
-            notes.append(&mut scene.notes);
+            notes.append(&mut scene.derived.notes);
             let ran = match run {
                 Ok((_, ran)) => ran,
                 Err(b) => {
@@ -562,7 +562,7 @@ fn scene_command(
             // CReates keeps the total between them (`CreateIndex`).
             let create = matches!(cmd, Command::Create { .. });
             let n0 = scene.particles.len();
-            let before = match &scene.create_index {
+            let before = match &scene.derived.create_index {
                 Some(c) if create && c.n == n0 => c.kinetic,
                 _ => None,
             }
@@ -580,7 +580,7 @@ fn scene_command(
             }
             let after = if create {
                 let after = before + energy::kinetic_of(scene, n0);
-                if let Some(c) = scene.create_index.as_mut() {
+                if let Some(c) = scene.derived.create_index.as_mut() {
                     c.kinetic = Some(after);
                 }
                 after

@@ -47,7 +47,7 @@ pub fn create(
     // (N CReate lines were O(N²): 16 s for 50,000). The index decides only "no
     // overlap", and only while it can (`OverlapIndex::decides`); an overlap is
     // confirmed and named by the plain scan, so the message is the scan's.
-    let (mut idx, kinetic) = match scene.create_index.take() {
+    let (mut idx, kinetic) = match scene.derived.create_index.take() {
         Some(c) if c.n == scene.particles.len() => (c.index, c.kinetic),
         _ => (OverlapIndex::new(scene, r), None),
     };
@@ -56,7 +56,7 @@ pub fn create(
     {
         let n = scene.particles.len();
         // (Nothing changed: the index and the kinetic total stay valid.)
-        scene.create_index = Some(CreateIndex {
+        scene.derived.create_index = Some(CreateIndex {
             n,
             index: idx,
             kinetic,
@@ -83,7 +83,7 @@ pub fn create(
     idx.insert(&x, r);
     let n = scene.particles.len();
     // (The session books the kinetic energy and keeps the new total.)
-    scene.create_index = Some(CreateIndex {
+    scene.derived.create_index = Some(CreateIndex {
         n,
         index: idx,
         kinetic: None,
@@ -351,7 +351,7 @@ fn check_capacity(scene: &Scene, more: usize) -> Result<(), String> {
 /// this order.
 fn layer_order(scene: &mut Scene, first_new: usize, nagg: usize) {
     let p = &scene.particles;
-    let start = match scene.lattice_run {
+    let start = match scene.derived.lattice_run {
         Some(run)
             if run.nagg == nagg
                 && run.start < first_new
@@ -377,5 +377,5 @@ fn layer_order(scene: &mut Scene, first_new: usize, nagg: usize) {
         scene.particles.permute_tail(start, &order);
         scene.particles.id[start..].copy_from_slice(&ids);
     }
-    scene.lattice_run = Some(LatticeRun { start, nagg });
+    scene.derived.lattice_run = Some(LatticeRun { start, nagg });
 }

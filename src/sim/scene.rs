@@ -403,32 +403,50 @@ pub struct Scene {
     /// Reference state (`PLot SAve`).
     pub reference: Option<super::reference::Reference>,
     pub history: super::history::History,
+    /// What a `Cycle` and the commands derive and keep between steps or commands, never
+    /// saved (see [`Derived`]).
+    #[serde(skip)]
+    pub derived: Derived,
+}
+
+/// The scene's derived state: kept between steps or between commands for speed or for the
+/// session, rebuilt when missing, never saved (a RESTart starts from the default), so that a
+/// checkpoint holds only what the physics needs.
+#[derive(Clone, Debug)]
+pub struct Derived {
     /// Some particle may be outside the work-space (derived, not saved: set at the start of
     /// every `Cycle` and by the integration step; saves a scan per step when false).
-    #[serde(skip, default = "always")]
     pub maybe_outside: bool,
     /// What a `Cycle` has to tell that is not an error (a particle deleted after crossing a
     /// wall, a step too long for the fastest approach): the session prints these as warnings
     /// and empties the list (derived, not saved).
-    #[serde(skip)]
     pub notes: Vec<String>,
     /// Per group of `cycle::EXT_GROUP` consecutive particles, how far beyond touching their
     /// pairs are evaluated in the current step: Δt × their largest velocity component, so
     /// that a pair approaching within half a step's travel gets its share of the restitution
     /// dashpot (`physics::dashpot`); empty without a dashpot (derived, not saved: set by
     /// `cycle::one_step`).
-    #[serde(skip)]
     pub reach_ext: Vec<f64>,
     /// The particles the last command placed, if it was an AGEnerate (derived, not saved;
     /// any other command forgets them, SAve included, so a RESTart sees the same): the next
     /// AGEnerate into the same agglomerate orders them with its own (a BCC lattice is two
     /// AGEnerate commands; see `sim::place::layer_order`).
-    #[serde(skip)]
     pub lattice_run: Option<LatticeRun>,
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
     /// dropped by any other command before it runs: `Session::execute`).
-    #[serde(skip)]
     pub create_index: Option<super::generate::CreateIndex>,
+}
+
+impl Default for Derived {
+    fn default() -> Self {
+        Derived {
+            maybe_outside: true,
+            notes: Vec::new(),
+            reach_ext: Vec::new(),
+            lattice_run: None,
+            create_index: None,
+        }
+    }
 }
 
 /// A run of particles placed by AGEnerate: `start..` of the particle list, agglomerate
@@ -437,10 +455,6 @@ pub struct Scene {
 pub struct LatticeRun {
     pub start: usize,
     pub nagg: usize,
-}
-
-fn always() -> bool {
-    true
 }
 
 impl Scene {
@@ -474,11 +488,7 @@ impl Scene {
             lost: 0,
             reference: None,
             history: Default::default(),
-            maybe_outside: true,
-            reach_ext: Vec::new(),
-            notes: Vec::new(),
-            lattice_run: None,
-            create_index: None,
+            derived: Derived::default(),
         }
     }
 

@@ -369,7 +369,7 @@ fn the_whole_state_round_trips() {
     // saved; compare without them.
     let mut sc = sc;
     sc.contacts.clear_derived();
-    sc.maybe_outside = true;
+    sc.derived.maybe_outside = true;
     assert_eq!(format!("{sc:?}"), format!("{back:?}"));
     assert!(to_bytes(&back).unwrap() == bytes);
 }

@@ -580,7 +580,7 @@ fn a_run_of_creates_gives_what_creates_one_by_one_give() {
     let (a, ra) = run(None);
     let (b, rb) = run(Some("print info"));
     let (sa, sb) = (a.scene.as_ref().unwrap(), b.scene.as_ref().unwrap());
-    assert!(sa.create_index.is_some() && sb.create_index.is_none());
+    assert!(sa.derived.create_index.is_some() && sb.derived.create_index.is_none());
     let n = sa.particles.len();
     assert!(n > 300 && ra.len() > 50, "{n} placed, {} refused", ra.len());
     assert_eq!(ra, rb);

@@ -254,7 +254,7 @@ pub(super) fn delete_tunnelled(scene: &mut Scene, behind: &[(usize, usize)], dt:
                 "{}; deleted (SET TUNnel DELETE)",
                 crossing(scene, (i, w), dt)
             );
-            scene.notes.push(note);
+            scene.derived.notes.push(note);
         }
     }
     let before = crate::sim::energy::stored(scene).total();

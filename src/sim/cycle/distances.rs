@@ -201,10 +201,10 @@ pub(super) fn max_disp(scene: &mut Scene) -> f64 {
 pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
     if !(dt > 0.0) || !model.table.iter().any(|p| p.zeta > 0.0) || scene.particles.is_empty() {
         scene.contacts.step.margins = [0.0; 2];
-        scene.reach_ext = Vec::new();
+        scene.derived.reach_ext = Vec::new();
         return true;
     }
-    let v = reach_margins(&scene.particles.vel, dt, &mut scene.reach_ext);
+    let v = reach_margins(&scene.particles.vel, dt, &mut scene.derived.reach_ext);
     let d = max_disp(scene);
     let walls = scene
         .walls

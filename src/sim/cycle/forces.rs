@@ -57,7 +57,9 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
             .then_some(crate::sim::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
         // (Only in a step, with the margins of its particles: not while priming.)
-        margin: if dt > 0.0 && scene.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP) {
+        margin: if dt > 0.0
+            && scene.derived.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP)
+        {
             scene.contacts.step.margins[0]
         } else {
             0.0
@@ -139,7 +141,7 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         size: scene.size,
         periodic: scene.settings.periodic,
         uni: UniPair::of(model),
-        ext: (laws_pp.margin > 0.0).then_some(&scene.reach_ext[..]),
+        ext: (laws_pp.margin > 0.0).then_some(&scene.derived.reach_ext[..]),
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,

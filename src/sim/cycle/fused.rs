@@ -291,7 +291,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         walls,
         size,
         settings,
-        reach_ext,
+        derived,
         ..
     } = scene;
     let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = contacts.step_parts();
@@ -342,7 +342,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         size: *size,
         periodic: settings.periodic,
         uni: UniPair::of(model),
-        ext: (laws_pp.margin > 0.0).then_some(&reach_ext[..]),
+        ext: (laws_pp.margin > 0.0).then_some(&derived.reach_ext[..]),
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,

@@ -84,7 +84,7 @@ pub fn run_watched(
     // instead of falling asleep between the step's parallel regions (`awake`).
     let r = super::awake::while_running(|| run_steps(scene, n, watch));
     // (Derived per step; not kept between commands.)
-    scene.reach_ext = Vec::new();
+    scene.derived.reach_ext = Vec::new();
     scene.contacts.step.margins = [0.0; 2];
     r
 }
@@ -145,7 +145,7 @@ fn run_steps(
             if scene.settings.auto_step.is_none()
                 && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
             {
-                scene.notes.push(w);
+                scene.derived.notes.push(w);
                 warned_step = true;
             }
         }
@@ -193,7 +193,7 @@ fn prepare(scene: &mut Scene, model: &mut Model) -> (f64, f64) {
     // of an earlier version, or walls turned since, may hold one).
     let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
     if opened != [false; 3] {
-        scene.notes.push(format!(
+        scene.derived.notes.push(format!(
             "the {} axis is now open: a plane wall crosses it, and a particle leaving through one side would re-enter behind the wall",
             walls::axis_names(&opened)
         ));
@@ -201,7 +201,7 @@ fn prepare(scene: &mut Scene, model: &mut Model) -> (f64, f64) {
     let (tol, xres) = search_distances(scene, model);
     // Commands may have changed contact states between Cycles: derive the pair liveness anew.
     scene.contacts.clear_derived();
-    scene.maybe_outside = true;
+    scene.derived.maybe_outside = true;
     let commanded = scene.contacts.is_stale();
     if scene.contacts.is_stale() {
         prime(scene, model, tol);

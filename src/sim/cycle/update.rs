@@ -384,7 +384,7 @@ pub(super) fn finish_move(
         bad = bad.or(b);
         w_fix += wf;
     }
-    scene.maybe_outside = outside;
+    scene.derived.maybe_outside = outside;
     let p = &mut scene.particles;
     if let Some(i) = bad {
         return Err(Blowup {
@@ -527,7 +527,7 @@ pub(super) fn outside_open_side(x: &Vec3, size: &[f64; 3], periodic: &[bool; 3])
 /// Removes particles that left through an open side (counted in `lost`); returns whether
 /// any was.
 pub(super) fn remove_lost(scene: &mut Scene) -> bool {
-    if !scene.maybe_outside {
+    if !scene.derived.maybe_outside {
         return false;
     }
     let (size, periodic) = (scene.size, scene.settings.periodic);
