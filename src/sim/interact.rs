@@ -172,6 +172,125 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
     let was_touching = s.touching;
+    let (gamma, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+
+    // ---- liquid bridge: formation, rupture, capillary force ------------------------------
+    // (Its viscous force is worked out with the other velocity-dependent forces below.)
+    let (bridge_prev, bridge_static, bridge_c, sgap) = bridge_now::<LIQ>(k, laws, s, acc, v_n);
+
+    // ---- velocity-dependent normal forces (physics::dashpot) ---------------------------------
+    // The restitution dashpot D (R*α)^{1/4} α' while touching, and while approaching within
+    // half a step's travel (its share of the step in which the contact starts); Rayleigh's
+    // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
+    let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
+    let dashed = pc.zeta > 0.0 && (s.touching || approaching);
+    let rayleigh = if laws.beta > 0.0 && s.touching {
+        laws.beta * kn
+    } else {
+        0.0
+    };
+    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
+    let (mut fd, mut fv) = (0.0, 0.0);
+    if viscous {
+        // (While priming, Δt = 0, the step degenerates to the dashpot at α with v: the
+        // forces shown, nothing integrated.)
+        let inv_m = 1.0 / k.m_star;
+        let drive = if dt > 0.0 {
+            let f_prev = p_old + fd_prev + bridge_prev;
+            let f_static = if s.touching { s.normal_force } else { 0.0 } - bridge_static;
+            dashpot::drive(f_static, f_prev, v_n, s.v_prev, inv_m, 1.0 / dt)
+        } else {
+            0.0
+        };
+        // (R* α)^{1/2}: the Hertz contact radius.
+        let a_h = (k.r_star * alpha).sqrt();
+        let (coef, vn) = dashpot::viscous_step(&dashpot::ViscousIn {
+            alpha,
+            v: v_n,
+            drive,
+            dash: if dashed { pc.dash } else { 0.0 },
+            scale: k.m_star * k.m_star * k.r_star,
+            steady: was_touching && alpha > 0.0,
+            point: (k.m_star * a_h).sqrt(),
+            linear: rayleigh + bridge_c,
+            inv_m,
+            dt,
+        });
+        fd = 0.0 - coef * vn;
+        if rayleigh > 0.0 {
+            fd -= rayleigh * vn;
+        }
+        // The tension clamp of the restitution model: the dashpot never pulls a
+        // non-adhesive contact (nor a pair that is only approaching).
+        let p = if s.touching { s.normal_force } else { 0.0 };
+        if gamma == 0.0 && p + fd < 0.0 {
+            fd = -p;
+        }
+        fv = 0.0 - bridge_c * vn;
+        if dt > 0.0 {
+            s.v_prev = v_n;
+        }
+    } else if dt > 0.0 {
+        s.v_prev = f64::INFINITY;
+    }
+
+    if s.touching || fd != 0.0 || fd_prev != 0.0 {
+        // Solid contact (or its approach): the dashpot's booking, the last step's second half
+        // when it has ended.
+        if s.touching {
+            fn_b += s.normal_force;
+        }
+        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
+        // step are kept, since they are the ones the next booking must pair with.
+        if dt > 0.0 {
+            s.damp_force = fd;
+        }
+        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
+        fn_b += fd;
+    }
+    if s.touching {
+        // ---- tangential law ---------------------------------------------------------
+        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
+            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+        }
+    } else if dt > 0.0 && td_prev != Vec3::zeros() {
+        // The contact ended: book the second half of the last tangential dashpot force.
+        let v_t = k.v_rel - k.n * v_n;
+        acc.damping_contact += -0.5 * td_prev.dot(&v_t) * dt;
+        s.tdamp = Vec3::zeros();
+    }
+
+    // ---- liquid bridge: viscous forces and booking -------------------------------------
+    if let Some((fn_bridge, ft)) =
+        bridge_forces::<LIQ>(k, laws, s, acc, v_n, (bridge_static, fv, sgap))
+    {
+        ft_b += ft;
+        fn_b += fn_bridge;
+    }
+
+    Out {
+        f: k.n * fn_b + ft_b,
+        ft: ft_b,
+    }
+}
+
+/// The normal law of a contact at this step: JKR (snap-in, the force on its curve,
+/// detachment at α_s, Lian 1994 (3.38), (3.114)–(3.117)) or Hertz (3.14)–(3.15); books the
+/// adhesion lost at the force's jumps. Returns the surface energy in use, the normal
+/// stiffness (for Rayleigh's β k_n) and the pull-off force P_c (0 without adhesion).
+#[inline(always)]
+fn normal_law<const ADH: bool>(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+    v_n: f64,
+) -> (f64, f64, f64) {
+    let alpha = -k.gap;
+    let dt = laws.dt;
+    let p_old = s.normal_force;
+    let was_touching = s.touching;
     // A touching contact keeps its own γ; a new one takes the material value, or the base
     // value after an impact (`VELocity ... 1`, Lian App. B).
     let gamma = if !ADH {
@@ -259,9 +378,22 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         reset_solid(s, acc);
     }
     s.overlap = alpha;
+    (gamma, kn, pcrit)
+}
 
-    // ---- liquid bridge: formation, rupture, capillary force ------------------------------
-    // (Its viscous force is worked out with the other velocity-dependent forces below.)
+/// The liquid bridge at this step: formed on solid contact, ruptured beyond S_c (its work
+/// booked, Lian 1994 §5.7), else its capillary force and viscous coefficient. Returns the
+/// bridge's normal force of the last step, the capillary force now (attractive magnitude),
+/// the viscous coefficient 6πηR*²/max(S, S_min) and the gap S used.
+#[inline(always)]
+fn bridge_now<const LIQ: bool>(
+    k: &Kin,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+    v_n: f64,
+) -> (f64, f64, f64, f64) {
+    let dt = laws.dt;
     let mut bridge_prev = 0.0; // the bridge's normal force of the last step
     let mut bridge_static = 0.0; // capillary force of this step (attractive magnitude)
     let mut bridge_c = 0.0; // viscous coefficient 6πηR*²/max(S, S_min)
@@ -322,128 +454,54 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             }
         }
     }
+    (bridge_prev, bridge_static, bridge_c, sgap)
+}
 
-    // ---- velocity-dependent normal forces (physics::dashpot) ---------------------------------
-    // The restitution dashpot D (R*α)^{1/4} α' while touching, and while approaching within
-    // half a step's travel (its share of the step in which the contact starts); Rayleigh's
-    // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
-    let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
-    let dashed = pc.zeta > 0.0 && (s.touching || approaching);
-    let rayleigh = if laws.beta > 0.0 && s.touching {
-        laws.beta * kn
+/// The bridge's forces of this step and their booking: the work against the capillary force
+/// (stored until rupture) and the viscous loss as ½(F_old + F_new)·v_n Δt, Goldman's
+/// tangential viscous force (4.76) (its moment (4.77) is not applied, doc/bridge.md).
+/// Returns the bridge's net normal force on B (viscous − capillary) and its tangential
+/// force, if the pair has a bridge.
+#[inline(always)]
+fn bridge_forces<const LIQ: bool>(
+    k: &Kin,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+    v_n: f64,
+    (bridge_static, fv, sgap): (f64, f64, f64),
+) -> Option<(f64, Vec3)> {
+    let dt = laws.dt;
+    let liq = laws.liquid.filter(|_| LIQ)?;
+    let bs = s.bridge.as_deref_mut()?;
+    // Work done against the attractive force while opening (stored) and the viscous
+    // loss, booked as ½(F_old + F_new)·v_n Δt.
+    let fs = bridge_static;
+    bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
+    acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
+    // Goldman's tangential viscous force (4.76), opposing the relative
+    // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
+    let v_t = k.v_rel - k.n * v_n;
+    let vt = if laws.goldman && liq.eta > 0.0 {
+        v_t.norm()
     } else {
         0.0
     };
-    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
-    let (mut fd, mut fv) = (0.0, 0.0);
-    if viscous {
-        // (While priming, Δt = 0, the step degenerates to the dashpot at α with v: the
-        // forces shown, nothing integrated.)
-        let inv_m = 1.0 / k.m_star;
-        let drive = if dt > 0.0 {
-            let f_prev = p_old + fd_prev + bridge_prev;
-            let f_static = if s.touching { s.normal_force } else { 0.0 } - bridge_static;
-            dashpot::drive(f_static, f_prev, v_n, s.v_prev, inv_m, 1.0 / dt)
-        } else {
-            0.0
-        };
-        // (R* α)^{1/2}: the Hertz contact radius.
-        let a_h = (k.r_star * alpha).sqrt();
-        let (coef, vn) = dashpot::viscous_step(&dashpot::ViscousIn {
-            alpha,
-            v: v_n,
-            drive,
-            dash: if dashed { pc.dash } else { 0.0 },
-            scale: k.m_star * k.m_star * k.r_star,
-            steady: was_touching && alpha > 0.0,
-            point: (k.m_star * a_h).sqrt(),
-            linear: rayleigh + bridge_c,
-            inv_m,
-            dt,
-        });
-        fd = 0.0 - coef * vn;
-        if rayleigh > 0.0 {
-            fd -= rayleigh * vn;
-        }
-        // The tension clamp of the restitution model: the dashpot never pulls a
-        // non-adhesive contact (nor a pair that is only approaching).
-        let p = if s.touching { s.normal_force } else { 0.0 };
-        if gamma == 0.0 && p + fd < 0.0 {
-            fd = -p;
-        }
-        fv = 0.0 - bridge_c * vn;
-        if dt > 0.0 {
-            s.v_prev = v_n;
-        }
-    } else if dt > 0.0 {
-        s.v_prev = f64::INFINITY;
+    let ft = if vt > 0.0 {
+        let smin = laws.smin.unwrap_or(0.01 * k.r_star);
+        let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
+        v_t * (t / vt)
+    } else {
+        Vec3::zeros()
+    };
+    acc.viscous += -0.5 * (ft + bs.f_tang).dot(&v_t) * dt;
+    if dt > 0.0 {
+        bs.f_static = fs;
+        bs.f_visc = fv;
+        bs.f_tang = ft;
     }
-
-    if s.touching || fd != 0.0 || fd_prev != 0.0 {
-        // Solid contact (or its approach): the dashpot's booking, the last step's second half
-        // when it has ended.
-        if s.touching {
-            fn_b += s.normal_force;
-        }
-        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
-        // step are kept, since they are the ones the next booking must pair with.
-        if dt > 0.0 {
-            s.damp_force = fd;
-        }
-        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
-        fn_b += fd;
-    }
-    if s.touching {
-        // ---- tangential law ---------------------------------------------------------
-        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
-        }
-    } else if dt > 0.0 && td_prev != Vec3::zeros() {
-        // The contact ended: book the second half of the last tangential dashpot force.
-        let v_t = k.v_rel - k.n * v_n;
-        acc.damping_contact += -0.5 * td_prev.dot(&v_t) * dt;
-        s.tdamp = Vec3::zeros();
-    }
-
-    // ---- liquid bridge: viscous forces and booking -------------------------------------
-    if let Some(liq) = laws.liquid.filter(|_| LIQ)
-        && let Some(bs) = s.bridge.as_deref_mut()
-    {
-        // Work done against the attractive force while opening (stored) and the viscous
-        // loss, booked as ½(F_old + F_new)·v_n Δt.
-        let fs = bridge_static;
-        bs.work += 0.5 * (fs + bs.f_static) * v_n * dt;
-        acc.viscous += -0.5 * (fv + bs.f_visc) * v_n * dt;
-        // Goldman's tangential viscous force (4.76), opposing the relative
-        // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
-        let v_t = k.v_rel - k.n * v_n;
-        let vt = if laws.goldman && liq.eta > 0.0 {
-            v_t.norm()
-        } else {
-            0.0
-        };
-        let ft = if vt > 0.0 {
-            let smin = laws.smin.unwrap_or(0.01 * k.r_star);
-            let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
-            v_t * (t / vt)
-        } else {
-            Vec3::zeros()
-        };
-        acc.viscous += -0.5 * (ft + bs.f_tang).dot(&v_t) * dt;
-        ft_b += ft;
-        if dt > 0.0 {
-            bs.f_static = fs;
-            bs.f_visc = fv;
-            bs.f_tang = ft;
-        }
-        bs.gap = k.gap;
-        fn_b += fv - fs;
-    }
-
-    Out {
-        f: k.n * fn_b + ft_b,
-        ft: ft_b,
-    }
+    bs.gap = k.gap;
+    Some((fv - fs, ft))
 }
 
 /// Tangential force on B: rotate the history into the current contact plane, advance the
