@@ -664,6 +664,20 @@ pub fn rotate_into_plane(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// [`rotate_into_plane`] with an early return for a zero vector: the same result, for the
+/// general kernel, where many contacts carry no shear history (a new contact, a law
+/// without friction) and the branch-free form's root and division would be paid for nothing
+/// (measured: 1.9 % of all instructions of a moist agglomerate).
+#[inline(always)]
+pub fn rotate_into_plane_lazy(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    let len2 = 0.0 + (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if len2 == 0.0 {
+        v
+    } else {
+        rotate_into_plane(v, n)
+    }
+}
+
 /// One step of the vector no-slip law (`SET TANgential NOSLIP`, the law of the contact
 /// kernels): the spring `T = T_old − k_t Δδ` with `k_t = 8 G* a` (3.93)–(3.94), (5.18),
 /// capped at `|T| ≤ μ P_e` along its own direction (`P_e = P + 2 P_c` with adhesion, (3.103);
@@ -814,6 +828,9 @@ mod tests {
         assert_eq!(rotate_into_plane(inplane, n), inplane);
         assert_eq!(rotate_into_plane([0.0, 1.2, 1.6], n), [0.0; 3]);
         assert_eq!(rotate_into_plane([0.0; 3], n), [0.0; 3]);
+        for v in [v, inplane, [0.0, 1.2, 1.6], [0.0; 3], [1e-170, 0.0, 0.0]] {
+            assert_eq!(rotate_into_plane_lazy(v, n), rotate_into_plane(v, n));
+        }
     }
 
     /// The vector no-slip law: below the cap T = T_old − 8 G* a Δδ, stored T²/(2 k_t) and no

@@ -521,7 +521,7 @@ fn tangential_step(
     let n = k.n;
     // Rotation of the contact plane (5.19)–(5.21): project the old vectors on the new plane
     // and keep their lengths.
-    let rotate = |v: Vec3| Vec3::from(tangential::rotate_into_plane(v.into(), n.into()));
+    let rotate = |v: Vec3| Vec3::from(tangential::rotate_into_plane_lazy(v.into(), n.into()));
     s.tforce = rotate(s.tforce);
     let v_t = k.v_rel - n * k.v_rel.dot(&n);
     let dd = v_t * dt;
