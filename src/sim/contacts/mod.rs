@@ -121,16 +121,21 @@ pub struct HotPair {
     pub shared: u8,
 }
 
-/// What the force loop works on (see [`ContactStore::step_parts`]).
-pub type StepParts<'a> = (
-    &'a mut [HotPair],
-    &'a mut [Pair],
-    &'a mut [Vec<ContactState>],
-    &'a mut Vec<PairForce>,
-    &'a mut Incidence,
-    &'a mut [WallPair],
-    &'a mut WallOut,
-);
+/// What the force loop works on (see [`ContactStore::step_parts`]): the store's parts,
+/// borrowed each on its own.
+pub struct StepParts<'a> {
+    /// The hot list (indices, state slots, liveness), in pair order.
+    pub hot: &'a mut [HotPair],
+    pub pairs: &'a mut [Pair],
+    /// The contact states in blocks of `BLOCK` pairs.
+    pub blocks: &'a mut [Vec<ContactState>],
+    /// Per-pair force slots of the shared particles (several threads).
+    pub out: &'a mut Vec<PairForce>,
+    /// Which particles are shared between tasks, and their pairs.
+    pub scatter: &'a mut Incidence,
+    pub wall_pairs: &'a mut [WallPair],
+    pub wall_out: &'a mut WallOut,
+}
 
 /// The contact history of all candidate pairs.
 ///
@@ -408,15 +413,15 @@ impl ContactStore {
         if self.step.hot.len() != self.pairs.len() {
             self.build_hot();
         }
-        (
-            &mut self.step.hot,
-            &mut self.pairs,
-            &mut self.blocks,
-            &mut self.step.out,
-            &mut self.step.scatter,
-            &mut self.wall_pairs,
-            &mut self.step.wall_out,
-        )
+        StepParts {
+            hot: &mut self.step.hot,
+            pairs: &mut self.pairs,
+            blocks: &mut self.blocks,
+            out: &mut self.step.out,
+            scatter: &mut self.step.scatter,
+            wall_pairs: &mut self.wall_pairs,
+            wall_out: &mut self.step.wall_out,
+        }
     }
 
     /// Replaces all pairs (sorted by ids) and their states.

@@ -148,7 +148,15 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         ..ctx
     };
     let zeroed = std::mem::take(&mut scene.contacts.step.zeroed);
-    let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = scene.contacts.step_parts();
+    let StepParts {
+        hot,
+        pairs,
+        blocks,
+        out,
+        scatter,
+        wall_pairs,
+        wall_out,
+    } = scene.contacts.step_parts();
     let force = &mut scene.particles.force;
     let moment = &mut scene.particles.moment;
     let walls = (&scene.walls[..], shapes);

@@ -30,7 +30,7 @@ use super::{
     PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs,
     task_sums, wall_cuts, wall_forces,
 };
-use crate::sim::contacts::ChunkPlan;
+use crate::sim::contacts::{ChunkPlan, StepParts};
 use rayon::prelude::*;
 
 /// A read-only view of a particle array (positions, velocities, spins) for the pair loop:
@@ -294,7 +294,15 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         derived,
         ..
     } = scene;
-    let (hot, pairs, blocks, out, scatter, wall_pairs, wall_out) = contacts.step_parts();
+    let StepParts {
+        hot,
+        pairs,
+        blocks,
+        out,
+        scatter,
+        wall_pairs,
+        wall_out,
+    } = contacts.step_parts();
     split_if_needed(scatter, hot, np, model.plan.threads);
     out.resize(scatter.slots, PairForce::default());
     let plan = plan(scatter, np, wall_pairs);
@@ -306,7 +314,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
     } = &plan;
     let ntasks = scatter.ranges.len();
     wall_out.pieces.resize_with(ntasks, WallPiece::default);
-    let mut sums: Vec<ChunkSums> = vec![(0.0, 0.0, 0.0, None, false, 0.0); np.div_ceil(CHUNK)];
+    let mut sums: Vec<ChunkSums> = vec![ChunkSums::default(); np.div_ceil(CHUNK)];
     let sh = Shared {
         vel: p.vel.as_mut_ptr(),
         pos: p.pos.as_mut_ptr(),
@@ -371,7 +379,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         // SAFETY: chunk `c` is updated by this task alone (owned, or claimed once through
         // `next_late`), and no other task reads its particles now (the access rules).
         let s = mv.chunk(c, unsafe { sh.chunk(c) }, fixed, Some(left));
-        if !keep && s.3.is_none() {
+        if !keep && s.bad.is_none() {
             // Cleared while in the cache, as in `move_all`.
             let a = unsafe { sh.chunk(c) };
             a.force.fill(Vec3::zeros());

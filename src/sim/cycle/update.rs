@@ -57,7 +57,7 @@ pub(super) fn move_all(
                 );
                 // Cleared while the chunk is in the cache, for the next step's sums (a
                 // particle with a non-finite state keeps its force for the message).
-                if !keep && sums.3.is_none() {
+                if !keep && sums.bad.is_none() {
                     force.fill(Vec3::zeros());
                     moment.fill(Vec3::zeros());
                 }
@@ -68,10 +68,22 @@ pub(super) fn move_all(
     finish_move(scene, (xres, keep), acc, wall_work, &parts, model.dt)
 }
 
-/// One chunk's sums of the update: work of gravity, mass-damping loss, largest displacement
-/// component since the last rebuild, the first particle with a non-finite state, whether a
-/// particle is beyond an open side, the work of the velocity constraints (`Fix`, 2-D).
-pub(super) type ChunkSums = (f64, f64, f64, Option<usize>, bool, f64);
+/// One chunk's sums of the update, added over the chunks in chunk order.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct ChunkSums {
+    /// Work of gravity m g·v̄ Δt.
+    pub(super) w_grav: f64,
+    /// Loss to the mass-proportional damping.
+    pub(super) d_mass: f64,
+    /// Largest displacement component since the last rebuild.
+    pub(super) max_disp: f64,
+    /// The first particle with a non-finite state.
+    pub(super) bad: Option<usize>,
+    /// Some particle is beyond an open side.
+    pub(super) outside: bool,
+    /// Work of the velocity constraints (`Fix`, 2-D).
+    pub(super) w_fix: f64,
+}
 
 /// A chunk's particle arrays.
 pub(super) struct ChunkArrays<'a> {
@@ -261,7 +273,14 @@ impl Mover {
                     .find(|&l| !all_finite(&pos[l], &vel[l]))
                     .map(|l| lo + l);
             }
-            return (s.w_grav, 0.0, s.max_disp, bad, s.outside, 0.0);
+            return ChunkSums {
+                w_grav: s.w_grav,
+                d_mass: 0.0,
+                max_disp: s.max_disp,
+                bad,
+                outside: s.outside,
+                w_fix: 0.0,
+            };
         }
         for l in 0..vel.len() {
             let i = chunk * CHUNK + l;
@@ -329,7 +348,14 @@ impl Mover {
                 bad = Some(i);
             }
         }
-        (w_grav, d_mass, max_disp, bad, outside, w_fix)
+        ChunkSums {
+            w_grav,
+            d_mass,
+            max_disp,
+            bad,
+            outside,
+            w_fix,
+        }
     }
 }
 
@@ -369,20 +395,20 @@ pub(super) fn finish_move(
     parts: &[ChunkSums],
     dt: f64,
 ) -> Result<(), Blowup> {
-    scene.contacts.step.zeroed = !keep && parts.iter().all(|s| s.3.is_none());
+    scene.contacts.step.zeroed = !keep && parts.iter().all(|s| s.bad.is_none());
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;
     let mut bad: Option<usize> = None;
     let mut outside = false;
     let mut w_fix = 0.0;
-    for &(wg, dm, md, b, o, wf) in parts {
-        outside |= o;
-        w_grav += wg;
-        d_mass += dm;
-        max_disp = max_disp.max(md);
-        bad = bad.or(b);
-        w_fix += wf;
+    for c in parts {
+        outside |= c.outside;
+        w_grav += c.w_grav;
+        d_mass += c.d_mass;
+        max_disp = max_disp.max(c.max_disp);
+        bad = bad.or(c.bad);
+        w_fix += c.w_fix;
     }
     scene.derived.maybe_outside = outside;
     let p = &mut scene.particles;
