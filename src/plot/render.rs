@@ -226,10 +226,20 @@ fn draw_picture(
             .map_err(err)?;
     }
 
+    titles(root, pic, l)?;
+    legend(root, pic, l)
+}
+
+/// The title, the scale bar and the axes' names under the plot.
+fn titles(
+    root: &DrawingArea<BitMapBackend<'_>, Shift>,
+    pic: &Picture,
+    l: &Layout,
+) -> Result<(), String> {
+    let s = l.scale;
     // Title, scale bar, axes.
     let title = (FAMILY, 22).into_font().color(&BLACK);
     let text = (FAMILY, 17).into_font().color(&BLACK);
-    let small = (FAMILY, 15).into_font().color(&RGBColor(60, 60, 60));
     root.draw_text(&pic.title, &title, (PAD as i32, 16))
         .map_err(err)?;
     let yb = (l.y0 as i32) + l.ph as i32 + 35;
@@ -250,6 +260,17 @@ fn draw_picture(
     root.draw_text(&axes, &text, ((l.x0 as i32) + l.pw as i32 - 110, yb - 9))
         .map_err(err)?;
 
+    Ok(())
+}
+
+/// The legend and the notes beside the plot.
+fn legend(
+    root: &DrawingArea<BitMapBackend<'_>, Shift>,
+    pic: &Picture,
+    l: &Layout,
+) -> Result<(), String> {
+    let text = (FAMILY, 17).into_font().color(&BLACK);
+    let small = (FAMILY, 15).into_font().color(&RGBColor(60, 60, 60));
     // Legend and notes.
     let lx = (PAD + PLOT_W as u32 + PAD) as i32;
     let mut y = l.y0 as i32 + 4;
