@@ -86,6 +86,15 @@ pub(super) struct ChunkSums {
 }
 
 /// A chunk's particle arrays.
+/// The arrays the update of a chunk moves: velocity, position, displacement, spin, rotation.
+type Moving<'a> = (
+    &'a mut [Vec3],
+    &'a mut [Vec3],
+    &'a mut [Vec3],
+    &'a mut [Vec3],
+    &'a mut [Vec3],
+);
+
 pub(super) struct ChunkArrays<'a> {
     pub(super) vel: &'a mut [Vec3],
     pub(super) pos: &'a mut [Vec3],
@@ -188,18 +197,11 @@ impl Mover {
     ) -> ChunkSums {
         let Mover {
             dt,
-            g,
-            two_d,
-            alpha,
-            damp,
             inv,
             cg,
-            centres,
-            fmm,
             rotation,
-            size,
-            periodic,
             plain,
+            ..
         } = *self;
         let ChunkArrays {
             vel,
@@ -216,12 +218,7 @@ impl Mover {
             finish_chunk(left, chunk, (&mut *force, &mut *moment), radius, rotation);
         }
         let (force, moment) = (&*force, &*moment);
-        let mut w_grav = 0.0;
-        let mut d_mass = 0.0;
-        let mut w_fix = 0.0;
-        let mut max_disp = 0.0f64;
         let mut bad: Option<usize> = None;
-        let mut outside = false;
         let lo = chunk * CHUNK;
         let hi = lo + vel.len();
         let n = vel.len();
@@ -282,6 +279,46 @@ impl Mover {
                 w_fix: 0.0,
             };
         }
+        self.general(
+            chunk,
+            (vel, pos, disp, spin, rot),
+            (force, moment),
+            (mass, agg, fixed, radius),
+            (&step_v, &step_w),
+        )
+    }
+
+    /// The per-particle update of a chunk: aggregate gravity, fixed components, 2-D, mass
+    /// damping and their work, Lian (5.9)–(5.14).
+    #[inline(always)]
+    fn general(
+        &self,
+        chunk: usize,
+        (vel, pos, disp, spin, rot): Moving<'_>,
+        (force, moment): (&[Vec3], &[Vec3]),
+        (mass, agg, fixed, radius): (&[f64], &[u8], &[u8], &[f64]),
+        (step_v, step_w): (&[f64; CHUNK], &[f64; CHUNK]),
+    ) -> ChunkSums {
+        let Mover {
+            dt,
+            g,
+            two_d,
+            alpha,
+            damp,
+            cg,
+            centres,
+            fmm,
+            rotation,
+            size,
+            periodic,
+            ..
+        } = *self;
+        let mut w_grav = 0.0;
+        let mut d_mass = 0.0;
+        let mut w_fix = 0.0;
+        let mut max_disp = 0.0f64;
+        let mut bad: Option<usize> = None;
+        let mut outside = false;
         for l in 0..vel.len() {
             let i = chunk * CHUNK + l;
             let m = mass[i];
