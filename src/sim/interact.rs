@@ -161,7 +161,6 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let dt = laws.dt;
     let v_n = k.v_rel.dot(&k.n); // separation rate (positive = opening)
     let mut fn_b = 0.0; // normal force on B along n (positive = pushes B away)
-    let mut ft_b = Vec3::zeros();
 
     // Forces of the previous step: energy is booked as ½(F_old + F_new)·v Δt with the
     // velocity of the half step between them, which is exact for the leap-frog scheme
@@ -248,17 +247,8 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
         fn_b += fd;
     }
-    if s.touching {
-        // ---- tangential law ---------------------------------------------------------
-        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            ft_b = tangential_step(k, pc, laws, s, p_old, pcrit, acc);
-        }
-    } else if dt > 0.0 && td_prev != Vec3::zeros() {
-        // The contact ended: book the second half of the last tangential dashpot force.
-        let v_t = k.v_rel - k.n * v_n;
-        acc.damping_contact += -0.5 * td_prev.dot(&v_t) * dt;
-        s.tdamp = Vec3::zeros();
-    }
+    // ---- tangential law ---------------------------------------------------------------
+    let mut ft_b = shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n));
 
     // ---- liquid bridge: viscous forces and booking -------------------------------------
     if let Some((fn_bridge, ft)) =
@@ -272,6 +262,31 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         f: k.n * fn_b + ft_b,
         ft: ft_b,
     }
+}
+
+/// The tangential force on B of a touching contact (`tangential_step`), or, for a contact
+/// that has ended, the booking of its last tangential dashpot force's second half.
+#[inline(always)]
+fn shear(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+    (p_old, pcrit, td_prev, v_n): (f64, f64, Vec3, f64),
+) -> Vec3 {
+    let dt = laws.dt;
+    if s.touching {
+        if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
+            return tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+        }
+    } else if dt > 0.0 && td_prev != Vec3::zeros() {
+        // The contact ended: book the second half of the last tangential dashpot force.
+        let v_t = k.v_rel - k.n * v_n;
+        acc.damping_contact += -0.5 * td_prev.dot(&v_t) * dt;
+        s.tdamp = Vec3::zeros();
+    }
+    Vec3::zeros()
 }
 
 /// The normal law of a contact at this step: JKR (snap-in, the force on its curve,

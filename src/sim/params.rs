@@ -82,20 +82,8 @@ impl Model {
     }
 }
 
-/// Builds the pair table and the time step. Fails with a message when a material or size in
-/// use lacks a value, or a value is unphysical.
-pub fn build(scene: &Scene) -> Result<Model, String> {
-    let nmat = scene.materials.len();
-    let mut used = vec![false; nmat];
-    for &m in &scene.particles.material {
-        used[m as usize - 1] = true;
-    }
-    for w in &scene.walls {
-        if w.material > nmat {
-            return Err(format!("wall material {} is not defined", w.material));
-        }
-        used[w.material - 1] = true;
-    }
+/// The materials in use have a Young's modulus, a Poisson's ratio in (−1, 0.5) and a density.
+fn check_materials(scene: &Scene, used: &[bool]) -> Result<(), String> {
     for (k, m) in scene.materials.iter().enumerate() {
         if !used[k] {
             continue;
@@ -117,6 +105,24 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Builds the pair table and the time step. Fails with a message when a material or size in
+/// use lacks a value, or a value is unphysical.
+pub fn build(scene: &Scene) -> Result<Model, String> {
+    let nmat = scene.materials.len();
+    let mut used = vec![false; nmat];
+    for &m in &scene.particles.material {
+        used[m as usize - 1] = true;
+    }
+    for w in &scene.walls {
+        if w.material > nmat {
+            return Err(format!("wall material {} is not defined", w.material));
+        }
+        used[w.material - 1] = true;
+    }
+    check_materials(scene, &used)?;
     let mut table = vec![PairConst::default(); nmat * nmat];
     let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
         || (scene.settings.goldman && scene.liquid.is_some_and(|l| l.eta > 0.0));
