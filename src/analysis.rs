@@ -201,6 +201,25 @@ pub fn fractal_dimension(pos: &[crate::sim::Vec3], radius: &[f64]) -> f64 {
     (n as f64).ln() / (rc / rm).ln()
 }
 
+/// The particles (indices) of the largest cluster of bonded particles (ties: the lowest
+/// label).
+fn largest_cluster(p: &crate::sim::scene::Particles, bonds: &[(u32, u32)]) -> Vec<usize> {
+    let mut index = std::collections::HashMap::new();
+    for (k, &id) in p.id.iter().enumerate() {
+        index.insert(id, k);
+    }
+    let labels = cluster_labels(&p.id, bonds);
+    let mut count = std::collections::HashMap::new();
+    for &l in &labels {
+        *count.entry(l).or_insert(0usize) += 1;
+    }
+    let best = count
+        .iter()
+        .max_by_key(|(l, c)| (**c, std::cmp::Reverse(**l)))
+        .map(|(l, _)| *l);
+    (0..p.len()).filter(|&k| Some(labels[k]) == best).collect()
+}
+
 pub fn clusters_item(scene: &Scene) -> (String, Value) {
     let (bonds, wet) = bonds_now(scene);
     let sizes = cluster_sizes(&scene.particles.id, &bonds);
@@ -232,22 +251,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
     let frags = dbscan_sizes(&p.pos, eps, 3);
     let fragmentation = p.len() - frags.first().copied().unwrap_or(0);
     // Fractal dimension of the largest cluster.
-    let largest_members: Vec<usize> = {
-        let mut index = std::collections::HashMap::new();
-        for (k, &id) in p.id.iter().enumerate() {
-            index.insert(id, k);
-        }
-        let labels = cluster_labels(&p.id, &bonds);
-        let mut count = std::collections::HashMap::new();
-        for &l in &labels {
-            *count.entry(l).or_insert(0usize) += 1;
-        }
-        let best = count
-            .iter()
-            .max_by_key(|(l, c)| (**c, std::cmp::Reverse(**l)))
-            .map(|(l, _)| *l);
-        (0..p.len()).filter(|&k| Some(labels[k]) == best).collect()
-    };
+    let largest_members = largest_cluster(p, &bonds);
     // Where the largest cluster's particles come from (agglomerate 0 = none, 1, 2). The two
     // agglomerates coalesced (Lian ch. 7) when it holds most of each (a few particles carried
     // across by a grazing contact do not count).

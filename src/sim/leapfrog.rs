@@ -173,31 +173,8 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
             *x += dx;
             *d += dx;
         }
-        // The run's largest displacement component, finiteness (x·0 + v·0 is 0 for finite
-        // values, NaN otherwise), escape through an open side: four lanes, then the rest.
-        let mut dmax = [0.0f64; 4];
-        let mut zero = [0.0f64; 4];
-        let mut out = [false; 4];
-        let full = q / 4 * 4;
-        for (((d, x), v), (lo, hi)) in d[..full]
-            .chunks_exact(4)
-            .zip(x[..full].chunks_exact(4))
-            .zip(v[..full].chunks_exact(4))
-            .zip(lo[..full].chunks_exact(4).zip(hi[..full].chunks_exact(4)))
-        {
-            for k in 0..4 {
-                let ad = d[k].abs();
-                dmax[k] = if ad > dmax[k] { ad } else { dmax[k] };
-                zero[k] += x[k] * 0.0 + v[k] * 0.0;
-                out[k] |= (x[k] < lo[k]) | (x[k] > hi[k]);
-            }
-        }
-        for k in full..q {
-            let ad = d[k].abs();
-            dmax[0] = if ad > dmax[0] { ad } else { dmax[0] };
-            zero[0] += x[k] * 0.0 + v[k] * 0.0;
-            out[0] |= (x[k] < lo[k]) | (x[k] > hi[k]);
-        }
+        // The run's largest displacement component, finiteness, escape through an open side.
+        let (dmax, zero, out) = run_checks(&d[..q], &x[..q], &v[..q], (&lo[..q], &hi[..q]));
         // The work of gravity m g·v̄ Δt, particle by particle (the dot product summed as
         // nalgebra's: (x + y) + z).
         for l in 0..m {
@@ -220,6 +197,43 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
         start += m;
     }
     sums
+}
+
+/// The largest displacement component of a run of components, whether they are finite
+/// (x·0 + v·0 is 0 for finite values, NaN otherwise), and whether one is beyond an open side
+/// (`lo`/`hi`, ±∞ along periodic axes): four lanes, then the rest in lane 0.
+#[inline(always)]
+fn run_checks(
+    d: &[f64],
+    x: &[f64],
+    v: &[f64],
+    (lo, hi): (&[f64], &[f64]),
+) -> ([f64; 4], [f64; 4], [bool; 4]) {
+    let q = d.len();
+    let mut dmax = [0.0f64; 4];
+    let mut zero = [0.0f64; 4];
+    let mut out = [false; 4];
+    let full = q / 4 * 4;
+    for (((d, x), v), (lo, hi)) in d[..full]
+        .chunks_exact(4)
+        .zip(x[..full].chunks_exact(4))
+        .zip(v[..full].chunks_exact(4))
+        .zip(lo[..full].chunks_exact(4).zip(hi[..full].chunks_exact(4)))
+    {
+        for k in 0..4 {
+            let ad = d[k].abs();
+            dmax[k] = if ad > dmax[k] { ad } else { dmax[k] };
+            zero[k] += x[k] * 0.0 + v[k] * 0.0;
+            out[k] |= (x[k] < lo[k]) | (x[k] > hi[k]);
+        }
+    }
+    for k in full..q {
+        let ad = d[k].abs();
+        dmax[0] = if ad > dmax[0] { ad } else { dmax[0] };
+        zero[0] += x[k] * 0.0 + v[k] * 0.0;
+        out[0] |= (x[k] < lo[k]) | (x[k] > hi[k]);
+    }
+    (dmax, zero, out)
 }
 
 #[cfg(test)]
