@@ -284,3 +284,22 @@ fn a_pipe_gets_each_answer_as_it_is_produced() {
     drop(input);
     assert!(child.wait().unwrap().success());
 }
+
+#[test]
+fn ctrl_c_stops_relax_too_with_its_progress_line() {
+    let mut t = Pty::start("relax", &[]);
+    t.wait_for("trubal> ", 1);
+    for l in SCENE.lines() {
+        t.send(&format!("{l}\r"));
+    }
+    // Two spheres flying forever: never relaxed.
+    t.send("relax 1e-30 1e-30 100000000\r");
+    t.wait_for("particle-steps/s", 1);
+    t.send("\x03");
+    let out = t.wait_for("interrupted: RELax stopped after ", 1);
+    assert!(out.contains("RELax: interrupted after"), "{out}");
+    t.send("print info\r");
+    t.wait_for("balls 2", 1);
+    let (code, _, _) = t.stop();
+    assert_eq!(code, Some(0));
+}
