@@ -1,7 +1,6 @@
 //! The simulation core: state, generation, contact search, contact forces, time stepping and
 //! the energy ledger. No I/O happens here: the session asks and formats.
 
-pub mod awake;
 pub mod contact_time;
 pub mod contacts;
 pub mod cycle;
@@ -13,6 +12,7 @@ pub mod lanes;
 pub mod leapfrog;
 pub mod liquid;
 pub mod model;
+pub mod parallel;
 pub mod params;
 pub mod place;
 pub mod reference;

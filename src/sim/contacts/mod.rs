@@ -11,12 +11,11 @@ use crate::physics::tangential::TangentialState;
 
 mod keys;
 pub mod old;
-mod schedule;
 mod serial;
 mod state;
 mod walls;
+pub use crate::sim::parallel::schedule::*;
 pub use keys::*;
-pub use schedule::*;
 pub use state::*;
 pub use walls::*;
 

@@ -82,7 +82,7 @@ pub fn run_watched(
 ) -> Result<(Model, u64), Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    let r = super::awake::while_running(|| run_steps(scene, n, watch));
+    let r = super::parallel::awake::while_running(|| run_steps(scene, n, watch));
     // (Derived per step; not kept between commands.)
     scene.derived.reach_ext = Vec::new();
     scene.contacts.step.margins = [0.0; 2];

@@ -31,7 +31,7 @@ impl ExecPlan {
         let threads = rayon::current_num_threads();
         let one_region = match step_regions() {
             Some(n) => n == 1,
-            None => threads <= crate::sim::awake::cores(),
+            None => threads <= crate::sim::parallel::awake::cores(),
         };
         ExecPlan {
             threads,

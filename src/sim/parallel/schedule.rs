@@ -3,7 +3,8 @@
 //! a task may update alone (`ChunkPlan`). Scheduling only: it decides who adds what, never
 //! the sums.
 
-use super::*;
+use crate::sim::contacts::*;
+use rayon::prelude::*;
 
 /// For each particle, the pairs that touch it, in pair order, and how the force loop with
 /// several threads splits the work (derived from the hot pairs at each rebuild).
