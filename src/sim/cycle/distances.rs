@@ -90,8 +90,8 @@ pub(super) fn auto_search(scene: &Scene) -> bool {
 /// that holds every pair with a gap below its TOL: the forces and positions are the same
 /// bits for any TOL. The TOL used is kept with the list (`ContactStore::tol`, saved in
 /// checkpoints) and the re-mapping test uses its XRES, so a restarted run rebuilds at the
-/// same steps with the same TOL. Measured (doc/performance.md, sixth session of
-/// 2026-12-03), S1 one thread side by side: the 50k bed (falling through its 5000 steps)
+/// same steps with the same TOL. Measured (doc/performance.md,
+/// "What was tried"), S1 one thread side by side: the 50k bed (falling through its 5000 steps)
 /// 0.92 × the time with LIST_STEPS 50 (0.97 × with 20; 0.86 × with twice the TOL
 /// throughout), the 10k bed (settled after ~2000 steps) 1.03 × (0.98 × with 20).
 pub(super) fn rebuild_tol(scene: &Scene, base: f64, dt: f64) -> f64 {

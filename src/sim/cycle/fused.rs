@@ -18,7 +18,7 @@
 //! pointers while the others read other elements of the same arrays through [`View`]s,
 //! which make a reference to one element at a time (safe Rust would give a task no write
 //! access to part of an array another task reads). Measured (the reason for the `unsafe`):
-//! 0.963 (S1 10k) and 0.962 (S1 50k) of the two-region step's time on two threads, paired
+//! 0.963 (S1 10k) and 0.952–0.971 (S1 50k) of the two-region step's time on two threads, paired
 //! alternating runs; doc/performance.md, "Threads".
 
 use std::marker::PhantomData;

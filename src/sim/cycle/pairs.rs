@@ -235,8 +235,8 @@ pub(super) fn rel_velocity(
 /// Asks the processor to fetch the contact states of a sub-batch's evaluated pairs (`idx`)
 /// before their geometry is worked out: the loads of the states then overlap with each
 /// other and with the geometry instead of each waiting in turn (all three cache lines a
-/// 120-byte state can span). Measured on the AMD EPYC host of the fifth session of
-/// 2026-12-03: S1 10k one thread 0.914 × the time (side by side, 8 pairs; doc/performance.md);
+/// 120-byte state can span). Measured on the AMD EPYC host:
+/// S1 10k one thread 0.914 × the time (side by side, 8 pairs; doc/performance.md);
 /// prefetching the next sub-batch's states instead (found one sub-batch ahead) was 1.04 ×
 /// slower, prefetching the particles' velocities and spins too no gain.
 #[inline(always)]
