@@ -63,15 +63,7 @@ impl Runner<'_> {
             line: self.line,
         };
         let flow = if len > MAX_LINE {
-            let head = String::from_utf8_lossy(&raw[..raw.len().min(60)]);
-            Err(format!(
-                "{}:{}: error: the line is {} bytes long, more than the {} a command line may have (a binary or generated file?): `{}...`",
-                src.name,
-                src.line,
-                len,
-                MAX_LINE,
-                head.escape_debug()
-            ))
+            Err(too_long(&src, len, raw))
         } else {
             let line = String::from_utf8_lossy(raw);
             self.session
@@ -104,6 +96,17 @@ impl Runner<'_> {
         }
         true
     }
+}
+
+/// The error of a line longer than [`MAX_LINE`] (`len` bytes), quoting its first 60 bytes.
+fn too_long(src: &Source, len: usize, raw: &[u8]) -> String {
+    let head = String::from_utf8_lossy(&raw[..raw.len().min(60)]);
+    format!(
+        "{}:{}: error: the line is {len} bytes long, more than the {MAX_LINE} a command line may have (a binary or generated file?): `{}...`",
+        src.name,
+        src.line,
+        head.escape_debug()
+    )
 }
 
 /// Runs lines from a reader. With `keep_going` false the first error stops the run.
@@ -289,12 +292,7 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
                         line: n,
                     };
                     let flow = if line.len() > MAX_LINE {
-                        Err(format!(
-                            "{}:{}: error: the line is {} bytes long, more than the {MAX_LINE} a command line may have",
-                            src.name,
-                            src.line,
-                            line.len()
-                        ))
+                        Err(too_long(&src, line.len(), line.as_bytes()))
                     } else {
                         session
                             .run_line(line)

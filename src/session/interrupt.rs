@@ -30,8 +30,3 @@ pub fn requested() -> bool {
 pub fn clear() {
     PENDING.store(0, Ordering::SeqCst);
 }
-
-/// Asks for an interrupt as Ctrl-C does (tests, and embedders that stop a run).
-pub fn request() {
-    PENDING.fetch_add(1, Ordering::SeqCst);
-}

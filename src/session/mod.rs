@@ -318,14 +318,20 @@ impl Session {
             .ok_or_else(|| "no problem is defined yet: give STArt (or RESTart) first".to_string())
     }
 
-    /// `Cycle n`: the warnings about the scene first, then the steps with a progress line on a
-    /// terminal; Ctrl-C stops at the end of the current step.
-    fn cycle(&mut self, n: u64) -> Result<Flow, String> {
+    /// Before a `Cycle` or `RELax`: the warnings about the scene, then everything printed so
+    /// far out (on the screen or in the file before the long step).
+    fn before_cycling(&mut self) -> Result<(), String> {
         for w in cycle::warnings(self.scene_mut()?) {
             self.emit_err(&format!("warning: {w}"));
         }
-        // What was printed before a long step is on the screen (or in the file) before it.
         self.flush();
+        Ok(())
+    }
+
+    /// `Cycle n`: the warnings about the scene first, then the steps with a progress line on a
+    /// terminal; Ctrl-C stops at the end of the current step.
+    fn cycle(&mut self, n: u64) -> Result<Flow, String> {
+        self.before_cycling()?;
         let mut progress = progress::Progress::new(n, self.json);
         let timing = std::env::var_os("TRUBAL_TIMING").is_some();
         let (t0, c0) = (
@@ -333,10 +339,7 @@ impl Session {
             if timing { cpu_ns() } else { 0.0 },
         );
         let scene = self.scene_mut()?;
-        let run = cycle::run_watched(scene, n, &mut |s, done| {
-            progress.tick(s.cycle, s.time, s.particles.len(), done);
-            interrupt::requested()
-        });
+        let run = watched(scene, n, &mut progress);
         progress.finish();
         let notes = std::mem::take(&mut scene.derived.notes);
         let balls = scene.particles.len();
@@ -370,10 +373,7 @@ impl Session {
     /// `RELax`: cycles in runs of 100 until the kinetic energy and the largest contact force
     /// are below their limits, or `nmax` cycles. Ctrl-C stops it like a `Cycle`.
     fn relax(&mut self, kmax: f64, fmax: f64, nmax: u64) -> Result<Flow, String> {
-        for w in cycle::warnings(self.scene_mut()?) {
-            self.emit_err(&format!("warning: {w}"));
-        }
-        self.flush();
+        self.before_cycling()?;
         let mut progress = progress::Progress::new(nmax, self.json);
         let scene = self.scene_mut()?;
         let mut notes = Vec::new();
@@ -383,10 +383,7 @@ impl Session {
         while done < nmax {
             let n = (nmax - done).min(100);
             progress.set_offset(done);
-            let run = cycle::run_watched(scene, n, &mut |s, d| {
-                progress.tick(s.cycle, s.time, s.particles.len(), d);
-                interrupt::requested()
-            });
+            let run = watched(scene, n, &mut progress);
             notes.append(&mut scene.derived.notes);
             let ran = match run {
                 Ok((_, ran)) => ran,
@@ -431,6 +428,19 @@ impl Session {
         }
         Ok(Flow::Continue)
     }
+}
+
+/// `n` steps watched by the session: the progress line drawn, and Ctrl-C making the step
+/// about to run the last.
+fn watched(
+    scene: &mut Scene,
+    n: u64,
+    progress: &mut progress::Progress,
+) -> Result<(crate::sim::params::Model, u64), cycle::Blowup> {
+    cycle::run_watched(scene, n, &mut |s, done| {
+        progress.tick(s.cycle, s.time, s.particles.len(), done);
+        interrupt::requested()
+    })
 }
 
 /// CPU time of all the process's threads (the rayon workers included), in ns, from Linux's

@@ -67,18 +67,12 @@ pub fn create(
         ));
     }
     ensure_material(scene, material);
-    let id = scene.next_id;
-    scene.next_id += 1;
-    scene.particles.push(
-        id,
-        x,
-        Vec3::from(vel),
-        Vec3::from(spin),
+    add(
+        scene,
+        (x, Vec3::from(vel), Vec3::from(spin)),
         r,
-        sphere_mass(rho, r),
-        size,
-        material,
-        0,
+        rho,
+        (size, material, 0),
     );
     idx.insert(&x, r);
     let n = scene.particles.len();
@@ -160,18 +154,12 @@ pub fn lattice(
     let made = accepted.len();
     let first_new = scene.particles.len();
     for x in accepted {
-        let id = scene.next_id;
-        scene.next_id += 1;
-        scene.particles.push(
-            id,
-            x,
-            Vec3::zeros(),
-            Vec3::zeros(),
+        add(
+            scene,
+            (x, Vec3::zeros(), Vec3::zeros()),
             r,
-            sphere_mass(rho, r),
-            size,
-            material,
-            nagg,
+            rho,
+            (size, material, nagg),
         );
     }
     layer_order(scene, first_new, nagg);
@@ -236,18 +224,12 @@ pub fn random(
         if !inside(scene, region.as_ref(), &x, r) || idx.overlaps(scene, &x, r).is_some() {
             continue;
         }
-        let id = scene.next_id;
-        scene.next_id += 1;
-        scene.particles.push(
-            id,
-            x,
-            Vec3::zeros(),
-            Vec3::zeros(),
+        add(
+            scene,
+            (x, Vec3::zeros(), Vec3::zeros()),
             r,
-            sphere_mass(rho, r),
-            size,
-            material,
-            nagg,
+            rho,
+            (size, material, nagg),
         );
         idx.insert(&x, r);
         made += 1;
@@ -302,6 +284,30 @@ pub fn discard_random(scene: &mut Scene, n: u64) -> Result<String, String> {
         scene.rng.uniform();
     }
     Ok(String::new())
+}
+
+/// Appends one particle with the next id: position, velocity and spin, radius, density (its
+/// mass is that of the sphere), size type, material type and agglomerate.
+fn add(
+    scene: &mut Scene,
+    (x, vel, spin): (Vec3, Vec3, Vec3),
+    r: f64,
+    rho: f64,
+    (size, material, nagg): (usize, usize, usize),
+) {
+    let id = scene.next_id;
+    scene.next_id += 1;
+    scene.particles.push(
+        id,
+        x,
+        vel,
+        spin,
+        r,
+        sphere_mass(rho, r),
+        size,
+        material,
+        nagg,
+    );
 }
 
 fn radius_for(scene: &Scene, size: usize) -> Result<f64, String> {
