@@ -30,7 +30,8 @@
 //! state: the JKR, Mindlin–Deresiewicz and liquid-return fields behind one optional pointer,
 //! the never-read contact normal dropped); version 3 adds the contact state's `v_prev` (the
 //! second-order dashpot's history), each wall's `travel` since the last rebuild, and the
-//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO). Versions 1 and 2 are read
+//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO); version 4 adds the
+//! periodic cell's deformation (`Scene::cell`, read as at rest from older files). Versions 1 and 2 are read
 //! through `sim::contacts::old` (contact states), `scene::old_walls` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
 //! being decoded.
@@ -43,7 +44,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -202,9 +203,18 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         VERSION => decode_all::<Scene, R>(r, version),
-        // Versions 1 and 2 differ only in the layout of the contact state
-        // (sim::contacts::old).
-        1 | 2 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        // Versions 1 to 3 differ in the layout of the contact state (sim::contacts::old),
+        // the walls and settings (scene::old_walls, old_settings) and have no cell
+        // (scene::old_cell).
+        1..=3 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
+            .map(|mut s| {
+                // Their history rows have the first 10 columns: the stress and temperature
+                // columns of format 4 read as 0.
+                for row in &mut s.history.rows {
+                    row.resize(crate::sim::history::COLUMNS.len(), 0.0);
+                }
+                s
+            }),
         // Older versions: decode with their frozen types and convert (see "Format evolution").
         v => Err(format!(
             "the checkpoint has format version {v}, for which this program (format version {VERSION}) has no reader"

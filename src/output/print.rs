@@ -155,7 +155,13 @@ fn balls(scene: &Scene) -> (String, Value) {
             "agglomerate": p.agg[i], "force": v3(&p.force[i]),
         }));
     }
-    let j = json!({"print": "balls", "cycle": scene.cycle, "time": scene.time, "balls": arr});
+    // In a deforming cell the stored velocities are relative to the mean field (`sim::cell`).
+    let relative = scene.cell.in_use();
+    if relative {
+        s.push_str("(velocities relative to the mean field of the cell's GRID, C = c - G x)\n");
+    }
+    let j = json!({"print": "balls", "cycle": scene.cycle, "time": scene.time, "balls": arr,
+        "velocity": if relative { "relative to the mean field" } else { "total" }});
     (s, j)
 }
 
@@ -334,48 +340,27 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
     (s, j)
 }
 
-/// Average stress tensor σ_ij = (1/V) Σ_c f_i l_j over particle–particle contacts (and
-/// bridges), V = the work-space volume (Cundall–Strack average).
-pub fn stress_tensor(scene: &Scene) -> [[f64; 3]; 3] {
-    let p = &scene.particles;
-    let mut sig = [[0.0; 3]; 3];
-    let vol = scene.size[0] * scene.size[1] * scene.size[2];
-    for c in scene.contacts.iter() {
-        let (i, j) = (c.i as usize, c.j as usize);
-        let l = scene.branch(&p.pos[i], &p.pos[j]);
-        let n = l.normalize();
-        // Bridge normal force, compressive positive: viscous − static.
-        let fb = c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
-        let fnorm = if c.s.touching {
-            c.s.normal_force + c.s.damp_force
-        } else {
-            0.0
-        } + fb;
-        // Force on B (compressive positive pushes B along +n); stress compression positive.
-        let f = n * fnorm
-            + if c.s.touching {
-                c.s.tforce
-            } else {
-                crate::sim::Vec3::zeros()
-            };
-        for a in 0..3 {
-            for b in 0..3 {
-                sig[a][b] += f[a] * l[b] / vol;
-            }
-        }
-    }
-    sig
-}
-
 fn stress(scene: &Scene) -> (String, Value) {
-    let s3 = stress_tensor(scene);
+    let st = crate::sim::stress::of(scene);
+    let total = st.total();
+    let matrix = |name: &str, m: &[[f64; 3]; 3]| {
+        format!(
+            "  {name:<8} {:>13.6e} {:>13.6e} {:>13.6e}\n  {:8} {:>13.6e} {:>13.6e} {:>13.6e}\n  {:8} {:>13.6e} {:>13.6e} {:>13.6e}\n",
+            m[0][0], m[0][1], m[0][2], "", m[1][0], m[1][1], m[1][2], "", m[2][0], m[2][1], m[2][2]
+        )
+    };
     let s = format!(
-        "average stress (Pa, compression positive)\n  {:>13.6e} {:>13.6e} {:>13.6e}\n  {:>13.6e} {:>13.6e} {:>13.6e}\n  {:>13.6e} {:>13.6e} {:>13.6e}\n",
-        s3[0][0], s3[0][1], s3[0][2], s3[1][0], s3[1][1], s3[1][2], s3[2][0], s3[2][1], s3[2][2]
+        "average stress (Pa, compression positive; row: force component, column: branch component), mean {:.6e}\n{}{}{}",
+        st.mean(),
+        matrix("total", &total),
+        matrix("contact", &st.contact),
+        matrix("kinetic", &st.kinetic),
     );
     (
         s,
-        json!({"print": "stress", "cycle": scene.cycle, "stress": s3}),
+        json!({"print": "stress", "cycle": scene.cycle, "stress": total,
+            "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
+            "temperature": crate::sim::stress::temperature(scene)}),
     )
 }
 
@@ -514,7 +499,8 @@ fn chist(scene: &Scene) -> (String, Value) {
 }
 
 fn grid(scene: &Scene) -> (String, Value) {
-    let s = format!(
+    let c = &scene.cell;
+    let mut s = format!(
         "work-space {} x {} x {} m; periodic x {} y {} z {}\n",
         scene.size[0],
         scene.size[1],
@@ -523,9 +509,19 @@ fn grid(scene: &Scene) -> (String, Value) {
         scene.settings.periodic[1],
         scene.settings.periodic[2]
     );
+    s.push_str(&format!(
+        "strain rates (1/s) ed11 {:e} ed22 {:e} ed33 {:e} ed12 {:e} ed23 {:e} ed31 {:e}\n\
+         strains        e11 {:e} e22 {:e} e33 {:e} e12 {:e} e23 {:e} e31 {:e}\n\
+         image offset (x step between the bottom and top y sides) {:e} m; servo gain {:e} edmax {:e} mode {}; cell work {:e} J\n",
+        c.rate[0], c.rate[1], c.rate[2], c.rate[3], c.rate[4], c.rate[5],
+        c.strain[0], c.strain[1], c.strain[2], c.strain[3], c.strain[4], c.strain[5],
+        c.shift, c.gain[0], c.gain[1], c.mode, c.work
+    ));
     (
         s,
-        json!({"print": "grid", "size": scene.size, "periodic": scene.settings.periodic}),
+        json!({"print": "grid", "size": scene.size, "periodic": scene.settings.periodic,
+            "rates": c.rate, "strains": c.strain, "offset": c.shift, "gain": c.gain,
+            "mode": c.mode, "work": c.work}),
     )
 }
 

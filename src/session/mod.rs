@@ -13,7 +13,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::checkpoint;
-use crate::lang::command::{Command, PlotItem};
+use crate::lang::command::{Command, PlotItem, StressServo};
+use crate::sim::cell::{Servo, StressTarget};
 use crate::lang::{Parsed, parse_line};
 use crate::output::print;
 use crate::sim::{Scene, cycle, energy, reference::Reference};
@@ -292,7 +293,7 @@ impl Session {
             _ => {}
         }
         match cmd {
-            Command::Cycle { n, servo } if servo.is_empty() => return self.cycle(*n),
+            Command::Cycle { n, servo } => return self.cycle_servo(*n, servo),
             Command::Relax { kmax, fmax, nmax } => return self.relax(*kmax, *fmax, *nmax),
             _ => {}
         }
@@ -368,6 +369,39 @@ impl Session {
             return Ok(Flow::Interrupted);
         }
         Ok(Flow::Continue)
+    }
+
+    /// `Cycle n S0 σ ...`: a Cycle with the periodic cell's stress servo (`sim::cell`).
+    fn cycle_servo(&mut self, n: u64, servo: &[(StressServo, f64)]) -> Result<Flow, String> {
+        if servo.is_empty() {
+            return self.cycle(n);
+        }
+        let mut targets = Vec::new();
+        for &(s, v) in servo {
+            let t = match s {
+                StressServo::S0 => StressTarget::Mean,
+                StressServo::S1ms2 => StressTarget::Mean12,
+                StressServo::S11 => StressTarget::Axis(0),
+                StressServo::S22 => StressTarget::Axis(1),
+                StressServo::S33 => StressTarget::Axis(2),
+                StressServo::Ring => {
+                    return Err("RING (the principal-stress angle of a ring shear test) is not modelled (doc/limits.md, \"What is not modelled\"); hold S0, S1MS2, S11, S22 or S33".into());
+                }
+            };
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!(
+                    "Cycle: the servo's target stress must be a positive number (Pa, compression positive); got {v}"
+                ));
+            }
+            targets.push((t, v));
+        }
+        let scene = self.scene_mut()?;
+        scene.derived.servo = Some(Servo::new(&scene.cell, &targets));
+        let r = self.cycle(n);
+        if let Ok(scene) = self.scene_mut() {
+            scene.derived.servo = None;
+        }
+        r
     }
 
     /// `RELax`: cycles in runs of 100 until the kinetic energy and the largest contact force
@@ -513,13 +547,6 @@ fn scene_command(
     let mut out = String::new();
     let mut warnings = Vec::new();
     match cmd {
-        Command::Cycle { .. } => {
-            // (A Cycle without servo keywords is run by `Session::cycle`.)
-            return Err(
-                "stress-servo keywords of Cycle (S0, S11, ...) need periodic strain control (GRID/GAIN/Mode), which this version does not model yet (doc/limits.md, \"What is not modelled\"); use wall servos (DWAll ... SE F vmax g)"
-                    .into(),
-            );
-        }
         Command::Print { items } => {
             for it in items {
                 let (human, j) = print::item(scene, *it);
@@ -553,10 +580,7 @@ fn scene_command(
                 out = format!("plot written to {file}");
             }
         }
-        Command::Grid { .. }
-        | Command::Gain { .. }
-        | Command::Mode { .. }
-        | Command::Probe { .. } => {
+        Command::Probe { .. } => {
             return Err(format!(
                 "{} controls the strain of the periodic cell, which this version does not model yet (doc/limits.md, \"What is not modelled\")",
                 crate::lang::parse::command_name(cmd)

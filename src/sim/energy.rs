@@ -117,7 +117,8 @@ pub fn stored(scene: &Scene) -> Stored {
     s
 }
 
-/// Residual of the books: stored − (input − dissipated).
+/// Residual of the books: stored − (input − dissipated); the input includes the work of the
+/// periodic cell's deformation (`Cell::work`).
 pub fn residual(scene: &Scene) -> f64 {
-    stored(scene).total() - (scene.ledger.input() - scene.ledger.dissipated())
+    stored(scene).total() - (scene.ledger.input() + scene.cell.work - scene.ledger.dissipated())
 }

@@ -14,6 +14,13 @@ pub const COLUMNS: &[&str] = &[
     "contacts",
     "bridges",
     "wall_force",
+    "sxx",
+    "syy",
+    "szz",
+    "sxy",
+    "syz",
+    "szx",
+    "temperature",
 ];
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -403,6 +403,10 @@ pub struct Scene {
     /// Reference state (`PLot SAve`).
     pub reference: Option<super::reference::Reference>,
     pub history: super::history::History,
+    /// The periodic cell's deformation (`GRID`, stress servo), [`super::cell`]; checkpoints
+    /// before format 4 have none (read as at rest).
+    #[serde(deserialize_with = "old_cell")]
+    pub cell: super::cell::Cell,
     /// What a `Cycle` and the commands derive and keep between steps or commands, never
     /// saved (see [`Derived`]).
     #[serde(skip)]
@@ -414,6 +418,9 @@ pub struct Scene {
 /// checkpoint holds only what the physics needs.
 #[derive(Clone, Debug)]
 pub struct Derived {
+    /// The stress servo of the running Cycle (`Cycle n S0 σ`, set by the session for the
+    /// Cycle; derived, not saved).
+    pub servo: Option<super::cell::Servo>,
     /// Some particle may be outside the work-space (derived, not saved: set at the start of
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     pub maybe_outside: bool,
@@ -440,6 +447,7 @@ pub struct Derived {
 impl Default for Derived {
     fn default() -> Self {
         Derived {
+            servo: None,
             maybe_outside: true,
             notes: Vec::new(),
             reach_ext: Vec::new(),
@@ -488,6 +496,7 @@ impl Scene {
             lost: 0,
             reference: None,
             history: Default::default(),
+            cell: Default::default(),
             derived: Derived::default(),
         }
     }
@@ -548,21 +557,29 @@ impl Scene {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Minimum-image separation vector b − a for the periodic axes.
+    /// Minimum-image separation vector b − a for the periodic axes (with the Lees–Edwards
+    /// offset of a sheared cell).
     #[inline]
     pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
-        nearest_image(b - a, self.size, self.settings.periodic)
+        nearest_image(b - a, self.size, self.settings.periodic, self.cell.shift)
     }
 }
 
 /// The nearest periodic image of the branch vector `d` (unchanged along open axes). One test
 /// for the usual scene without periodic axes: in the pair loop, a test per component cost 7 %
-/// of the S1 run.
+/// of the S1 run. `shift`: the Lees–Edwards offset of a sheared cell (`sim::cell`): an image
+/// one cell up in y is `shift` further along x, so y is reduced first.
 #[inline(always)]
-pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3]) -> Vec3 {
+pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3], shift: f64) -> Vec3 {
     if periodic != [false; 3] {
+        let sheared = shift != 0.0 && periodic[1];
+        if sheared {
+            let n = (d.y / size[1]).round();
+            d.y -= size[1] * n;
+            d.x -= shift * n;
+        }
         for k in 0..3 {
-            if periodic[k] {
+            if periodic[k] && !(sheared && k == 1) {
                 let l = size[k];
                 d[k] -= l * (d[k] / l).round();
             }
@@ -583,6 +600,15 @@ struct WallV2 {
     force: [f64; 3],
     normal_force: f64,
     disp: [f64; 3],
+}
+
+/// Reads the cell in the layout of the checkpoint being decoded: formats 1–3 had none (a
+/// cell at rest, nothing read).
+fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<super::cell::Cell, D::Error> {
+    match super::contacts::old::version() {
+        1..=3 => Ok(Default::default()),
+        _ => super::cell::Cell::deserialize(de),
+    }
 }
 
 /// Reads the walls in the layout of the checkpoint being decoded

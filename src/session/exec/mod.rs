@@ -7,6 +7,7 @@ use crate::sim::place;
 use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Scene, Vec3, Wall};
 use crate::sim::walls;
 
+mod cell_cmd;
 mod materials;
 mod model;
 mod motion;
@@ -71,6 +72,9 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
         Command::Move { nagg, d } => place::move_agglomerate(scene, *nagg, *d),
         Command::RgenerateSeed { n } => place::discard_random(scene, *n),
         Command::Dwall(_) | Command::Awall { .. } => walls_cmd::apply(scene, cmd),
+        Command::Grid { .. } | Command::Gain { .. } | Command::Mode { .. } => {
+            cell_cmd::apply(scene, cmd)
+        }
         Command::Damping(_)
         | Command::Fraction { .. }
         | Command::Liquid { .. }

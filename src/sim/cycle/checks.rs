@@ -23,7 +23,37 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
             ));
         }
     }
+    check_cell(scene)?;
     Ok(model)
+}
+
+/// A deforming cell or a stress servo needs a cell of periodic axes without walls (a wall
+/// does not follow the mean field), its rates on periodic axes, and a gain for the servo.
+fn check_cell(scene: &Scene) -> Result<(), String> {
+    let servo = scene.derived.servo.is_some();
+    if !scene.cell.in_use() && !servo {
+        return Ok(());
+    }
+    if !scene.walls.is_empty() {
+        return Err(format!(
+            "the periodic cell {} but the scene has {} wall(s): walls do not follow the cell's deformation; delete them (New) or stop the cell (GRID 0 0 0 0 0 0)",
+            if servo { "is servo-controlled" } else { "deforms (GRID)" },
+            scene.walls.len()
+        ));
+    }
+    if let Some(m) = crate::sim::cell::grid_refusal(&scene.cell.rate, scene.settings.periodic) {
+        return Err(m);
+    }
+    if servo {
+        let [g, edmax] = scene.cell.gain;
+        if !(g > 0.0 && edmax > 0.0) {
+            return Err("the stress servo needs a gain: give GAIN g edmax (g > 0 in 1/(s Pa), the largest strain rate edmax > 0 in 1/s) before Cycle n S0 σ".into());
+        }
+        if scene.settings.periodic != [true; 3] {
+            return Err("the stress servo works on a fully periodic cell: SET PERiodic ALL".into());
+        }
+    }
+    Ok(())
 }
 
 /// Warnings about the scene before cycling (deep overlaps, walls through particles,

@@ -145,6 +145,7 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
     for w in scene.walls.iter_mut() {
         w.travel = 0.0;
     }
+    scene.cell.travel = 0.0;
     scene.contacts.step.max_disp = Some(0.0);
     info
 }

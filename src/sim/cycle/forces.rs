@@ -140,6 +140,8 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         laws: laws_pp,
         size: scene.size,
         periodic: scene.settings.periodic,
+        shift: scene.cell.shift,
+        cell: scene.cell.is_active().then_some(&scene.cell),
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&scene.derived.reach_ext[..]),
     };

@@ -107,6 +107,12 @@ fn run_steps(
         }
         return Ok((model, n));
     }
+    if let Some(m) = crate::sim::cell::shrink_refusal(scene, n, model.dt) {
+        return Err(Blowup {
+            cycle: scene.cycle,
+            message: m,
+        });
+    }
     let (tol, xres) = prepare(scene, &mut model);
     // (A step too long for the fastest contact at the start is the session's pre-Cycle
     // warning, `warnings`.)
@@ -394,7 +400,7 @@ pub fn one_step(
     }
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
-    if model.plan.threads > 1 && model.plan.one_region && !conserve {
+    if model.plan.threads > 1 && model.plan.one_region && !conserve && !scene.cell.in_use() {
         // Both steps in one parallel region (`fused`): the same bits. (With more threads
         // than cores two regions are faster: a task that waits for another holds a core;
         // 3 threads on 2 cores took 6 × the time of two regions, 1.3 × without the wait.)

@@ -75,6 +75,11 @@ pub(super) struct PairCtx<'a> {
     pub(super) laws: &'a Laws<'a>,
     pub(super) size: [f64; 3],
     pub(super) periodic: [bool; 3],
+    /// The Lees–Edwards offset of a sheared cell (`sim::cell`; 0 otherwise).
+    pub(super) shift: f64,
+    /// The deforming cell, whose mean field adds to the pairs' relative velocity (`None`
+    /// while it is at rest).
+    pub(super) cell: Option<&'a crate::sim::cell::Cell>,
     /// The particles are all alike: their radius, mass and pair constants.
     pub(super) uni: Option<UniPair>,
     /// Per particle, the dashpot's margin of reach (`Scene::reach_ext`; `None`: none).
@@ -221,15 +226,21 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     }
 }
 
-/// Velocity of B's contact point relative to A's (the pair's `Kin::v_rel`).
+/// Velocity of B's contact point relative to A's (the pair's `Kin::v_rel`); in a deforming
+/// cell the peculiar velocities plus the mean field's difference `G l` across the branch
+/// vector `l = n dist` (`sim::cell`).
 #[inline(always)]
 pub(super) fn rel_velocity(
     c: &PairCtx,
     (i, j): (usize, usize),
     (ri, rj): (f64, f64),
-    n: &Vec3,
+    (n, dist): (&Vec3, f64),
 ) -> Vec3 {
-    c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(n)
+    let v = c.vel[j] - c.vel[i] - (c.spin[i] * ri + c.spin[j] * rj).cross(n);
+    match c.cell {
+        Some(cell) => v + cell.field(&(n * dist)),
+        None => v,
+    }
 }
 
 /// Asks the processor to fetch the contact states of a sub-batch's evaluated pairs (`idx`)
@@ -339,7 +350,7 @@ pub(super) fn pair_kin<const UNI: bool>(
     } else {
         (c.radius[i], c.radius[j])
     };
-    let v_rel = rel_velocity(c, (i, j), (ri, rj), &n);
+    let v_rel = rel_velocity(c, (i, j), (ri, rj), (&n, dist));
     let (r_star, m_star) = if UNI {
         (u.r_star, u.m_star)
     } else {

@@ -35,7 +35,7 @@ pub(super) fn separation(h: &HotPair, c: &PairCtx) -> Vec3 {
     if c.periodic == [false; 3] {
         d
     } else {
-        nearest_image(d, c.size, c.periodic)
+        nearest_image(d, c.size, c.periodic, c.shift)
     }
 }
 
@@ -126,7 +126,10 @@ fn approaching(
             None => ur + ur,
         } * allow;
         let e = ext[i / EXT_GROUP] + ext[j / EXT_GROUP];
-        let dv = c.vel[j] - c.vel[i];
+        let dv = match c.cell {
+            Some(cell) => c.vel[j] - c.vel[i] + cell.field(&d),
+            None => c.vel[j] - c.vel[i],
+        };
         let lhs = r * (d.norm_squared() - r * r);
         let rhs = -dv.dot(&d) * half * (2.0 * r + e);
         if lhs < rhs + 1e-9 * r * r * r {
@@ -172,7 +175,7 @@ fn mask_scalar<const PER: bool>(
         // back to memory.)
         let d = c.pos[h.j as usize] - c.pos[h.i as usize];
         let d = if PER {
-            nearest_image(d, c.size, c.periodic)
+            nearest_image(d, c.size, c.periodic, c.shift)
         } else {
             d
         };

@@ -461,17 +461,16 @@ pub(super) fn finish_move(
             ),
         });
     }
-    // Wrap periodic coordinates.
-    for k in 0..3 {
-        if scene.settings.periodic[k] {
-            let l = scene.size[k];
-            for x in p.pos.iter_mut() {
-                if x[k] < 0.0 || x[k] >= l {
-                    x[k] = x[k].rem_euclid(l);
-                }
-            }
-        }
+    let servo = std::mem::take(&mut scene.derived.servo);
+    if scene.cell.is_active() || scene.cell.half != [[0.0; 3]; 3] || servo.is_some() {
+        // The deforming cell (`sim::cell`): its work, the mean field's share of the motion
+        // (which counts for the re-mapping) and the stress servo.
+        max_disp = max_disp.max(crate::sim::cell::end_step(scene, servo.as_ref(), dt));
     }
+    scene.derived.servo = servo;
+    // Wrap periodic coordinates (across a sheared side at the image).
+    crate::sim::cell::wrap(scene);
+    let p = &mut scene.particles;
     if scene.zero_always {
         // The kinetic energy taken out leaves the books as a command's change.
         let mut taken = 0.0;
@@ -486,7 +485,9 @@ pub(super) fn finish_move(
     // A wall that moved more than XRES since the last rebuild is re-mapped like a particle
     // (its travel closes a gap as much as a particle's displacement).
     scene.contacts.step.max_disp = Some(max_disp);
-    if max_disp > xres || scene.walls.iter().any(|w| w.travel > xres) {
+    // (The images above a sheared cell move with its offset: a pair across that side
+    // closes by at most both displacements and the offset's travel.)
+    if max_disp + scene.cell.travel > xres || scene.walls.iter().any(|w| w.travel > xres) {
         scene.contacts.request_remap();
     }
 

@@ -1,0 +1,364 @@
+//! The deforming periodic cell (TRUBAL's `GRID`, doc/spec/physics-lian1994.md §7;
+//! Lees–Edwards images for simple shear, doc/spec/shang1998.md §2.4).
+//!
+//! The work-space `Scene::size` is the cell. A velocity gradient `G` (1/s; `G[i][j] =
+//! ∂v_i/∂x_j`, the six numbers of `GRID ed11 ed22 ed33 ed12 ed23 ed31`, of which TRUBAL uses
+//! the diagonal and `ed12`) defines the mean field `u(x) = G x` (origin at the cell's corner):
+//! - `ed11`, `ed22`, `ed33` stretch (> 0) or compress (< 0) the cell: each step every length
+//!   along axis k and every particle coordinate `x_k` is multiplied by `exp(ed_kk Δt)`, so a
+//!   cell without particles deforms exactly as `L_k(t) = L_k(0) exp(∫ ed_kk dt)`;
+//! - `ed12` shears without distorting the cell: the images above it (`y + L_y`) slide along x
+//!   by `shift`, which grows by `ed12 L_y Δt` per step (taken modulo `L_x`); a particle leaving
+//!   through `y = L_y` re-enters through `y = 0` at its image, `x − shift`, and one leaving
+//!   through `y = 0` at `x + shift` (Lees–Edwards). Every particle moves with the field too:
+//!   `x += ed12 y Δt`.
+//!
+//! **Velocities are stored relative to the mean field** (the peculiar velocity `C = c − G x`,
+//! what `PRint Balls` shows while a `GRID` is set). They follow the SLLOD equations
+//! `dC/dt = F/m − G C` (Evans & Morriss 1990), which for these gradients are Newton's
+//! equations for the total velocity `c` written in the moving frame (exactly so for simple
+//! shear, where `G² = 0`); a particle crossing a sheared side keeps its `C`, so its total
+//! x-velocity changes by `∓ ed12 L_y` as Lees–Edwards requires. The relative velocity of a
+//! contact adds the mean-field difference `G l` across its branch vector `l`
+//! (`cycle::pairs::rel_velocity`). Spins are total.
+//!
+//! Work: the cell puts in `−V σ:G Δt` per step (σ the average stress, compression positive,
+//! kinetic part included: [`super::stress`]), booked as `Ledger::cell`.
+use serde::{Deserialize, Serialize};
+
+use super::scene::{Scene, Vec3};
+
+/// The state of the periodic cell's deformation (saved in checkpoints from format 4).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Cell {
+    /// The strain rates of `GRID`: ed11 ed22 ed33 ed12 ed23 ed31 (1/s).
+    pub rate: [f64; 6],
+    /// The strains accumulated since the start, ∫ ed dt (same order).
+    pub strain: [f64; 6],
+    /// Lees–Edwards offset: x displacement of the images above the cell (y + L_y), in
+    /// [0, L_x) (m).
+    pub shift: f64,
+    /// The stress servo's gain g (1/(s Pa) in mode 0 per step, 1/(s Pa) in mode 1) and the
+    /// largest strain rate it may set (1/s) (`GAIN g edmax`).
+    pub gain: [f64; 2],
+    /// Servo mode: 0 velocity-increment control, 1 velocity control (`Mode n`).
+    pub mode: u8,
+    /// How far the Lees–Edwards offset moved since the last rebuild of the candidate list
+    /// (m): it moves the images above like a particle's displacement (saved, so that a
+    /// restarted run rebuilds when the continued one does).
+    pub travel: f64,
+    /// Work put in by the cell's deformation, −∫ V σ:G dt (J), up to the state of the
+    /// last forces: a term of the energy books' input (`energy::residual`). Each step's
+    /// deformation is booked by the trapezoid rule, `−½ V (σⁿ + σⁿ⁺¹):G Δt`, once the
+    /// forces at its end are known (the next step), like the other terms of the books.
+    pub work: f64,
+    /// `−½ V G Δt` of the last step's deformation, and its first half `σⁿ : (−½ V G Δt)`,
+    /// still to be booked.
+    pub half: [[f64; 3]; 3],
+    pub pending: f64,
+}
+
+impl Cell {
+    /// The velocity gradient G (G[i][j] = ∂v_i/∂x_j) of the rates.
+    pub fn gradient(&self) -> [[f64; 3]; 3] {
+        let r = &self.rate;
+        [[r[0], r[3], 0.0], [0.0, r[1], 0.0], [0.0, 0.0, r[2]]]
+    }
+
+    /// Whether the cell moves at all (a rate set, or a Lees–Edwards offset left from one).
+    pub fn is_active(&self) -> bool {
+        self.rate.iter().any(|&r| r != 0.0)
+    }
+
+    /// Whether the pair loop must know of the cell: it moves, or a Lees–Edwards offset is
+    /// left from a shear.
+    pub fn in_use(&self) -> bool {
+        self.is_active() || self.shift != 0.0
+    }
+
+    /// The mean-field velocity difference `G l` across a branch vector `l`.
+    #[inline(always)]
+    pub fn field(&self, l: &Vec3) -> Vec3 {
+        let r = &self.rate;
+        Vec3::new(r[0] * l.x + r[3] * l.y, r[1] * l.y, r[2] * l.z)
+    }
+}
+
+/// A stress the servo holds (`Cycle n S0 σ`, …), compression positive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StressTarget {
+    /// The mean stress (σ11 + σ22 + σ33)/3.
+    Mean,
+    /// The mean in the x–y plane (σ11 + σ22)/2.
+    Mean12,
+    /// One principal direction: σ11, σ22 or σ33 (axis 0, 1, 2).
+    Axis(usize),
+}
+
+/// The stress servo of one `Cycle`: its targets and the axes each adjusts (derived: set by
+/// the session for the Cycle, not saved).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Servo {
+    pub targets: Vec<(StressTarget, f64, [bool; 3])>,
+}
+
+impl Servo {
+    /// The servo of `targets` in a cell: σii adjusts ed_ii; the means adjust the axes they
+    /// average over that no σii target holds and whose rate was 0 when the Cycle started
+    /// (so a prescribed `GRID` rate stays: a constant-mean-stress triaxial test is `GRID 0 0
+    /// −ε̇ 0 0 0` and `Cycle n S0 σ`), or all those axes if every one had a rate.
+    pub fn new(cell: &Cell, targets: &[(StressTarget, f64)]) -> Servo {
+        let held: Vec<usize> = targets
+            .iter()
+            .filter_map(|t| match t.0 {
+                StressTarget::Axis(k) => Some(k),
+                _ => None,
+            })
+            .collect();
+        let targets = targets
+            .iter()
+            .map(|&(t, v)| {
+                let over: &[usize] = match t {
+                    StressTarget::Mean => &[0, 1, 2],
+                    StressTarget::Mean12 => &[0, 1],
+                    StressTarget::Axis(k) => {
+                        let mut a = [false; 3];
+                        a[k] = true;
+                        return (t, v, a);
+                    }
+                };
+                let mut free = [false; 3];
+                for &k in over {
+                    free[k] = !held.contains(&k) && cell.rate[k] == 0.0;
+                }
+                if free == [false; 3] {
+                    for &k in over {
+                        free[k] = !held.contains(&k);
+                    }
+                }
+                (t, v, free)
+            })
+            .collect();
+        Servo { targets }
+    }
+}
+
+/// The measured value of a servo's stress (compression positive).
+pub fn measured(t: StressTarget, s: &[[f64; 3]; 3]) -> f64 {
+    match t {
+        StressTarget::Mean => (s[0][0] + s[1][1] + s[2][2]) / 3.0,
+        StressTarget::Mean12 => (s[0][0] + s[1][1]) / 2.0,
+        StressTarget::Axis(k) => s[k][k],
+    }
+}
+
+/// One servo update after a step (TRUBAL's `GAIN g edmax`, `Mode`): with the error
+/// `e = target − measured` (compression positive), mode 0 (velocity-increment control)
+/// changes each adjusted rate by `−g e`, mode 1 (velocity control) sets it to `−g e`; the
+/// rate is kept within ±edmax. A compressive error compresses (ed < 0).
+pub fn servo_step(cell: &mut Cell, servo: &Servo, s: &[[f64; 3]; 3]) {
+    let [g, edmax] = cell.gain;
+    for &(t, target, axes) in &servo.targets {
+        let e = target - measured(t, s);
+        for k in 0..3 {
+            if axes[k] {
+                let ed = if cell.mode == 0 {
+                    cell.rate[k] - g * e
+                } else {
+                    -g * e
+                };
+                cell.rate[k] = ed.clamp(-edmax, edmax);
+            }
+        }
+    }
+}
+
+/// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
+/// stress of this step's forces, the deformation ([`deform`]) and the servo's new rates.
+/// Returns the largest displacement component the mean field gave a particle.
+pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) -> f64 {
+    let s = super::stress::of(scene);
+    let total = s.total();
+    let dot = |h: &[[f64; 3]; 3]| -> f64 {
+        let mut w = 0.0;
+        for a in 0..3 {
+            for b in 0..3 {
+                w += total[a][b] * h[a][b];
+            }
+        }
+        w
+    };
+    // The last step's deformation, now that the forces at its end are known.
+    let c = &mut scene.cell;
+    c.work += c.pending + dot(&c.half);
+    c.half = [[0.0; 3]; 3];
+    c.pending = 0.0;
+    let mut moved = 0.0;
+    if c.is_active() {
+        let g = c.gradient();
+        let v = super::stress::volume(scene);
+        let c = &mut scene.cell;
+        for a in 0..3 {
+            for b in 0..3 {
+                c.half[a][b] = -0.5 * v * g[a][b] * dt;
+            }
+        }
+        c.pending = dot(&c.half);
+        moved = deform(scene, dt);
+    }
+    if let Some(servo) = servo {
+        servo_step(&mut scene.cell, servo, &s.total());
+    }
+    moved
+}
+
+/// Why a `GRID` cannot be used in this work-space (None: it can).
+pub fn grid_refusal(rates: &[f64; 6], periodic: [bool; 3]) -> Option<String> {
+    if rates.iter().any(|r| !r.is_finite()) {
+        return Some("GRID: the strain rates must be finite numbers".into());
+    }
+    if rates[4] != 0.0 || rates[5] != 0.0 {
+        return Some(
+            "GRID: ed23 and ed31 are not used (as in TRUBAL): enter 0; shear the cell with ed12 (∂v_x/∂y)"
+                .into(),
+        );
+    }
+    let names = ["x", "y", "z"];
+    for k in 0..3 {
+        if rates[k] != 0.0 && !periodic[k] {
+            return Some(format!(
+                "GRID: ed{0}{0} strains the {1} axis, which is open; the cell deforms only along periodic axes (SET PERiodic {1})",
+                k + 1,
+                names[k]
+            ));
+        }
+    }
+    if rates[3] != 0.0 && !(periodic[0] && periodic[1]) {
+        return Some(
+            "GRID: ed12 shears the cell with Lees–Edwards images, which needs the x and y axes periodic (SET PERiodic x y)"
+                .into(),
+        );
+    }
+    None
+}
+
+/// Why `n` steps of `dt` at the current rates would shrink the cell below twice the largest
+/// diameter along some axis (None: they would not).
+pub fn shrink_refusal(scene: &Scene, n: u64, dt: f64) -> Option<String> {
+    let dmax = 2.0 * scene.max_radius();
+    let names = ["x", "y", "z"];
+    for k in 0..3 {
+        let ed = scene.cell.rate[k];
+        if ed < 0.0 {
+            let end = scene.size[k] * (ed * dt * n as f64).exp();
+            if end < 2.0 * dmax {
+                return Some(format!(
+                    "GRID ed{0}{0} = {ed:e} 1/s for {n} cycles would shrink the cell along {1} from {2:e} m to {end:e} m, below twice the largest diameter ({3:e} m); use fewer cycles or a smaller rate",
+                    k + 1,
+                    names[k],
+                    scene.size[k],
+                    2.0 * dmax
+                ));
+            }
+        }
+    }
+    None
+}
+
+/// The cell's share of a step, after the particles moved with their peculiar velocities:
+/// the cell and the particles' positions follow the mean field, the peculiar velocities lose
+/// `G C Δt` (SLLOD), the Lees–Edwards offset advances. Returns the largest displacement
+/// component the field gave a particle (for the search's re-mapping rule).
+pub fn deform(scene: &mut Scene, dt: f64) -> f64 {
+    let r = scene.cell.rate;
+    let f = [(r[0] * dt).exp(), (r[1] * dt).exp(), (r[2] * dt).exp()];
+    let shear = r[3] * dt;
+    let p = &mut scene.particles;
+    let mut most = 0.0f64;
+    for i in 0..p.pos.len() {
+        let x = p.pos[i];
+        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
+        y.x += shear * x.y;
+        let d = y - x;
+        p.pos[i] = y;
+        p.disp[i] += d;
+        most = most.max(d.amax());
+        let c = p.vel[i];
+        p.vel[i] = Vec3::new(c.x / f[0] - shear * c.y, c.y / f[1], c.z / f[2]);
+    }
+    for k in 0..3 {
+        let l = scene.size[k] * f[k];
+        // (An image across side k moves with the side.)
+        scene.cell.travel += (l - scene.size[k]).abs();
+        scene.size[k] = l;
+        scene.cell.strain[k] += r[k] * dt;
+    }
+    scene.cell.strain[3] += r[3] * dt;
+    if r[3] != 0.0 {
+        let (lx, step) = (scene.size[0], r[3] * scene.size[1] * dt);
+        scene.cell.shift = (scene.cell.shift + step).rem_euclid(lx);
+        scene.cell.travel += step.abs();
+    }
+    most
+}
+
+/// Brings every particle back into the cell through the periodic sides; across y with the
+/// Lees–Edwards offset (`shift`, x displacement of the images above), before x is wrapped.
+pub fn wrap(scene: &mut Scene) {
+    let (size, periodic, shift) = (scene.size, scene.settings.periodic, scene.cell.shift);
+    let p = &mut scene.particles;
+    if periodic[1] && shift != 0.0 {
+        let l = size[1];
+        for x in p.pos.iter_mut() {
+            if x.y < 0.0 || x.y >= l {
+                let n = (x.y / l).floor();
+                x.y -= n * l;
+                x.x -= n * shift;
+                if x.y >= l {
+                    // (Rounding: y − n l may land on l.)
+                    x.y = 0.0;
+                }
+            }
+        }
+    }
+    for k in 0..3 {
+        if periodic[k] {
+            let l = size[k];
+            for x in p.pos.iter_mut() {
+                if x[k] < 0.0 || x[k] >= l {
+                    x[k] = x[k].rem_euclid(l);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_used_rates_on_periodic_axes_are_accepted() {
+        assert!(grid_refusal(&[-1.0, 0.0, 0.0, 5.0, 0.0, 0.0], [true; 3]).is_none());
+        assert!(grid_refusal(&[0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [true; 3]).is_some());
+        assert!(grid_refusal(&[0.0, 0.0, -1.0, 0.0, 0.0, 0.0], [true, true, false]).is_some());
+        assert!(grid_refusal(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [true, false, true]).is_some());
+        assert!(grid_refusal(&[f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0], [true; 3]).is_some());
+    }
+
+    #[test]
+    fn the_field_is_the_gradient_times_the_branch() {
+        let c = Cell {
+            rate: [1.0, 2.0, 3.0, 4.0, 0.0, 0.0],
+            ..Default::default()
+        };
+        let l = Vec3::new(1.0, 10.0, 100.0);
+        let g = c.gradient();
+        let want = Vec3::new(
+            g[0][0] * l.x + g[0][1] * l.y + g[0][2] * l.z,
+            g[1][0] * l.x + g[1][1] * l.y + g[1][2] * l.z,
+            g[2][0] * l.x + g[2][1] * l.y + g[2][2] * l.z,
+        );
+        assert_eq!(c.field(&l), want);
+    }
+}
