@@ -245,7 +245,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["S0", "S1MS2", "S11", "S22", "S33", "RING"],
         true,
         b_cycle,
-        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. Stress-servo keywords (periodic strain control) are accepted by the parser and refused by the simulation (doc/limits.md)."
+        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. With stress-servo keywords the periodic cell's strain rates are adjusted every step to hold the named average stress (Pa, compression positive): S0 the mean (σ11+σ22+σ33)/3, S1MS2 the x-y mean, S11/S22/S33 one direction (GAIN and Mode first; doc/cell.md). A mean adjusts the axes whose GRID rate is 0. RING is not modelled."
     ),
     def!(
         "DAmping",
@@ -329,7 +329,7 @@ pub const COMMANDS: &[CommandDef] = &[
             g: a.real("g")?,
             edmax: a.real("edmax")?
         }),
-        "Gain and maximum strain rate of the periodic stress servo."
+        "Gain g (1/(s Pa)) and largest strain rate edmax (1/s) of the periodic cell's stress servo (Cycle n S0 v ...; doc/cell.md)."
     ),
     def!(
         "GRAvity",
@@ -347,7 +347,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         b_grid,
-        "Strain rates of the periodic space."
+        "Strain rates of the periodic cell (1/s, ed_ij = dv_i/dx_j): ed11 ed22 ed33 stretch (> 0) or compress it, ed12 shears it with Lees-Edwards images (x step between the bottom and top y sides); ed23 and ed31 are not used (0). Particle velocities are then relative to the mean field (doc/cell.md)."
     ),
     def!(
         "HELP",
@@ -393,7 +393,7 @@ pub const COMMANDS: &[CommandDef] = &[
         |a| Ok(Command::Mode {
             n: a.int_in("n", 0, 1)?
         }),
-        "Stress-servo mode: 0 velocity-increment control, 1 velocity control."
+        "Stress-servo mode: 0 velocity-increment control (each step the rate changes by -g × error), 1 velocity control (the rate is -g × error; does not hunt)."
     ),
     def!(
         "New",

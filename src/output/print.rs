@@ -242,12 +242,18 @@ fn energy_item(scene: &Scene) -> (String, Value) {
     let st = energy::stored(scene);
     let l = &scene.ledger;
     let res = energy::residual(scene);
-    let input = l.input();
+    let input = l.input() + scene.cell.work;
     let frac = |x: f64| if input != 0.0 { x / input } else { 0.0 };
+    // The periodic cell's work (`sim::cell`), shown once a GRID or servo has deformed it.
+    let cell = if scene.cell.work != 0.0 {
+        format!("  cell {:.6e}", scene.cell.work)
+    } else {
+        String::new()
+    };
     let s = format!(
         "energy (J) at cycle {}\n  kinetic        translation {:.6e}  rotation {:.6e}\n  \
          stored         normal {:.6e}  tangential {:.6e}  bridges {:.6e}\n  \
-         input          commands {:.6e}  gravity {:.6e}  walls {:.6e}  total {:.6e}\n  \
+         input          commands {:.6e}  gravity {:.6e}  walls {:.6e}{cell}  total {:.6e}\n  \
          dissipated     friction {:.6e}  mass damping {:.6e}  contact damping {:.6e}\n                 \
          viscous {:.6e}  adhesion {:.6e}  rupture {:.6e}  total {:.6e}\n  \
          residual       {:.6e} (stored - input + dissipated)\n",
@@ -278,7 +284,8 @@ fn energy_item(scene: &Scene) -> (String, Value) {
         "strain_normal": st.strain_normal, "strain_tangential": st.strain_tangential,
         "bridge": st.bridge,
         "input": input,
-        "inputs": {"commands": l.commands, "gravity": l.gravity, "walls": l.walls},
+        "inputs": {"commands": l.commands, "gravity": l.gravity, "walls": l.walls,
+            "cell": scene.cell.work},
         "dissipated": {
             "friction": l.friction, "damping_mass": l.damping_mass,
             "damping_contact": l.damping_contact, "viscous": l.viscous,

@@ -298,7 +298,16 @@ fn fixtures_of_every_version_still_load() {
                 .unwrap();
                 // Values that did not exist in that version may be added to `facts` later:
                 // compare the facts the fixture recorded.
-                let got = facts(&sc);
+                let mut got = facts(&sc);
+                if v < 4 {
+                    // Rows read from formats before 4 get the stress and temperature columns
+                    // of format 4 as 0.
+                    for row in got["history"].as_array_mut().into_iter().flatten() {
+                        let a = row.as_array_mut().unwrap();
+                        assert!(a[10..].iter().all(|x| x.as_f64() == Some(0.0)), "{name}");
+                        a.truncate(10);
+                    }
+                }
                 let want = without_dropped(want, v);
                 if let Some(d) = diff_in(&want, &got, "", false) {
                     panic!("{name}: the loaded state differs from the recorded facts at {d}");

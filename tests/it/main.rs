@@ -6,6 +6,7 @@ mod common;
 mod adhesion;
 mod architecture;
 mod broken_pipe;
+mod cell;
 mod checkpoint;
 mod cli;
 mod continuation;

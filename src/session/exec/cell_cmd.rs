@@ -19,7 +19,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             Ok(String::new())
         }
         Command::Gain { g, edmax } => {
-            if !(g.is_finite() && *g > 0.0) || !(edmax.is_finite() && *edmax > 0.0) {
+            if !(g.is_finite() && *g > 0.0 && edmax.is_finite() && *edmax > 0.0) {
                 return Err(format!(
                     "GAIN g edmax: both must be positive numbers (g in 1/(s Pa), edmax in 1/s); got {g} {edmax}"
                 ));

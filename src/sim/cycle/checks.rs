@@ -24,7 +24,32 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
         }
     }
     check_cell(scene)?;
+    check_plane(scene)?;
     Ok(model)
+}
+
+/// In 2-D (motion in the x–y plane) every particle must lie in the plane of the first one,
+/// and the cell must not strain along z.
+fn check_plane(scene: &Scene) -> Result<(), String> {
+    if !scene.settings.two_d {
+        return Ok(());
+    }
+    let p = &scene.particles;
+    if let Some(z0) = p.pos.first().map(|x| x.z) {
+        let tol = 1e-9 * scene.size[2].max(scene.max_radius());
+        if let Some(i) = p.pos.iter().position(|x| (x.z - z0).abs() > tol) {
+            return Err(format!(
+                "2-D: particle {} is off the plane of motion z = {z0:e} m (it is at z = {:e} m): in 2-D all particles move in one x-y plane",
+                p.id[i], p.pos[i].z
+            ));
+        }
+    }
+    if scene.cell.rate[2] != 0.0 {
+        return Err(
+            "2-D: GRID ed33 would strain the cell out of the plane of motion; give 0".into(),
+        );
+    }
+    Ok(())
 }
 
 /// A deforming cell or a stress servo needs a cell of periodic axes without walls (a wall
@@ -37,7 +62,11 @@ fn check_cell(scene: &Scene) -> Result<(), String> {
     if !scene.walls.is_empty() {
         return Err(format!(
             "the periodic cell {} but the scene has {} wall(s): walls do not follow the cell's deformation; delete them (New) or stop the cell (GRID 0 0 0 0 0 0)",
-            if servo { "is servo-controlled" } else { "deforms (GRID)" },
+            if servo {
+                "is servo-controlled"
+            } else {
+                "deforms (GRID)"
+            },
             scene.walls.len()
         ));
     }
