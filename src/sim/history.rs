@@ -21,6 +21,10 @@ pub const COLUMNS: &[&str] = &[
     "syz",
     "szx",
     "temperature",
+    "e11",
+    "e22",
+    "e33",
+    "e12",
 ];
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

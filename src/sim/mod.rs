@@ -48,5 +48,8 @@ pub fn record_history(scene: &mut Scene) {
     let s = stress::of(scene).total();
     row.extend([s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[2][0]]);
     row.push(stress::temperature(scene));
+    // The periodic cell's accumulated strains (`sim::cell`).
+    let e = scene.cell.strain;
+    row.extend([e[0], e[1], e[2], e[3]]);
     scene.history.rows.push(row);
 }
