@@ -61,6 +61,11 @@ pub fn contact_part(scene: &Scene) -> [[f64; 3]; 3] {
     let vol = volume(scene);
     let mut sig = [[0.0; 3]; 3];
     for c in scene.contacts.iter() {
+        // (Most candidates carry no force: skipped before their branch vector.)
+        let s = c.s;
+        if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+            continue;
+        }
         let (i, j) = (c.i as usize, c.j as usize);
         let l = scene.branch(&p.pos[i], &p.pos[j]);
         let dist = l.norm();

@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Shang's cohesive simple shear (issue 35, item 6): runs scripts/shang_shear.tru (480 silica
+spheres of 20 um, phi = 0.45, JKR Gamma = 0.2 N/m, Walton's law, mu = 0.4) and prints the
+time-averaged P_xy/rho(sigma s)^2, P_yy/rho(sigma s)^2 and 3T/(sigma s)^2 next to Shang's
+time-step table (1.2326, 2.4509, 1.3184 at s = 12000 1/s) and Lun's theory (e = 0.95,
+beta = 0); with --sweep, the same at several shear rates, against the energy cohesion number
+CN_e (Shang (3.17)), written to doc/data/shang_shear.csv and doc/img/shang_shear.png.
+
+usage: scripts/shang_shear.py [--strain UNITS] [--sweep] [S ...]
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import lun_shear  # noqa: E402
+import run_table  # noqa: E402
+
+SIGMA, RHO, E, NU, GAMMA_SHANG = 2e-5, 2600.0, 6e10, 0.25, 0.2
+E_STAR = E / (2 * (1 - NU ** 2))
+FRAC = 0.8281
+
+
+def cn_e(phi, s, gamma=GAMMA_SHANG):
+    """Shang (3.17): phi Gamma^(5/3) / (rho sigma^(11/3) s^2 E*^(2/3))."""
+    return phi * gamma ** (5 / 3) / (RHO * SIGMA ** (11 / 3) * s ** 2 * E_STAR ** (2 / 3))
+
+
+def run(exe, phi, npart, s, strain, work):
+    l = (npart * math.pi * SIGMA ** 3 / (6 * phi)) ** (1 / 3)
+    l0 = l * max(1.0, (phi / 0.25) ** (1 / 3))
+    g = E / (2 * (1 + NU))
+    dt = FRAC * math.pi * SIGMA / 2 * math.sqrt(RHO / g) / (0.1631 * NU + 0.8766)
+    nc = 0 if l0 == l else 20000
+    rc = 0.0 if nc == 0 else math.log(l / l0) / (nc * dt)
+    n = int(strain / (s * dt))
+    sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": s, "n": n, "h": max(1, n // 400),
+            "gamma": GAMMA_SHANG / 2, "frac": FRAC}
+    args = [exe, "--json", os.path.join(HERE, "shang_shear.tru")]
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
+    out = subprocess.run(args, cwd=work, capture_output=True, text=True, check=True).stdout
+    objs = [json.loads(x) for x in out.splitlines() if x.startswith("{")]
+    hist = next(o for o in objs if o["print"] == "history")
+    cols = hist["columns"]
+    rows = [r for r in hist["rows"] if r[0] > nc + n / 2]
+    mean = lambda c: sum(r[cols.index(c)] for r in rows) / len(rows)
+    norm = RHO * (SIGMA * s) ** 2
+    return {"phi": phi, "s": s, "cn_e": cn_e(phi, s), "pxy": -mean("sxy") / norm,
+            "pyy": mean("syy") / norm, "3T": 3 * mean("temperature") / (SIGMA * s) ** 2,
+            "dt": dt, "steps": n}
+
+
+def main():
+    argv = sys.argv[1:]
+    strain = 40.0
+    if "--strain" in argv:
+        i = argv.index("--strain")
+        strain = float(argv[i + 1])
+        del argv[i : i + 2]
+    sweep = "--sweep" in argv
+    argv = [a for a in argv if a != "--sweep"]
+    rates = [float(a) for a in argv] or ([12000, 9000, 7000, 5800, 4500] if sweep else [12000])
+    exe = run_table.trubal_binary()
+    work = os.path.join(ROOT, "target", "shang_shear")
+    os.makedirs(work, exist_ok=True)
+    kt = lun_shear.lun(0.45, e=0.95, eta2=0.4 / (2 * 1.4))
+    out = []
+    for s in rates:
+        r = run(exe, 0.45, 480, s, strain, work)
+        r.update({"kt_pxy": kt["pxy"], "kt_pyy": kt["pyy"], "kt_3T": kt["3T"]})
+        out.append(r)
+        print(json.dumps(r), flush=True)
+    if sweep:
+        with open(os.path.join(ROOT, "doc", "data", "shang_shear.csv"), "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(out[0].keys()))
+            w.writeheader()
+            w.writerows(out)
+        run_table.chart(
+            os.path.join(ROOT, "doc", "img", "shang_shear.png"),
+            "COHESIVE SIMPLE SHEAR, PHI = 0.45: STRESSES AGAINST CN_E (SHANG'S RANGE 4-9E-3)",
+            [(lab, [(r["cn_e"], r[k]) for r in out]) for lab, k in [("PXY", "pxy"), ("PYY", "pyy"), ("3T", "3T")]],
+            "CN_E",
+            "STRESS / RHO (SIGMA S)^2, 3T / (SIGMA S)^2",
+            logx=True,
+            cap=False,
+        )
+
+
+if __name__ == "__main__":
+    main()
