@@ -30,8 +30,10 @@
 //! state: the JKR, Mindlin–Deresiewicz and liquid-return fields behind one optional pointer,
 //! the never-read contact normal dropped); version 3 adds the contact state's `v_prev` (the
 //! second-order dashpot's history), each wall's `travel` since the last rebuild, and the
-//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO). Versions 1 and 2 are read
-//! through `sim::contacts::old` (contact states), `scene::old_walls` and
+//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO); version 4 adds Walton's
+//! law state (`walton`) to the law-specific part of the contact state, and the setting
+//! `SET TANgential WALTON` (a new last variant, which older files never hold). Versions 1 to 3
+//! are read through `sim::contacts::old` (contact states), `scene::old_walls` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
 //! being decoded.
 
@@ -43,7 +45,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -202,9 +204,10 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         VERSION => decode_all::<Scene, R>(r, version),
-        // Versions 1 and 2 differ only in the layout of the contact state
-        // (sim::contacts::old).
-        1 | 2 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        // Versions 1 to 3 differ only in the layout of the contact state (sim::contacts::old;
+        // for version 3 the law-specific part had no `walton`); the settings and walls of
+        // version 3 are the current ones.
+        1..=3 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Older versions: decode with their frozen types and convert (see "Format evolution").
         v => Err(format!(
             "the checkpoint has format version {v}, for which this program (format version {VERSION}) has no reader"
@@ -491,6 +494,7 @@ fn check_contact_values(scene: &Scene) -> Result<(), String> {
     let state_ok = |s: &crate::sim::contacts::ContactState| {
         let e = s.ext();
         let t = &e.tang;
+        let w = &e.walton;
         let ext_ok = [
             e.a_s,
             e.gamma,
@@ -499,6 +503,9 @@ fn check_contact_values(scene: &Scene) -> Result<(), String> {
             t.stored,
             e.released[0],
             e.released[1],
+            w.t_star,
+            w.fn_prev,
+            w.stored,
         ]
         .iter()
         .all(|x| x.is_finite())

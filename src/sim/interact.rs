@@ -7,6 +7,7 @@ use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
 use crate::physics::tangential::{self, TangentialInput};
+use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz, jkr::Jkr};
 use crate::sim::model::{BridgeChoice, TangentialChoice};
 
@@ -127,6 +128,7 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     if let Some(e) = s.ext.as_deref_mut() {
         e.delta = Vec3::zeros();
         e.tang = Default::default();
+        e.walton = Default::default();
         e.tdelta = 0.0;
         // Nothing left that differs from the defaults `ext()` reads for a contact without
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
@@ -521,7 +523,8 @@ fn bridge_forces<const LIQ: bool>(
 
 /// Tangential force on B: rotate the history into the current contact plane, advance the
 /// signed resultant displacement (Lian (5.22)–(5.26), corrected sign rule of
-/// doc/spec/physics-lian1994.md §2.4 item 6) and apply the chosen law.
+/// doc/spec/physics-lian1994.md §2.4 item 6) and apply the chosen law (Walton's law works on
+/// the force vector itself, Shang 1998 (2.30)–(2.38)).
 #[inline(always)]
 fn tangential_step(
     k: &Kin,
@@ -595,6 +598,29 @@ fn tangential_step(
             acc.friction += work - (e_new - tang_energy);
             s.tang_energy = e_new;
             s.tforce = f;
+        }
+        TangentialChoice::Walton => {
+            // Shang's friction bound: the Hertz part P_E of a JKR force, P for Hertz (§2.2.2).
+            let f_n = if s.gamma() > 0.0 {
+                walton::friction_normal_force(pc.e_star, k.r_star, s.a)
+            } else {
+                p_new
+            };
+            // Shang's T is the force on A (it grows along Δs, B's slip relative to A).
+            let inp = WaltonInput {
+                force: (-s.tforce).into(),
+                ds: dd.into(),
+                f_n,
+                k0: walton::initial_stiffness(pc.g_star, s.a),
+                mu: pc.mu,
+            };
+            let tang_energy = s.tang_energy;
+            let e = s.ext_mut();
+            let out = walton::step(&mut e.walton, &inp);
+            let e_new = e.walton.stored;
+            acc.friction += out.work - (e_new - tang_energy);
+            s.tang_energy = e_new;
+            s.tforce = -Vec3::from(out.force);
         }
     }
     let mut ft = s.tforce;

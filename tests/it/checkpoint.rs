@@ -14,7 +14,8 @@ use trubal::sim::{Scene, Vec3};
 /// A small scene with a bit of everything: periodic x/y and open z, two size and material
 /// types, restitution and Rayleigh damping, liquid bridges, gravity, a servo-controlled wall,
 /// an agglomerate region, an advanced random generator, a PLot SAve reference, history rows,
-/// a sliding particle pair (tangential history and a bridge) and a particle on the wall.
+/// a sliding particle pair (tangential history and a bridge) and a particle on the wall; the
+/// last cycles with Walton's law (its history beside the Mindlin–Deresiewicz one).
 const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set tol 40e-6
@@ -43,7 +44,9 @@ create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
 create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
 dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
 plot save
-cycle 40";
+cycle 40
+set tangential walton
+cycle 10";
 
 fn session(lines: &str) -> Session {
     let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
@@ -101,6 +104,11 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "share": fs(&b.share), "fresh": b.fresh,
         })),
         "released": fs(&e.released),
+        "walton": {
+            "t_star": f(e.walton.t_star), "fn_prev": f(e.walton.fn_prev),
+            "sense": e.walton.sense, "reversed": e.walton.reversed,
+            "stored": f(e.walton.stored),
+        },
     })
 }
 
@@ -346,10 +354,12 @@ fn the_whole_state_round_trips() {
     let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
+    let w = &pair.ext().walton;
+    assert!(w.fn_prev > 0.0 && w.sense != 0 && w.stored > 0.0);
     let wall = &sc.contacts.wall_pairs[0].s;
     assert!(wall.touching && wall.bridge.is_some());
     assert!(sc.reference.as_ref().is_some_and(|r| r.ids.len() == 4));
-    assert_eq!(sc.history.rows.len(), 8);
+    assert_eq!(sc.history.rows.len(), 10);
     assert_eq!(sc.settings.periodic, [true, true, false]);
     assert!(sc.settings.tol.is_some() && sc.liquid.is_some() && sc.regions[0].is_some());
     assert!(sc.damping_pp.alpha > 0.0 && sc.materials[0].restitution.is_some());
@@ -692,7 +702,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         );
         let infos = info_lines(&out);
         assert_eq!(infos.len(), 1, "{out}");
-        assert_eq!(infos[0]["cycle"], 40);
+        assert_eq!(infos[0]["cycle"], 50);
         assert_eq!(infos[0]["balls"], 4);
 
         // After New: still no scene after the failure; STArt works.
@@ -714,7 +724,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         "restart good.sav\ncycle 3\nrestart good.sav\nprint info\n",
     );
     assert!(err.contains("give New first"), "{err}");
-    assert_eq!(info_lines(&out)[0]["cycle"], 43);
+    assert_eq!(info_lines(&out)[0]["cycle"], 53);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -724,10 +734,10 @@ fn default_file_names() {
     std::fs::write(dir.join("save.old"), current_fixture_bytes()).unwrap();
     let (out, err) = trubal(&dir, "restart\ncycle 2\nsave\nprint info\n");
     assert!(err.is_empty(), "{err}");
-    assert!(out.contains("restarted from save.old at cycle 40"), "{out}");
-    assert!(out.contains("saved cycle 42 to save.new"), "{out}");
+    assert!(out.contains("restarted from save.old at cycle 50"), "{out}");
+    assert!(out.contains("saved cycle 52 to save.new"), "{out}");
     let sc = checkpoint::load(&dir.join("save.new")).unwrap();
-    assert_eq!(sc.cycle, 42);
+    assert_eq!(sc.cycle, 52);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -749,7 +759,7 @@ fn a_failed_save_keeps_the_old_file() {
     assert!(err.contains("untouched"), "{err}");
     assert_eq!(
         info_lines(&out)[0]["cycle"],
-        50,
+        60,
         "the session goes on after a failed save"
     );
     assert!(std::fs::read(dir.join("state.sav")).unwrap() == old);
@@ -761,7 +771,7 @@ fn a_failed_save_keeps_the_old_file() {
     std::fs::remove_dir(dir.join("state.sav.tmp")).unwrap();
     let (_, err) = trubal(&dir, "restart state.sav\ncycle 10\nsave state.sav\n");
     assert!(err.is_empty(), "{err}");
-    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 50);
+    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 60);
     assert!(!dir.join("state.sav.tmp").exists());
     // A directory that does not exist (library API: `/` separates words in the language).
     let target = dir.join("no").join("such").join("x.sav");
