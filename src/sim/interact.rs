@@ -708,6 +708,45 @@ mod tests {
         );
     }
 
+    /// Walton's law (Shang 1998) bounds the friction of a JKR contact by the Hertz part of
+    /// its force: at zero overlap (point A of doc/spec/shang1998.md Table 2.1, net force
+    /// `−8/9 P_c`, `a = (2πΓR²/E*)^{1/3}`, `Γ = 2γ`) `P_E = 8πΓR/3 = 16/9 P_c`, so a contact
+    /// that slides carries `μ 16/9 P_c` although it is in tension (Thornton's cap would be
+    /// `μ (P + 2P_c) = μ 10/9 P_c`); the ledger books the loss.
+    #[test]
+    fn walton_friction_of_a_jkr_contact_is_bounded_by_the_hertz_part() {
+        let gamma = 0.1;
+        let pc = PairConst {
+            e_star: 1e9,
+            g_star: 4e8,
+            mu: 0.3,
+            gamma,
+            gamma_base: gamma,
+            zeta: 0.0,
+            dash: 0.0,
+        };
+        let laws = Laws {
+            tangential: TangentialChoice::Walton,
+            ..laws()
+        };
+        let k = kin(0.0);
+        let mut s = ContactState::default();
+        let mut acc = Acc::default();
+        for _ in 0..2000 {
+            interact::<true, false>(&k, &pc, &laws, &mut s, &mut acc);
+        }
+        let p_c = 3.0 * std::f64::consts::PI * gamma * k.r_star;
+        assert!((s.normal_force + 8.0 / 9.0 * p_c).abs() < 1e-9 * p_c);
+        let cap = pc.mu * 16.0 / 9.0 * p_c;
+        assert!(
+            (s.tforce.norm() - cap).abs() < 1e-9 * cap,
+            "{} vs {cap}",
+            s.tforce.norm()
+        );
+        assert!(s.tforce.x < 0.0, "the force on B opposes its slip");
+        assert!(acc.friction > 0.0);
+    }
+
     /// An adhesive contact keeps it after detachment: its surface energy and a_s stay.
     #[test]
     fn a_detached_jkr_contact_keeps_its_law_specific_part() {
