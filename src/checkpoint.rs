@@ -30,9 +30,13 @@
 //! state: the JKR, Mindlin–Deresiewicz and liquid-return fields behind one optional pointer,
 //! the never-read contact normal dropped); version 3 adds the contact state's `v_prev` (the
 //! second-order dashpot's history), each wall's `travel` since the last rebuild, and the
-//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO); version 4 adds the
-//! periodic cell's deformation (`Scene::cell`, read as at rest from older files). Versions 1 and 2 are read
-//! through `sim::contacts::old` (contact states), `scene::old_walls` and
+//! settings `tunnel` (SET TUNnel) and `auto_step` (FRAction AUTO); version 4 adds Walton's
+//! law state (`walton`) to the law-specific part of the contact state, the setting
+//! `SET TANgential WALTON` (a new last variant, which older files never hold), the periodic
+//! cell's deformation (`Scene::cell`, read as at rest from older files) and seven history
+//! columns (the stress, the temperature and the cell's strains, read as 0). Versions 1 to 3
+//! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
+//! `scene::old_cell` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
 //! being decoded.
 
@@ -203,13 +207,13 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         VERSION => decode_all::<Scene, R>(r, version),
-        // Versions 1 to 3 differ in the layout of the contact state (sim::contacts::old),
-        // the walls and settings (scene::old_walls, old_settings) and have no cell
-        // (scene::old_cell).
+        // Versions 1 to 3 differ in the layout of the contact state (sim::contacts::old; for
+        // version 3 the law-specific part had no `walton`), the walls and settings of 1 and 2
+        // (scene::old_walls, old_settings), and have no cell (scene::old_cell).
         1..=3 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
             .map(|mut s| {
-                // Their history rows have the first 10 columns: the stress and temperature
-                // columns of format 4 read as 0.
+                // Their history rows have the first 10 columns: the stress, temperature and
+                // strain columns of format 4 read as 0.
                 for row in &mut s.history.rows {
                     row.resize(crate::sim::history::COLUMNS.len(), 0.0);
                 }
@@ -501,6 +505,7 @@ fn check_contact_values(scene: &Scene) -> Result<(), String> {
     let state_ok = |s: &crate::sim::contacts::ContactState| {
         let e = s.ext();
         let t = &e.tang;
+        let w = &e.walton;
         let ext_ok = [
             e.a_s,
             e.gamma,
@@ -509,6 +514,9 @@ fn check_contact_values(scene: &Scene) -> Result<(), String> {
             t.stored,
             e.released[0],
             e.released[1],
+            w.t_star,
+            w.fn_prev,
+            w.stored,
         ]
         .iter()
         .all(|x| x.is_finite())

@@ -6,3 +6,4 @@ pub mod hertz;
 pub mod jkr;
 pub mod restitution;
 pub mod tangential;
+pub mod walton;

@@ -7,6 +7,7 @@ use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
 use crate::physics::tangential::{self, TangentialInput};
+use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz, jkr::Jkr};
 use crate::sim::model::{BridgeChoice, TangentialChoice};
 
@@ -127,6 +128,7 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     if let Some(e) = s.ext.as_deref_mut() {
         e.delta = Vec3::zeros();
         e.tang = Default::default();
+        e.walton = Default::default();
         e.tdelta = 0.0;
         // Nothing left that differs from the defaults `ext()` reads for a contact without
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
@@ -521,7 +523,8 @@ fn bridge_forces<const LIQ: bool>(
 
 /// Tangential force on B: rotate the history into the current contact plane, advance the
 /// signed resultant displacement (Lian (5.22)–(5.26), corrected sign rule of
-/// doc/spec/physics-lian1994.md §2.4 item 6) and apply the chosen law.
+/// doc/spec/physics-lian1994.md §2.4 item 6) and apply the chosen law (Walton's law works on
+/// the force vector itself, Shang 1998 (2.30)–(2.38)).
 #[inline(always)]
 fn tangential_step(
     k: &Kin,
@@ -595,6 +598,29 @@ fn tangential_step(
             acc.friction += work - (e_new - tang_energy);
             s.tang_energy = e_new;
             s.tforce = f;
+        }
+        TangentialChoice::Walton => {
+            // Shang's friction bound: the Hertz part P_E of a JKR force, P for Hertz (§2.2.2).
+            let f_n = if s.gamma() > 0.0 {
+                walton::friction_normal_force(pc.e_star, k.r_star, s.a)
+            } else {
+                p_new
+            };
+            // Shang's T is the force on A (it grows along Δs, B's slip relative to A).
+            let inp = WaltonInput {
+                force: (-s.tforce).into(),
+                ds: dd.into(),
+                f_n,
+                k0: walton::initial_stiffness(pc.g_star, s.a),
+                mu: pc.mu,
+            };
+            let tang_energy = s.tang_energy;
+            let e = s.ext_mut();
+            let out = walton::step(&mut e.walton, &inp);
+            let e_new = e.walton.stored;
+            acc.friction += out.work - (e_new - tang_energy);
+            s.tang_energy = e_new;
+            s.tforce = -Vec3::from(out.force);
         }
     }
     let mut ft = s.tforce;
@@ -680,6 +706,45 @@ mod tests {
             format!("{:?}", s.ext()),
             format!("{:?}", ContactExt::default())
         );
+    }
+
+    /// Walton's law (Shang 1998) bounds the friction of a JKR contact by the Hertz part of
+    /// its force: at zero overlap (point A of doc/spec/shang1998.md Table 2.1, net force
+    /// `−8/9 P_c`, `a = (2πΓR²/E*)^{1/3}`, `Γ = 2γ`) `P_E = 8πΓR/3 = 16/9 P_c`, so a contact
+    /// that slides carries `μ 16/9 P_c` although it is in tension (Thornton's cap would be
+    /// `μ (P + 2P_c) = μ 10/9 P_c`); the ledger books the loss.
+    #[test]
+    fn walton_friction_of_a_jkr_contact_is_bounded_by_the_hertz_part() {
+        let gamma = 0.1;
+        let pc = PairConst {
+            e_star: 1e9,
+            g_star: 4e8,
+            mu: 0.3,
+            gamma,
+            gamma_base: gamma,
+            zeta: 0.0,
+            dash: 0.0,
+        };
+        let laws = Laws {
+            tangential: TangentialChoice::Walton,
+            ..laws()
+        };
+        let k = kin(0.0);
+        let mut s = ContactState::default();
+        let mut acc = Acc::default();
+        for _ in 0..2000 {
+            interact::<true, false>(&k, &pc, &laws, &mut s, &mut acc);
+        }
+        let p_c = 3.0 * std::f64::consts::PI * gamma * k.r_star;
+        assert!((s.normal_force + 8.0 / 9.0 * p_c).abs() < 1e-9 * p_c);
+        let cap = pc.mu * 16.0 / 9.0 * p_c;
+        assert!(
+            (s.tforce.norm() - cap).abs() < 1e-9 * cap,
+            "{} vs {cap}",
+            s.tforce.norm()
+        );
+        assert!(s.tforce.x < 0.0, "the force on B opposes its slip");
+        assert!(acc.friction > 0.0);
     }
 
     /// An adhesive contact keeps it after detachment: its surface energy and a_s stay.

@@ -43,10 +43,15 @@ pub enum BridgeChoice {
     Laplace,
 }
 
+/// The tangential law (`SET TANgential`); new variants go at the end (checkpoint format).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum TangentialChoice {
+    /// Mindlin–Deresiewicz with Thornton's θ factors (Lian 1994), `physics::tangential`.
     Md,
+    /// Mindlin no-slip spring with a Coulomb cap, `physics::tangential::noslip_spring`.
     NoSlip,
+    /// Walton's incremental Mindlin–Deresiewicz (Shang 1998 (2.28)–(2.38)), `physics::walton`.
+    Walton,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -14,7 +14,8 @@ use trubal::sim::{Scene, Vec3};
 /// A small scene with a bit of everything: periodic x/y and open z, two size and material
 /// types, restitution and Rayleigh damping, liquid bridges, gravity, a servo-controlled wall,
 /// an agglomerate region, an advanced random generator, a PLot SAve reference, history rows,
-/// a sliding particle pair (tangential history and a bridge) and a particle on the wall.
+/// a sliding particle pair (tangential history and a bridge) and a particle on the wall; the
+/// last cycles with Walton's law (its history beside the Mindlin–Deresiewicz one).
 const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set tol 40e-6
@@ -43,7 +44,9 @@ create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
 create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
 dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
 plot save
-cycle 40";
+cycle 40
+set tangential walton
+cycle 10";
 
 fn session(lines: &str) -> Session {
     let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
@@ -57,7 +60,21 @@ fn session(lines: &str) -> Session {
 }
 
 fn fixture_scene() -> Scene {
-    session(FIXTURE_SCRIPT).scene.unwrap()
+    let mut sc = session(FIXTURE_SCRIPT).scene.unwrap();
+    // A periodic cell's state (format 4), set directly: at rest (the fixture has walls, which
+    // a moving cell refuses), with its history.
+    sc.cell = trubal::sim::cell::Cell {
+        rate: [0.0; 6],
+        strain: [-1e-3, 2e-3, 3e-4, 5e-2, 0.0, 0.0],
+        shift: 0.0,
+        gain: [2e-3, 40.0],
+        mode: 1,
+        travel: 3e-7,
+        work: 4.5e-9,
+        half: [[1e-12, 2e-12, 0.0], [0.0, -3e-12, 0.0], [0.0, 0.0, 4e-12]],
+        pending: -2e-10,
+    };
+    sc
 }
 
 fn fixtures_dir() -> PathBuf {
@@ -101,6 +118,11 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "share": fs(&b.share), "fresh": b.fresh,
         })),
         "released": fs(&e.released),
+        "walton": {
+            "t_star": f(e.walton.t_star), "fn_prev": f(e.walton.fn_prev),
+            "sense": e.walton.sense, "reversed": e.walton.reversed,
+            "stored": f(e.walton.stored),
+        },
     })
 }
 
@@ -175,6 +197,12 @@ fn facts(sc: &Scene) -> Value {
             "contacts": r.contacts, "bridges": r.bridges,
         })),
         "history": sc.history.rows.iter().map(|r| fs(r)).collect::<Vec<_>>(),
+        "cell": {
+            "rate": fs(&sc.cell.rate), "strain": fs(&sc.cell.strain), "shift": f(sc.cell.shift),
+            "gain": fs(&sc.cell.gain), "mode": sc.cell.mode, "travel": f(sc.cell.travel),
+            "work": f(sc.cell.work), "half": sc.cell.half.iter().map(|r| fs(r)).collect::<Vec<_>>(),
+            "pending": f(sc.cell.pending),
+        },
     })
 }
 
@@ -304,7 +332,7 @@ fn fixtures_of_every_version_still_load() {
                     // of format 4 as 0.
                     for row in got["history"].as_array_mut().into_iter().flatten() {
                         let a = row.as_array_mut().unwrap();
-                        assert!(a[10..].iter().all(|x| x.as_f64() == Some(0.0)), "{name}");
+                        assert!(a[10..].iter().all(|x| x.as_str() == Some("0e0")), "{name}");
                         a.truncate(10);
                     }
                 }
@@ -355,10 +383,12 @@ fn the_whole_state_round_trips() {
     let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
+    let w = &pair.ext().walton;
+    assert!(w.fn_prev > 0.0 && w.sense != 0 && w.stored > 0.0);
     let wall = &sc.contacts.wall_pairs[0].s;
     assert!(wall.touching && wall.bridge.is_some());
     assert!(sc.reference.as_ref().is_some_and(|r| r.ids.len() == 4));
-    assert_eq!(sc.history.rows.len(), 8);
+    assert_eq!(sc.history.rows.len(), 10);
     assert_eq!(sc.settings.periodic, [true, true, false]);
     assert!(sc.settings.tol.is_some() && sc.liquid.is_some() && sc.regions[0].is_some());
     assert!(sc.damping_pp.alpha > 0.0 && sc.materials[0].restitution.is_some());
@@ -701,7 +731,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         );
         let infos = info_lines(&out);
         assert_eq!(infos.len(), 1, "{out}");
-        assert_eq!(infos[0]["cycle"], 40);
+        assert_eq!(infos[0]["cycle"], 50);
         assert_eq!(infos[0]["balls"], 4);
 
         // After New: still no scene after the failure; STArt works.
@@ -723,7 +753,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         "restart good.sav\ncycle 3\nrestart good.sav\nprint info\n",
     );
     assert!(err.contains("give New first"), "{err}");
-    assert_eq!(info_lines(&out)[0]["cycle"], 43);
+    assert_eq!(info_lines(&out)[0]["cycle"], 53);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -733,10 +763,10 @@ fn default_file_names() {
     std::fs::write(dir.join("save.old"), current_fixture_bytes()).unwrap();
     let (out, err) = trubal(&dir, "restart\ncycle 2\nsave\nprint info\n");
     assert!(err.is_empty(), "{err}");
-    assert!(out.contains("restarted from save.old at cycle 40"), "{out}");
-    assert!(out.contains("saved cycle 42 to save.new"), "{out}");
+    assert!(out.contains("restarted from save.old at cycle 50"), "{out}");
+    assert!(out.contains("saved cycle 52 to save.new"), "{out}");
     let sc = checkpoint::load(&dir.join("save.new")).unwrap();
-    assert_eq!(sc.cycle, 42);
+    assert_eq!(sc.cycle, 52);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -758,7 +788,7 @@ fn a_failed_save_keeps_the_old_file() {
     assert!(err.contains("untouched"), "{err}");
     assert_eq!(
         info_lines(&out)[0]["cycle"],
-        50,
+        60,
         "the session goes on after a failed save"
     );
     assert!(std::fs::read(dir.join("state.sav")).unwrap() == old);
@@ -770,7 +800,7 @@ fn a_failed_save_keeps_the_old_file() {
     std::fs::remove_dir(dir.join("state.sav.tmp")).unwrap();
     let (_, err) = trubal(&dir, "restart state.sav\ncycle 10\nsave state.sav\n");
     assert!(err.is_empty(), "{err}");
-    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 50);
+    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 60);
     assert!(!dir.join("state.sav.tmp").exists());
     // A directory that does not exist (library API: `/` separates words in the language).
     let target = dir.join("no").join("such").join("x.sav");

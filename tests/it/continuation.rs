@@ -236,6 +236,29 @@ fn adhesive_scene_continues_bitwise() {
     );
 }
 
+/// Walton's law (`SET TANgential WALTON`): the adhesive agglomerate, hitting the floor
+/// obliquely, has JKR contacts with turning points and stored energy, which SAve/RESTart
+/// must keep to the bit.
+#[test]
+fn walton_scene_continues_bitwise() {
+    let setup = format!("{ADHESIVE}\nset tangential walton")
+        .replace("velocity 0 0 -0.5 0", "velocity 0.3 0.1 -0.5 0");
+    assert!(setup.contains("velocity 0.3"));
+    let dir = scratch("walton-probe");
+    let mut s = session_in(&dir, &setup);
+    run(&mut s, "cycle 3000");
+    let sc = s.scene.as_ref().unwrap();
+    assert!(
+        sc.contacts.iter().any(|p| p.s.touching
+            && p.s.gamma() > 0.0
+            && p.s.ext().walton.reversed
+            && p.s.ext().walton.stored > 0.0),
+        "the scene must have JKR contacts with a Walton history"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    check_continuation("walton", &setup, 6000, &[1, 2999, 4500, 5999]);
+}
+
 /// Wet: the same agglomerate with pendular bridges (water, 1 % volume, viscous) and gravity,
 /// dropped onto a floor: bridges form, stretch and rupture.
 const WET: &str = "start 0.01 0.01 0.01 1000 100 2

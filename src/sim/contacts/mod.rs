@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::scene::{Particles, Vec3};
 use crate::physics::bridge::{Bridge, BridgeCoeffs, BridgeModel};
 use crate::physics::tangential::TangentialState;
+use crate::physics::walton::WaltonState;
 
 mod keys;
 pub mod old;

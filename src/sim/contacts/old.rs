@@ -2,12 +2,13 @@
 //! version 1 stored every contact state in one flat layout (with a contact normal that was
 //! written and never read); version 2 had no `v_prev` (the velocity-dependent forces were
 //! evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
-//! pair as isolated).
+//! pair as isolated); versions 2 and 3 had no `walton` in the law-specific part (Walton's law
+//! did not exist), read as its default.
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
 
-use super::{BridgeState, ContactExt, TangentialState, Vec3};
+use super::{BridgeState, ContactExt, TangentialState, Vec3, WaltonState};
 
 thread_local! {
     /// The format version being decoded (0: the current one).
@@ -59,6 +60,7 @@ impl From<V1> for super::ContactState {
             tdelta: o.tdelta,
             tang: o.tang,
             released: o.released,
+            walton: WaltonState::default(),
         };
         super::ContactState {
             touching: o.touching,
@@ -87,8 +89,72 @@ struct V2 {
     a: f64,
     tforce: Vec3,
     tdamp: Vec3,
-    ext: Option<Box<ContactExt>>,
+    ext: Option<Box<ExtV3>>,
     bridge: Option<Box<BridgeState>>,
+}
+
+/// The law-specific part of the contact state as format versions 2 and 3 wrote it (frozen:
+/// never change).
+#[derive(Deserialize)]
+struct ExtV3 {
+    a_s: f64,
+    gamma: f64,
+    delta: Vec3,
+    tdelta: f64,
+    tang: TangentialState,
+    released: [f64; 2],
+}
+
+impl From<ExtV3> for ContactExt {
+    fn from(o: ExtV3) -> Self {
+        ContactExt {
+            a_s: o.a_s,
+            gamma: o.gamma,
+            delta: o.delta,
+            tdelta: o.tdelta,
+            tang: o.tang,
+            released: o.released,
+            walton: WaltonState::default(),
+        }
+    }
+}
+
+fn ext_v3(e: Option<Box<ExtV3>>) -> Option<Box<ContactExt>> {
+    e.map(|e| Box::new((*e).into()))
+}
+
+/// The contact state as format version 3 wrote it (frozen: never change).
+#[derive(Deserialize)]
+struct V3 {
+    touching: bool,
+    overlap: f64,
+    normal_force: f64,
+    damp_force: f64,
+    v_prev: f64,
+    tang_energy: f64,
+    a: f64,
+    tforce: Vec3,
+    tdamp: Vec3,
+    ext: Option<Box<ExtV3>>,
+    bridge: Option<Box<BridgeState>>,
+}
+
+impl From<V3> for super::ContactState {
+    fn from(o: V3) -> Self {
+        super::ContactState {
+            touching: o.touching,
+            overlap: o.overlap,
+            normal_force: o.normal_force,
+            damp_force: o.damp_force,
+            v_prev: o.v_prev,
+            tang_energy: o.tang_energy,
+            a: o.a,
+            tforce: o.tforce,
+            tdamp: o.tdamp,
+            ext: ext_v3(o.ext),
+            bridge: o.bridge,
+        }
+    }
 }
 
 impl From<V2> for super::ContactState {
@@ -103,7 +169,7 @@ impl From<V2> for super::ContactState {
             a: o.a,
             tforce: o.tforce,
             tdamp: o.tdamp,
-            ext: o.ext,
+            ext: ext_v3(o.ext),
             bridge: o.bridge,
         }
     }
@@ -116,6 +182,7 @@ pub fn deserialize_state<'de, D: Deserializer<'de>>(
     match version() {
         1 => V1::deserialize(de).map(Into::into),
         2 => V2::deserialize(de).map(Into::into),
+        3 => V3::deserialize(de).map(Into::into),
         _ => super::ContactState::deserialize(de),
     }
 }

@@ -111,6 +111,9 @@ pub struct ContactExt {
     pub tang: TangentialState,
     /// Liquid returned to A and B by a bridge that ruptured in this step (conserving mode).
     pub released: [f64; 2],
+    /// Walton's law's turning point and history (`SET TANgential WALTON`; checkpoint
+    /// format 4).
+    pub walton: WaltonState,
 }
 
 impl Default for ContactState {
