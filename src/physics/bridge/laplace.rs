@@ -398,57 +398,17 @@ impl Trace {
         Trace::from_norm(n)
     }
 
+    /// Trace the branch of a normalised bridge: from the toroidal estimate at contact,
+    /// projected onto the branch, along the branch (walking back first if the start has
+    /// `S > 0`) through the fold and a few points beyond; then the contact state `S = 0`
+    /// and the fold (max `S`, Lian 1994 §4.2.3) refined between the traced points.
     pub(crate) fn from_norm(n: Norm) -> Option<Trace> {
         if !(n.theta >= 0.0 && n.theta < 0.5 * PI && n.v > 0.0 && n.v.is_finite()) {
             return None;
         }
-        // toroidal estimate of the contact state (Lian 1994 (4.53)-(4.61));
-        // H from the contact-line curvature scaled by (4.51) at S = 0
-        let phi = super::toroidal::solve_phi1(&n, 0.0, super::fit::phi1_guess(&n, 0.0))?;
-        let t = super::toroidal::torus(&n, phi, 0.0)?;
-        let sp = phi.sin();
-        let h_max = (2.0 * sp - t.rho1 - t.rho2) / (2.0 * t.rho1 * sp);
-        let h0 = 0.91 * (h_max + 1.0) - 1.0;
-        let y2 = if n.k.is_finite() {
-            n.k * t.phi2.sin()
-        } else {
-            t.rho2 + t.rho1 * (1.0 - n.sin_t)
-        };
-        let hs = sp * sp;
-        let z0 = [sp, y2, h0 * hs];
-        // project onto the branch (minimum-norm Newton)
-        let mut z = z0;
-        let mut ok = None;
-        for _ in 0..60 {
-            let (g, st) = eval3(&n, hs, &z)?;
-            if (g[0] / (1e-3 + st.f_star)).abs().max((g[1] / n.v).abs()) < 1e-13 {
-                ok = Some(st);
-                break;
-            }
-            let j = jacobian(&n, hs, &z, &g)?;
-            let nrm = cross(&j[0], &j[1]);
-            let dz = solve3([j[0], j[1], nrm], [-g[0], -g[1], 0.0])?;
-            // damp large steps
-            let len = dot(&dz, &dz).sqrt();
-            let f = if len > 0.1 { 0.1 / len } else { 1.0 };
-            for k in 0..3 {
-                z[k] += f * dz[k];
-            }
-        }
-        let st0 = ok?;
-        let (g0, _) = eval3(&n, hs, &z)?;
-        let j0 = jacobian(&n, hs, &z, &g0)?;
-        let mut t0 = unit(cross(&j0[0], &j0[1]))?;
-        // orient towards growing gap
-        {
-            let e = 1e-6;
-            let zz = [z[0] + e * t0[0], z[1] + e * t0[1], z[2] + e * t0[2]];
-            let (_, s1) = eval3(&n, hs, &zz)?;
-            let growing = s1.s > st0.s;
-            if !growing {
-                t0 = [-t0[0], -t0[1], -t0[2]];
-            }
-        }
+        let (hs, z0) = contact_estimate(&n)?;
+        let (z, st0) = project_onto_branch(&n, hs, z0)?;
+        let (j0, t0) = tangent_towards_growing_gap(&n, hs, &z, &st0)?;
         let s_est = (1.0 + 0.5 * n.theta) * n.v.cbrt();
         let start = Pt {
             sigma: 0.0,
@@ -459,22 +419,7 @@ impl Trace {
         };
         // if the start has S > 0, walk back first (same machinery, reversed)
         let start = if st0.s > 0.0 {
-            let back = Pt {
-                t: [-t0[0], -t0[1], -t0[2]],
-                ..start
-            };
-            let pts = march(&n, hs, back, s_est, |p: &[Pt]| {
-                p.last().is_some_and(|q| q.st.s < 0.0)
-            })?;
-            let last = *pts.last()?;
-            if !(last.st.s < 0.0) {
-                return None;
-            }
-            Pt {
-                sigma: 0.0,
-                t: [-last.t[0], -last.t[1], -last.t[2]],
-                ..last
-            }
+            walk_back(&n, hs, start, s_est)?
         } else {
             start
         };
@@ -491,19 +436,35 @@ impl Trace {
             fold: pts[imax].st,
             pts,
         };
-        // contact state S = 0 (between the first two points with S changing sign)
-        let k0 = tr
+        tr.sigma_contact = tr.contact_param()?;
+        let sf = tr.fold_param(imax);
+        tr.fold = tr.state_at_param(sf)?;
+        tr.sigma_fold = sf;
+        if !(tr.fold.s > 0.0) {
+            return None;
+        }
+        Some(tr)
+    }
+
+    /// The parameter of the contact state `S = 0`, between the first two traced points
+    /// with `S` changing sign (Brent).
+    fn contact_param(&self) -> Option<f64> {
+        let k0 = self
             .pts
             .windows(2)
             .position(|w| w[0].st.s <= 0.0 && w[1].st.s >= 0.0)?;
-        let (a, b) = (tr.pts[k0].sigma, tr.pts[k0 + 1].sigma);
-        let g = |sg: f64| tr.state_at_param(sg).map(|s| s.s).unwrap_or(f64::NAN);
-        tr.sigma_contact = brent(g, a, b, g(a), g(b), 1e-15, 200)?;
-        // fold: golden-section maximisation of S(σ) around the largest point
-        let (mut lo, mut hi) = (tr.pts[imax - 1].sigma, tr.pts[imax + 1].sigma);
+        let (a, b) = (self.pts[k0].sigma, self.pts[k0 + 1].sigma);
+        let g = |sg: f64| self.state_at_param(sg).map(|s| s.s).unwrap_or(f64::NAN);
+        brent(g, a, b, g(a), g(b), 1e-15, 200)
+    }
+
+    /// The parameter of the fold: golden-section maximisation of `S(σ)` between the
+    /// neighbours of the largest traced point `imax`.
+    fn fold_param(&self, imax: usize) -> f64 {
+        let (mut lo, mut hi) = (self.pts[imax - 1].sigma, self.pts[imax + 1].sigma);
         let gr = 0.5 * (5f64.sqrt() - 1.0);
         let sval = |sg: f64| {
-            tr.state_at_param(sg)
+            self.state_at_param(sg)
                 .map(|s| s.s)
                 .unwrap_or(f64::NEG_INFINITY)
         };
@@ -525,13 +486,7 @@ impl Trace {
                 f2 = sval(x2);
             }
         }
-        let sf = 0.5 * (lo + hi);
-        tr.fold = tr.state_at_param(sf)?;
-        tr.sigma_fold = sf;
-        if !(tr.fold.s > 0.0) {
-            return None;
-        }
-        Some(tr)
+        0.5 * (lo + hi)
     }
 
     /// The state at continuation parameter `sigma` (stable or unstable side).
@@ -597,6 +552,88 @@ impl Trace {
         let sg = brent(g, a, b, ga, g(b), 1e-15, 200)?;
         self.state_at_param(sg)
     }
+}
+
+/// The toroidal estimate of the contact state (Lian 1994 (4.53)–(4.61)), with `H` from
+/// the contact-line curvature scaled by (4.51) at `S = 0`: the scale `hs` of `H` in the
+/// branch variables and the first guess `z = (y1, y2, H hs)`.
+fn contact_estimate(n: &Norm) -> Option<(f64, Z)> {
+    let phi = super::toroidal::solve_phi1(n, 0.0, super::fit::phi1_guess(n, 0.0))?;
+    let t = super::toroidal::torus(n, phi, 0.0)?;
+    let sp = phi.sin();
+    let h_max = (2.0 * sp - t.rho1 - t.rho2) / (2.0 * t.rho1 * sp);
+    let h0 = 0.91 * (h_max + 1.0) - 1.0;
+    let y2 = if n.k.is_finite() {
+        n.k * t.phi2.sin()
+    } else {
+        t.rho2 + t.rho1 * (1.0 - n.sin_t)
+    };
+    let hs = sp * sp;
+    Some((hs, [sp, y2, h0 * hs]))
+}
+
+/// Projects `z0` onto the branch (`C1 = C2`, `V = V_target`) by minimum-norm Newton steps,
+/// damped to length 0.1: the point and its state.
+fn project_onto_branch(n: &Norm, hs: f64, z0: Z) -> Option<(Z, LyState)> {
+    let mut z = z0;
+    for _ in 0..60 {
+        let (g, st) = eval3(n, hs, &z)?;
+        if (g[0] / (1e-3 + st.f_star)).abs().max((g[1] / n.v).abs()) < 1e-13 {
+            return Some((z, st));
+        }
+        let j = jacobian(n, hs, &z, &g)?;
+        let nrm = cross(&j[0], &j[1]);
+        let dz = solve3([j[0], j[1], nrm], [-g[0], -g[1], 0.0])?;
+        // damp large steps
+        let len = dot(&dz, &dz).sqrt();
+        let f = if len > 0.1 { 0.1 / len } else { 1.0 };
+        for k in 0..3 {
+            z[k] += f * dz[k];
+        }
+    }
+    None
+}
+
+/// The Jacobian at the branch point `z` (state `st0`) and the branch's unit tangent there
+/// (the cross product of the constraint gradients), oriented towards a growing gap.
+fn tangent_towards_growing_gap(
+    n: &Norm,
+    hs: f64,
+    z: &Z,
+    st0: &LyState,
+) -> Option<([[f64; 3]; 2], Z)> {
+    let (g0, _) = eval3(n, hs, z)?;
+    let j0 = jacobian(n, hs, z, &g0)?;
+    let mut t0 = unit(cross(&j0[0], &j0[1]))?;
+    let e = 1e-6;
+    let zz = [z[0] + e * t0[0], z[1] + e * t0[1], z[2] + e * t0[2]];
+    let (_, s1) = eval3(n, hs, &zz)?;
+    let growing = s1.s > st0.s;
+    if !growing {
+        t0 = [-t0[0], -t0[1], -t0[2]];
+    }
+    Some((j0, t0))
+}
+
+/// From a start with `S > 0`, the branch followed backwards to the first point with
+/// `S < 0`, turned round to face a growing gap again (parameter reset to 0).
+fn walk_back(n: &Norm, hs: f64, start: Pt, s_est: f64) -> Option<Pt> {
+    let back = Pt {
+        t: [-start.t[0], -start.t[1], -start.t[2]],
+        ..start
+    };
+    let pts = march(n, hs, back, s_est, |p: &[Pt]| {
+        p.last().is_some_and(|q| q.st.s < 0.0)
+    })?;
+    let last = *pts.last()?;
+    if !(last.st.s < 0.0) {
+        return None;
+    }
+    Some(Pt {
+        sigma: 0.0,
+        t: [-last.t[0], -last.t[1], -last.t[2]],
+        ..last
+    })
 }
 
 fn unit(v: Z) -> Option<Z> {

@@ -30,7 +30,8 @@ use super::{
     PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs,
     task_sums, wall_cuts, wall_forces,
 };
-use crate::sim::contacts::{ChunkPlan, StepParts};
+use crate::sim::contacts::{ChunkPlan, ContactState, Pair, StepParts};
+use crate::sim::scene::{Particles, Wall};
 use rayon::prelude::*;
 
 /// A read-only view of a particle array (positions, velocities, spins) for the pair loop:
@@ -183,6 +184,32 @@ unsafe impl Send for Shared {}
 unsafe impl Sync for Shared {}
 
 impl Shared {
+    /// The arrays of the region: the particles' (`p`), the hot pairs, force slots and
+    /// wall pieces, and the chunks' sums.
+    fn of(
+        p: &mut Particles,
+        (hot, out, pieces): (&mut [HotPair], &mut [PairForce], &mut [WallPiece]),
+        sums: &mut [ChunkSums],
+    ) -> Shared {
+        Shared {
+            vel: p.vel.as_mut_ptr(),
+            pos: p.pos.as_mut_ptr(),
+            disp: p.disp.as_mut_ptr(),
+            spin: p.spin.as_mut_ptr(),
+            rot: p.rot.as_mut_ptr(),
+            force: p.force.as_mut_ptr(),
+            moment: p.moment.as_mut_ptr(),
+            np: p.len(),
+            hot: hot.as_mut_ptr(),
+            nhot: hot.len(),
+            out: out.as_mut_ptr(),
+            nout: out.len(),
+            pieces: pieces.as_mut_ptr(),
+            npieces: pieces.len(),
+            sums: sums.as_mut_ptr(),
+        }
+    }
+
     /// # Safety
     /// The caller alone reads or writes the particles of chunk `c` while the arrays live.
     unsafe fn chunk<'a>(&self, c: usize) -> ChunkArrays<'a> {
@@ -273,6 +300,27 @@ impl Shared {
     }
 }
 
+/// The particle arrays of a chunk's update that no task writes in the region (masses,
+/// aggregates, fixed components, radii).
+type Fixed<'a> = (&'a [f64], &'a [u8], &'a [u8], &'a [f64]);
+
+/// One task's own lists: its index, pairs, their contact states and its wall pairs.
+type TaskLists<'a> = (
+    usize,
+    &'a mut [Pair],
+    &'a mut [Vec<ContactState>],
+    &'a mut [WallPair],
+);
+
+/// What a task's forces read: the pair context, the wall pairs' context, the walls with
+/// their shapes, and whether the forces were left zero by the last update.
+type ForceInputs<'a, 'c> = (
+    &'a PairCtx<'c>,
+    &'a PairCtx<'c>,
+    (&'a [Wall], &'a [WallShape]),
+    bool,
+);
+
 /// Both steps of a cycle's time step in one region (several threads): the contact forces
 /// as `pair_forces` makes them and each chunk's update as `move_all` makes it. Returns the
 /// pairs' energy increments (summed per block in block order), the wall pairs' (per block)
@@ -306,32 +354,10 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
     split_if_needed(scatter, hot, np, model.plan.threads);
     out.resize(scatter.slots, PairForce::default());
     let plan = plan(scatter, np, wall_pairs);
-    let ChunkPlan {
-        wall_cut,
-        owner,
-        late,
-        ..
-    } = &plan;
     let ntasks = scatter.ranges.len();
     wall_out.pieces.resize_with(ntasks, WallPiece::default);
     let mut sums: Vec<ChunkSums> = vec![ChunkSums::default(); np.div_ceil(CHUNK)];
-    let sh = Shared {
-        vel: p.vel.as_mut_ptr(),
-        pos: p.pos.as_mut_ptr(),
-        disp: p.disp.as_mut_ptr(),
-        spin: p.spin.as_mut_ptr(),
-        rot: p.rot.as_mut_ptr(),
-        force: p.force.as_mut_ptr(),
-        moment: p.moment.as_mut_ptr(),
-        np,
-        hot: hot.as_mut_ptr(),
-        nhot: hot.len(),
-        out: out.as_mut_ptr(),
-        nout: out.len(),
-        pieces: wall_out.pieces.as_mut_ptr(),
-        npieces: ntasks,
-        sums: sums.as_mut_ptr(),
-    };
+    let sh = Shared::of(p, (hot, out, &mut wall_out.pieces), &mut sums);
     let inc = &*scatter;
     // SAFETY (the access rules of the region): a task reads positions, velocities and
     // spins of the particles its pairs and wall pairs touch — those of its interval and the
@@ -359,30 +385,169 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         laws: laws_pw,
         ..ctx
     };
-    let fixed = (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]);
-    let walls_of = (&walls[..], shapes);
-    // Each task's own pairs, states and wall pairs (no other task reads them).
-    let mut tasks = Vec::with_capacity(ntasks);
-    {
-        let (mut pairs, mut blocks) = (&mut pairs[..], &mut blocks[..]);
-        let mut wall_rest = &mut wall_pairs[..];
-        for (t, r) in inc.ranges.iter().enumerate() {
-            let (pp, rest) = pairs.split_at_mut(r.pairs.len());
-            pairs = rest;
-            let (b, rest) = blocks.split_at_mut(r.pairs.len().div_ceil(super::BLOCK));
-            blocks = rest;
-            let (w, rest) = wall_rest.split_at_mut(wall_cut[t + 1] - wall_cut[t]);
-            wall_rest = rest;
-            tasks.push((t, pp, b, w));
+    let tasks = task_lists(inc, pairs, blocks, wall_pairs, &plan.wall_cut);
+    let region = Region {
+        sh,
+        inc,
+        plan: &plan,
+        mv,
+        fixed: (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]),
+        keep,
+        done: AtomicUsize::new(0),
+        next_late: AtomicUsize::new(0),
+    };
+    let inputs: ForceInputs = (&ctx, &wall_ctx, (&walls[..], shapes), zeroed);
+    let results: Vec<(Vec<Acc>, Vec<Acc>, f64)> = tasks
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|lists| region.task::<ADH, LIQ>(lists, inputs))
+        .collect();
+    let (pair_acc, wall_acc) = task_sums(&results, &mut scatter.balance);
+    scatter.plan = Some(plan);
+    (pair_acc, wall_acc, sums)
+}
+
+/// Each task's own pairs, states and wall pairs (no other task reads them): the lists cut
+/// at the tasks' pair ranges (the states at whole blocks) and at `wall_cut`.
+fn task_lists<'a>(
+    inc: &Incidence,
+    mut pairs: &'a mut [Pair],
+    mut blocks: &'a mut [Vec<ContactState>],
+    mut wall_rest: &'a mut [WallPair],
+    wall_cut: &[usize],
+) -> Vec<TaskLists<'a>> {
+    let mut tasks = Vec::with_capacity(inc.ranges.len());
+    for (t, r) in inc.ranges.iter().enumerate() {
+        let (pp, rest) = pairs.split_at_mut(r.pairs.len());
+        pairs = rest;
+        let (b, rest) = blocks.split_at_mut(r.pairs.len().div_ceil(super::BLOCK));
+        blocks = rest;
+        let (w, rest) = wall_rest.split_at_mut(wall_cut[t + 1] - wall_cut[t]);
+        wall_rest = rest;
+        tasks.push((t, pp, b, w));
+    }
+    tasks
+}
+
+/// What the tasks of one region share: the arrays (see [`Shared`]), the split and its
+/// chunk plan, the update's constants, and the counters of the tasks done and of the late
+/// chunks taken.
+struct Region<'r> {
+    sh: Shared,
+    inc: &'r Incidence,
+    plan: &'r ChunkPlan,
+    mv: &'r Mover,
+    fixed: Fixed<'r>,
+    /// Keep the forces after the update (otherwise cleared chunk by chunk).
+    keep: bool,
+    done: AtomicUsize,
+    next_late: AtomicUsize,
+}
+
+impl Region<'_> {
+    /// One task of the region: its wall pairs and pairs, then the chunks it owns, then
+    /// (with the tasks still there once every task's pairs are done) the late chunks.
+    /// Returns the energy increments of its pair blocks and wall blocks and the time it
+    /// took up to its own chunks (for the balance of the next split).
+    fn task<const ADH: bool, const LIQ: bool>(
+        &self,
+        (t, pairs, blocks, wp): TaskLists<'_>,
+        inputs: ForceInputs<'_, '_>,
+    ) -> (Vec<Acc>, Vec<Acc>, f64) {
+        let t0 = std::time::Instant::now();
+        let (accs, wall_accs) = self.task_forces::<ADH, LIQ>(t, (pairs, blocks, wp), inputs);
+        self.done.fetch_add(1, Ordering::AcqRel);
+        self.own_chunks(t);
+        let secs = t0.elapsed().as_secs_f64();
+        self.late_chunks();
+        (accs, wall_accs, secs)
+    }
+
+    /// Task `t`'s wall forces and pair forces (`wall_forces`, `task_pairs`), into its wall
+    /// piece, its force slots and the forces of its interval.
+    #[inline]
+    fn task_forces<const ADH: bool, const LIQ: bool>(
+        &self,
+        t: usize,
+        (pairs, blocks, wp): (&mut [Pair], &mut [Vec<ContactState>], &mut [WallPair]),
+        (ctx, wall_ctx, walls_of, zeroed): ForceInputs<'_, '_>,
+    ) -> (Vec<Acc>, Vec<Acc>) {
+        let inc = self.inc;
+        let r = &inc.ranges[t];
+        let slots = inc.task_slots[t].clone();
+        let np = self.sh.np;
+        // SAFETY: until it counts itself done, task `t` alone touches its wall piece,
+        // its range of hot pairs and force slots and the forces of its interval.
+        let (piece, hots, outs, force, moment) = unsafe {
+            self.sh
+                .task(t, (r.pairs.clone(), slots.clone(), r.parts.clone()))
+        };
+        let wall_accs = wall_forces::<ADH, LIQ>(wp, piece, walls_of, wall_ctx, np);
+        let accs = task_pairs::<ADH, LIQ>(
+            (r, slots.start, inc),
+            (hots, pairs, blocks, outs),
+            (force, moment, zeroed),
+            ctx,
+        );
+        (accs, wall_accs)
+    }
+
+    /// The chunks task `t` owns ([`chunk_owners`]), once its own pairs and wall pairs are
+    /// done: what it left is its wall piece.
+    #[inline]
+    fn own_chunks(&self, t: usize) {
+        // SAFETY: piece `t` is no longer written.
+        let own = std::slice::from_ref(unsafe { self.sh.piece(t) });
+        let owner = &self.plan.owner;
+        for (c, _) in owner.iter().enumerate().filter(|(_, o)| **o == t as u32) {
+            self.update(
+                c,
+                Left {
+                    scatter: None,
+                    walls: own,
+                },
+            );
         }
     }
-    let done = AtomicUsize::new(0);
-    let next_late = AtomicUsize::new(0);
-    let update = |c: usize, left: Left<'_>| {
+
+    /// The late chunks go to the tasks still here once every task's pairs are done: wait
+    /// for that a while. A task that gives up leaves them to the last one to be done,
+    /// which does not wait: no task waits longer than `MAX_WAIT`, even for a task that has
+    /// not started (if the same worker is to run both).
+    #[inline]
+    fn late_chunks(&self) {
+        let ntasks = self.inc.ranges.len();
+        let wait = std::time::Instant::now();
+        while self.done.load(Ordering::Acquire) < ntasks && wait.elapsed() < MAX_WAIT {
+            std::hint::spin_loop();
+        }
+        if self.done.load(Ordering::Acquire) == ntasks {
+            // SAFETY: every task's pairs and wall pairs are done: the hot pairs, slots and
+            // wall pieces are only read from here on.
+            let (hot, out, pieces) = unsafe { self.sh.all() };
+            let left = Left {
+                scatter: Some((self.inc, hot, out)),
+                walls: pieces,
+            };
+            loop {
+                let k = self.next_late.fetch_add(1, Ordering::Relaxed);
+                let Some(&c) = self.plan.late.get(k) else {
+                    break;
+                };
+                self.update(c as usize, left);
+            }
+        }
+    }
+
+    /// Updates chunk `c` as `move_all` does (after adding what the force step `left`),
+    /// clears its forces unless they are kept, and keeps its sums.
+    #[inline]
+    fn update(&self, c: usize, left: Left<'_>) {
+        let (sh, mv) = (&self.sh, self.mv);
         // SAFETY: chunk `c` is updated by this task alone (owned, or claimed once through
         // `next_late`), and no other task reads its particles now (the access rules).
-        let s = mv.chunk(c, unsafe { sh.chunk(c) }, fixed, Some(left));
-        if !keep && s.bad.is_none() {
+        let s = mv.chunk(c, unsafe { sh.chunk(c) }, self.fixed, Some(left));
+        if !self.keep && s.bad.is_none() {
             // Cleared while in the cache, as in `move_all`.
             let a = unsafe { sh.chunk(c) };
             a.force.fill(Vec3::zeros());
@@ -390,75 +555,13 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         }
         // SAFETY: one writer per chunk (as above).
         unsafe { sh.set_sums(c, s) };
-    };
-    let results: Vec<(Vec<Acc>, Vec<Acc>, f64)> = tasks
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|(t, pairs, blocks, wp)| {
-            let t0 = std::time::Instant::now();
-            let r = &inc.ranges[t];
-            let slots = inc.task_slots[t].clone();
-            let (accs, wall_accs) = {
-                // SAFETY: until it counts itself done, task `t` alone touches its wall piece,
-                // its range of hot pairs and force slots and the forces of its interval.
-                let (piece, hots, outs, force, moment) =
-                    unsafe { sh.task(t, (r.pairs.clone(), slots.clone(), r.parts.clone())) };
-                let wall_accs = wall_forces::<ADH, LIQ>(wp, piece, walls_of, &wall_ctx, np);
-                let accs = task_pairs::<ADH, LIQ>(
-                    (r, slots.start, inc),
-                    (hots, pairs, blocks, outs),
-                    (force, moment, zeroed),
-                    &ctx,
-                );
-                (accs, wall_accs)
-            };
-            done.fetch_add(1, Ordering::AcqRel);
-            // SAFETY: piece `t` is no longer written.
-            let own = std::slice::from_ref(unsafe { sh.piece(t) });
-            for (c, _) in owner.iter().enumerate().filter(|(_, o)| **o == t as u32) {
-                update(
-                    c,
-                    Left {
-                        scatter: None,
-                        walls: own,
-                    },
-                );
-            }
-            let secs = t0.elapsed().as_secs_f64();
-            // The late chunks go to the tasks still here once every task's pairs are done:
-            // wait for that a while. A task that gives up leaves them to the last one to be
-            // done, which does not wait: no task waits longer than `MAX_WAIT`, even for a
-            // task that has not started (if the same worker is to run both).
-            let wait = std::time::Instant::now();
-            while done.load(Ordering::Acquire) < ntasks && wait.elapsed() < MAX_WAIT {
-                std::hint::spin_loop();
-            }
-            if done.load(Ordering::Acquire) == ntasks {
-                // SAFETY: every task's pairs and wall pairs are done: the hot pairs, slots and
-                // wall pieces are only read from here on.
-                let (hot, out, pieces) = unsafe { sh.all() };
-                let left = Left {
-                    scatter: Some((inc, hot, out)),
-                    walls: pieces,
-                };
-                loop {
-                    let k = next_late.fetch_add(1, Ordering::Relaxed);
-                    let Some(&c) = late.get(k) else { break };
-                    update(c as usize, left);
-                }
-            }
-            (accs, wall_accs, secs)
-        })
-        .collect();
-    let (pair_acc, wall_acc) = task_sums(&results, &mut scatter.balance);
-    scatter.plan = Some(plan);
-    (pair_acc, wall_acc, sums)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::contacts::{ContactState, PairRange};
+    use crate::sim::contacts::PairRange;
 
     fn wall_pair(i: u32) -> WallPair {
         WallPair {

@@ -290,6 +290,12 @@ impl Mover {
 
     /// The per-particle update of a chunk: aggregate gravity, fixed components, 2-D, mass
     /// damping and their work, Lian (5.9)–(5.14).
+    ///
+    /// The plain particles of a chunk take `leapfrog::update` instead: the same integration
+    /// without these terms, as a flat loop over components that the compiler vectorises
+    /// (this loop's terms mix a particle's components, so it stays per particle; the
+    /// module comment of `leapfrog` has the figures). Both take the velocity from
+    /// [`leapfrog::velocity`]; `leapfrog`'s tests hold the two to the same bits.
     #[inline(always)]
     fn general(
         &self,
@@ -337,7 +343,7 @@ impl Mover {
             let fb = body * (m * fmm);
             let f = force[l] + fb;
             let v_old = vel[l];
-            let mut v = v_old * damp + f * step_v[l];
+            let mut v = leapfrog::velocity(v_old, damp, f, step_v[l]);
             let fx = fixed[i];
             keep_fixed(&mut v, &v_old, fx);
             if two_d {
@@ -362,7 +368,7 @@ impl Mover {
             if rotation {
                 let inertia = 0.4 * m * radius[i] * radius[i];
                 let w_old = spin[l];
-                let mut w = w_old * damp + moment[l] * step_w[l];
+                let mut w = leapfrog::velocity(w_old, damp, moment[l], step_w[l]);
                 keep_fixed(&mut w, &w_old, fx >> 3);
                 if two_d {
                     w.x = 0.0;
