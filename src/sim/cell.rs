@@ -152,6 +152,30 @@ pub fn measured(t: StressTarget, s: &[[f64; 3]; 3]) -> f64 {
     }
 }
 
+/// The servo's loop gain per step, `g M Δt`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a the
+/// Hertz stiffness of each touching contact, l its branch length): an upper bound of the
+/// assembly's modulus dσ/dε under an affine strain. Mode 1 relaxes the error by
+/// `(1 − g M Δt)` per step (it overshoots above 1 and diverges above 2); mode 0 oscillates
+/// about the target and diverges above 4 (doc/cell.md, "Choosing the servo gain").
+pub fn servo_loop_gain(scene: &Scene, dt: f64) -> f64 {
+    let p = &scene.particles;
+    let mut m = 0.0;
+    for c in scene.contacts.iter() {
+        if !c.s.touching {
+            continue;
+        }
+        let (i, j) = (c.i as usize, c.j as usize);
+        let (a, b) = (
+            &scene.materials[p.material[i] as usize - 1],
+            &scene.materials[p.material[j] as usize - 1],
+        );
+        let es = crate::physics::hertz::e_star(a.young, a.poisson, b.young, b.poisson);
+        let l = scene.branch(&p.pos[i], &p.pos[j]);
+        m += 2.0 * es * c.s.a * l.norm_squared();
+    }
+    scene.cell.gain[0] * m / super::stress::volume(scene) * dt
+}
+
 /// One servo update after a step (TRUBAL's `GAIN g edmax`, `Mode`): with the error
 /// `e = target − measured` (compression positive), mode 0 (velocity-increment control)
 /// changes each adjusted rate by `−g e`, mode 1 (velocity control) sets it to `−g e`; the

@@ -370,3 +370,45 @@ fn two_d_motion_stays_in_the_plane() {
     let e = s.run_line("cycle 10").unwrap_err().message;
     assert!(e.contains("off the plane"), "{e}");
 }
+
+/// A servo gain that would make the cell's stress diverge at the present contacts is
+/// refused before cycling, with the largest usable gain; that gain (halved) holds the target.
+#[test]
+fn a_diverging_servo_gain_is_refused() {
+    let r: f64 = 1e-3;
+    let d0 = 2.0 * r;
+    let mut lines = format!(
+        "start {0} {0} {0} 27 100 0\nrad {r} 1\ndensity 2500 1\nymd 1e8 1\npra 0.3 1\nfriction 0.5 1\n",
+        3.0 * d0
+    );
+    for i in 0..27 {
+        let c = |q: i32| (q as f64 + 0.5) * d0;
+        lines.push_str(&format!(
+            "cr {:e} {:e} {:e} 0 0 0 0 0 0 1 1\n",
+            c(i / 9),
+            c((i / 3) % 3),
+            c(i % 3)
+        ));
+    }
+    lines.push_str("grid -2 -2 -2 0 0 0\ncycle 300\ngrid 0 0 0 0 0 0\nmode 1\ngain 1e3 10\n");
+    let mut s = session(&lines);
+    let before = s.scene.as_ref().unwrap().cycle;
+    let e = s.run_line("cycle 100 s0 1e3").unwrap_err().message;
+    assert!(e.contains("diverge"), "{e}");
+    assert_eq!(s.scene.as_ref().unwrap().cycle, before);
+    let usable: f64 = e
+        .split("use GAIN below ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    s.run_line(&format!("gain {:e} 10", 0.5 * usable)).unwrap();
+    s.run_line("cycle 3000 s0 1e3").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert!(
+        rel(stress::of(sc).mean(), 1e3) < 0.01,
+        "{:e}",
+        stress::of(sc).mean()
+    );
+}
