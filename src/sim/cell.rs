@@ -43,9 +43,9 @@ pub struct Cell {
     pub gain: [f64; 2],
     /// Servo mode: 0 velocity-increment control, 1 velocity control (`Mode n`).
     pub mode: u8,
-    /// How far the Lees–Edwards offset moved since the last rebuild of the candidate list
-    /// (m): it moves the images above like a particle's displacement (saved, so that a
-    /// restarted run rebuilds when the continued one does).
+    /// A bound of how much the mean field changed the branch vector of a pair within reach
+    /// since the last rebuild of the candidate list (m, [`deform`]); saved, so that a
+    /// restarted run rebuilds when the continued one does.
     pub travel: f64,
     /// Work put in by the cell's deformation, −∫ V σ:G dt (J), up to the state of the
     /// last forces: a term of the energy books' input (`energy::residual`). Each step's
@@ -199,8 +199,7 @@ pub fn servo_step(cell: &mut Cell, servo: &Servo, s: &[[f64; 3]; 3]) {
 
 /// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
 /// stress of this step's forces, the deformation ([`deform`]) and the servo's new rates.
-/// Returns the largest displacement component the mean field gave a particle.
-pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) -> f64 {
+pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) {
     let s = super::stress::of(scene);
     let total = s.total();
     let dot = |h: &[[f64; 3]; 3]| -> f64 {
@@ -217,7 +216,6 @@ pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) -> f64 {
     c.work += c.pending + dot(&c.half);
     c.half = [[0.0; 3]; 3];
     c.pending = 0.0;
-    let mut moved = 0.0;
     if c.is_active() {
         let g = c.gradient();
         let v = super::stress::volume(scene);
@@ -228,12 +226,11 @@ pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) -> f64 {
             }
         }
         c.pending = dot(&c.half);
-        moved = deform(scene, dt);
+        deform(scene, dt);
     }
     if let Some(servo) = servo {
         servo_step(&mut scene.cell, servo, &s.total());
     }
-    moved
 }
 
 /// The strain of a probe (`PRObe`): small enough to stay elastic in a Hertz packing
@@ -329,39 +326,39 @@ pub fn shrink_refusal(scene: &Scene, n: u64, dt: f64) -> Option<String> {
 
 /// The cell's share of a step, after the particles moved with their peculiar velocities:
 /// the cell and the particles' positions follow the mean field, the peculiar velocities lose
-/// `G C Δt` (SLLOD), the Lees–Edwards offset advances. Returns the largest displacement
-/// component the field gave a particle (for the search's re-mapping rule).
-pub fn deform(scene: &mut Scene, dt: f64) -> f64 {
+/// `G C Δt` (SLLOD), the Lees–Edwards offset advances.
+///
+/// The re-mapping rule: the mean field moves the cell's images with it, so it changes the
+/// branch vector `l` of any pair (across a side or the sheared side included) by exactly
+/// `G l Δt`; for the pairs that can come within reach before the next rebuild, `|l|` is at
+/// most about `4 R_max`. So the field's share of the particles' motion is not counted as
+/// their displacement (`Particles::disp`: the peculiar motion only); the bound
+/// `max_k Σ_j |G_kj| 4 R_max Δt` of its relative share is added to `Cell::travel`.
+pub fn deform(scene: &mut Scene, dt: f64) {
     let r = scene.cell.rate;
     let f = [(r[0] * dt).exp(), (r[1] * dt).exp(), (r[2] * dt).exp()];
     let shear = r[3] * dt;
+    let reach = 4.0 * scene.max_radius();
     let p = &mut scene.particles;
-    let mut most = 0.0f64;
     for i in 0..p.pos.len() {
         let x = p.pos[i];
         let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
         y.x += shear * x.y;
-        let d = y - x;
         p.pos[i] = y;
-        p.disp[i] += d;
-        most = most.max(d.amax());
         let c = p.vel[i];
         p.vel[i] = Vec3::new(c.x / f[0] - shear * c.y, c.y / f[1], c.z / f[2]);
     }
     for k in 0..3 {
-        let l = scene.size[k] * f[k];
-        // (An image across side k moves with the side.)
-        scene.cell.travel += (l - scene.size[k]).abs();
-        scene.size[k] = l;
+        scene.size[k] *= f[k];
         scene.cell.strain[k] += r[k] * dt;
     }
     scene.cell.strain[3] += r[3] * dt;
     if r[3] != 0.0 {
         let (lx, step) = (scene.size[0], r[3] * scene.size[1] * dt);
         scene.cell.shift = (scene.cell.shift + step).rem_euclid(lx);
-        scene.cell.travel += step.abs();
     }
-    most
+    let row = (r[0].abs() + r[3].abs()).max(r[1].abs()).max(r[2].abs());
+    scene.cell.travel += row * reach * dt;
 }
 
 /// Brings every particle back into the cell through the periodic sides; across y with the

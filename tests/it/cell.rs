@@ -412,3 +412,35 @@ fn a_diverging_servo_gain_is_refused() {
         stress::of(sc).mean()
     );
 }
+
+/// The candidate list of a compressed, sheared cell (rebuilt by the peculiar displacements
+/// and the bound of the mean field's relative share) always holds every touching pair, the
+/// pairs across the sheared side included.
+#[test]
+fn no_contact_is_missed_in_a_deforming_cell() {
+    let mut s = session(
+        "start 1e-3 1e-3 1e-3 400 1000 0\nrad 6e-5 1\ndensity 2600 1\nymd 1e8 1\npra 0.25 1\n\
+         friction 0.4 1\ndamping restitution 0.8\nrge 250 1 1 0\ngrid -20 -10 -20 4000 0 0\n",
+    );
+    let sc = s.scene.as_mut().unwrap();
+    let mut across = 0;
+    for _ in 0..60 {
+        cycle::run(sc, 40).unwrap();
+        let stored: std::collections::HashSet<(u32, u32)> =
+            sc.contacts.pairs().iter().map(|k| (k.ida, k.idb)).collect();
+        for (a, b) in search::brute_force_pairs(sc, 0.0) {
+            assert!(
+                stored.contains(&(a, b)),
+                "pair {a}-{b} missing at cycle {}",
+                sc.cycle
+            );
+            let p = &sc.particles;
+            let (i, j) = (
+                p.id.iter().position(|&x| x == a).unwrap(),
+                p.id.iter().position(|&x| x == b).unwrap(),
+            );
+            across += usize::from((p.pos[j].y - p.pos[i].y).abs() > 0.5 * sc.size[1]);
+        }
+    }
+    assert!(across > 0, "no pair across the sheared side was seen");
+}

@@ -41,8 +41,8 @@ pub(super) fn separation(h: &HotPair, c: &PairCtx) -> Vec3 {
 
 /// The reach tests of one sub-batch of candidates `hots` (at most [`SUB`], the first at
 /// `start` in its block): the evaluated pairs' indices in pair order into `idx`; returns
-/// how many. `vector`: the four-lane tests may be used (the processor has AVX2 and the
-/// scene no periodic axis, `cycle::vector_reach`). A pair is evaluated when it is live or
+/// how many. `vector`: the four-lane tests may be used (the processor has AVX2,
+/// `cycle::vector_reach`). A pair is evaluated when it is live or
 /// !(d² > reach²) (so also when d² is NaN, whose force then shows the blow-up). With
 /// adhesion or liquid the reach includes the round-off allowance of bridge formation and of
 /// JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly (lattices) are
@@ -160,6 +160,54 @@ fn reach2(
     (reach * reach, zone * zone)
 }
 
+/// The periodic axes of the four-lane reach test.
+#[cfg(target_arch = "x86_64")]
+struct Images {
+    any: bool,
+    periodic: [bool; 3],
+    size: [f64; 3],
+    shift: f64,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Images {
+    fn of(c: &PairCtx) -> Images {
+        Images {
+            any: c.periodic != [false; 3],
+            periodic: c.periodic,
+            size: c.size,
+            shift: c.shift,
+        }
+    }
+
+    /// The nearest image of four separations (y first when the cell is sheared).
+    #[target_feature(enable = "avx2")]
+    fn nearest(&self, x: __m256d, y: __m256d, z: __m256d) -> (__m256d, __m256d, __m256d) {
+        const NEAREST: i32 = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+        let reduce = |v: __m256d, l: f64| {
+            let n = _mm256_round_pd::<NEAREST>(_mm256_div_pd(v, _mm256_set1_pd(l)));
+            (_mm256_sub_pd(v, _mm256_mul_pd(_mm256_set1_pd(l), n)), n)
+        };
+        let (mut x, mut y, mut z) = (x, y, z);
+        let sheared = self.shift != 0.0 && self.periodic[1];
+        if sheared {
+            let (ry, n) = reduce(y, self.size[1]);
+            y = ry;
+            x = _mm256_sub_pd(x, _mm256_mul_pd(_mm256_set1_pd(self.shift), n));
+        }
+        if self.periodic[0] {
+            x = reduce(x, self.size[0]).0;
+        }
+        if self.periodic[1] && !sheared {
+            y = reduce(y, self.size[1]).0;
+        }
+        if self.periodic[2] {
+            z = reduce(z, self.size[2]).0;
+        }
+        (x, y, z)
+    }
+}
+
 /// Bit k: candidate k is evaluated (`PER`: the scene has a periodic axis).
 #[inline(always)]
 fn mask_scalar<const PER: bool>(
@@ -211,6 +259,7 @@ unsafe fn mask_avx2(
     let full = hots.len() / 4 * 4;
     let mut mask = 0u32;
     let mut zones = 0u32;
+    let per = Images::of(c);
     for (g, four) in hots[..full].chunks_exact(4).enumerate() {
         let mut d = [_mm256_setzero_pd(); 4];
         let mut live = 0u32;
@@ -256,6 +305,15 @@ unsafe fn mask_avx2(
         let x = _mm256_permute2f128_pd::<0x20>(t0, t2);
         let y = _mm256_permute2f128_pd::<0x20>(t1, t3);
         let z = _mm256_permute2f128_pd::<0x31>(t0, t2);
+        // The nearest image along the periodic axes (`scene::nearest_image`): the same
+        // distance to the bit, but for a separation of exactly half the cell, where the two
+        // images are equally far (rounding half to even here, away from zero there: the
+        // sign of the component differs, its square does not).
+        let (x, y, z) = if per.any {
+            per.nearest(x, y, z)
+        } else {
+            (x, y, z)
+        };
         // (x² + y²) + z², as nalgebra's norm_squared; no fused multiply-add.
         let d2 = _mm256_add_pd(
             _mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)),

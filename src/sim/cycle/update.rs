@@ -470,8 +470,8 @@ pub(super) fn finish_move(
     let servo = std::mem::take(&mut scene.derived.servo);
     if scene.cell.is_active() || scene.cell.half != [[0.0; 3]; 3] || servo.is_some() {
         // The deforming cell (`sim::cell`): its work, the mean field's share of the motion
-        // (which counts for the re-mapping) and the stress servo.
-        max_disp = max_disp.max(crate::sim::cell::end_step(scene, servo.as_ref(), dt));
+        // and the stress servo.
+        crate::sim::cell::end_step(scene, servo.as_ref(), dt);
     }
     scene.derived.servo = servo;
     // Wrap periodic coordinates (across a sheared side at the image).
@@ -491,8 +491,7 @@ pub(super) fn finish_move(
     // A wall that moved more than XRES since the last rebuild is re-mapped like a particle
     // (its travel closes a gap as much as a particle's displacement).
     scene.contacts.step.max_disp = Some(max_disp);
-    // (The images above a sheared cell move with its offset: a pair across that side
-    // closes by at most both displacements and the offset's travel.)
+    // (In a deforming cell a pair also closes by the mean field's share, `Cell::travel`.)
     if max_disp + scene.cell.travel > xres || scene.walls.iter().any(|w| w.travel > xres) {
         scene.contacts.request_remap();
     }
