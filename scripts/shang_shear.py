@@ -6,7 +6,7 @@ time-step table (1.2326, 2.4509, 1.3184 at s = 12000 1/s) and Lun's theory (e = 
 beta = 0); with --sweep, the same at several shear rates, against the energy cohesion number
 CN_e (Shang (3.17)), written to doc/data/shang_shear.csv and doc/img/shang_shear.png.
 
-usage: scripts/shang_shear.py [--strain UNITS] [--sweep] [S ...]
+usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--sweep] [S ...]
 """
 import csv
 import json
@@ -62,6 +62,11 @@ def main():
     if "--strain" in argv:
         i = argv.index("--strain")
         strain = float(argv[i + 1])
+        del argv[i : i + 2]
+    global FRAC
+    if "--frac" in argv:
+        i = argv.index("--frac")
+        FRAC = float(argv[i + 1])
         del argv[i : i + 2]
     sweep = "--sweep" in argv
     argv = [a for a in argv if a != "--sweep"]

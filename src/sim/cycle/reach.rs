@@ -329,9 +329,108 @@ unsafe fn mask_avx2(
             zones |= (inside & !near & 0xf) << (4 * g);
         }
     }
-    let (rest, rest_zone) = mask_scalar::<false>(&hots[full..], c, radius, ur_allow);
+    let (rest, rest_zone) = if per.any {
+        mask_scalar::<true>(&hots[full..], c, radius, ur_allow)
+    } else {
+        mask_scalar::<false>(&hots[full..], c, radius, ur_allow)
+    };
     (
         mask | rest.checked_shl(full as u32).unwrap_or(0),
         zones | rest_zone.checked_shl(full as u32).unwrap_or(0),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fused::View;
+    use super::super::{PairCtx, UniPair};
+    use super::*;
+    use crate::sim::interact::Laws;
+    use crate::sim::model::{BridgeChoice, TangentialChoice};
+    use crate::sim::rng::Rng;
+    use crate::sim::scene::{Material, Scene};
+
+    /// The four-lane reach test and the scalar one pick the same candidates, with and
+    /// without periodic axes, in a sheared cell, and for every length of the last group
+    /// (the lanes' remainder goes through the scalar test).
+    #[test]
+    fn the_four_lane_test_is_the_scalar_test() {
+        if !std::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut sc = Scene::new([1e-3; 3], 10, 200, 0);
+        sc.materials[0] = Material {
+            density: 2600.0,
+            young: 1e8,
+            poisson: 0.3,
+            ..Default::default()
+        };
+        let mut r = Rng::new(11);
+        for k in 0..200 {
+            let x = Vec3::new(r.uniform(), r.uniform(), r.uniform()) * 1e-3;
+            let rad = 6e-5 * (1.0 + 0.3 * r.uniform());
+            sc.particles
+                .push(k + 1, x, Vec3::zeros(), Vec3::zeros(), rad, 1e-9, 1, 1, 0);
+        }
+        let model = crate::sim::params::build(&sc).unwrap();
+        let laws = Laws {
+            dt: 1e-7,
+            tangential: TangentialChoice::NoSlip,
+            rotation: true,
+            beta: 0.0,
+            liquid: None,
+            bridge: BridgeChoice::Fit,
+            smin: None,
+            impact: false,
+            liquid_share: None,
+            goldman: false,
+            margin: 0.0,
+        };
+        // Every pair, so that many are near (and many across the sides).
+        let all: Vec<HotPair> = (0..200u32)
+            .flat_map(|i| {
+                (i + 1..200).map(move |j| HotPair {
+                    i,
+                    j,
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let p = &sc.particles;
+        for (periodic, shift) in [
+            ([false; 3], 0.0),
+            ([true; 3], 0.0),
+            ([true, true, false], 0.0),
+            ([true; 3], 3.7e-4),
+        ] {
+            let c = PairCtx {
+                pos: View::of(&p.pos),
+                vel: View::of(&p.vel),
+                spin: View::of(&p.spin),
+                radius: &p.radius,
+                mass: &p.mass,
+                material: &p.material,
+                model: &model,
+                laws: &laws,
+                size: sc.size,
+                periodic,
+                shift,
+                cell: None,
+                uni: UniPair::of(&model),
+                ext: None,
+            };
+            let mut near = 0;
+            for len in 1..=SUB {
+                for start in (0..all.len() - SUB).step_by(997) {
+                    let hots = &all[start..start + len];
+                    let (mut a, mut b) = ([0u32; SUB], [0u32; SUB]);
+                    let na = evaluated::<false, false, false>(hots, start, &c, true, &mut a);
+                    let nb = evaluated::<false, false, false>(hots, start, &c, false, &mut b);
+                    assert_eq!(a[..na], b[..nb], "{periodic:?} {shift} len {len}");
+                    near += na;
+                }
+            }
+            assert!(near > 0);
+        }
+    }
 }
