@@ -18,6 +18,9 @@
 
 use rayon::prelude::*;
 
+mod sheared;
+use sheared::sheared_pairs;
+
 use super::contacts::{KeyParts, PairKey, WallKey};
 use super::scene::{Scene, Vec3};
 use super::walls::WallShape;
@@ -97,6 +100,23 @@ fn cell_index(x: f64, k: usize, n: &[usize; 3], cell: &[f64; 3], periodic: bool)
 #[inline]
 fn wrap(c: i64, n: usize) -> usize {
     c.rem_euclid(n as i64) as usize
+}
+
+/// The key of the pair of particles `i` and `j`, the lower id first.
+#[inline]
+fn key_of(p: &super::scene::Particles, i: usize, j: usize) -> PairKey {
+    let (ida, idb) = (p.id[i], p.id[j]);
+    let (i, j, ida, idb) = if ida < idb {
+        (i, j, ida, idb)
+    } else {
+        (j, i, idb, ida)
+    };
+    PairKey {
+        i: i as u32,
+        j: j as u32,
+        ida,
+        idb,
+    }
 }
 
 /// Finds all candidate pairs (gap < tol) and particle–wall candidates.
@@ -188,45 +208,7 @@ fn single_cell_pairs(
         .map(|i| flat(coord(i)) as u32)
         .collect();
     let (start, members) = by_cell(&cell_of, ncell, bounds.len() - 1);
-    let slots_of = |c: usize| start[c] as usize..start[c + 1] as usize;
-    // The 13 forward neighbours.
-    let mut stencil = Vec::with_capacity(13);
-    for dz in -1i64..=1 {
-        for dy in -1i64..=1 {
-            for dx in -1i64..=1 {
-                if (dz, dy, dx) > (0, 0, 0) {
-                    stencil.push([dx, dy, dz]);
-                }
-            }
-        }
-    }
-    // The stencil as offsets of the flat cell index, for cells whose 13 neighbours all exist
-    // without wrapping.
-    let offsets: Vec<isize> = stencil
-        .iter()
-        .map(|d| (d[0] + n[0] as i64 * (d[1] + n[1] as i64 * d[2])) as isize)
-        .collect();
-    let key = |i: usize, j: usize| {
-        let (ida, idb) = (p.id[i], p.id[j]);
-        let (i, j, ida, idb) = if ida < idb {
-            (i, j, ida, idb)
-        } else {
-            (j, i, idb, ida)
-        };
-        PairKey {
-            i: i as u32,
-            j: j as u32,
-            ida,
-            idb,
-        }
-    };
-    // Whether the particles in cell slots sa and sb are candidates (gap below TOL).
-    let close_slots = |sa: usize, sb: usize| {
-        let (i, j) = (members[sa] as usize, members[sb] as usize);
-        let d = scene.branch(&p.pos[i], &p.pos[j]);
-        let reach = p.radius[i] + p.radius[j] + tol;
-        d.norm_squared() < reach * reach
-    };
+    let (stencil, offsets) = forward_stencil(n);
     // Without periodic axes, the 13 forward neighbours of a cell are five runs of consecutive
     // slots (the cell after it in its row; three cells of the next row; three rows of three
     // in the next layer), so each particle is tested against five contiguous runs of the
@@ -248,6 +230,15 @@ fn single_cell_pairs(
         };
         [of(0), of(1), of(2), of(3)]
     });
+    let cells = Cells {
+        scene,
+        tol,
+        n,
+        start: &start,
+        members: &members,
+        stencil,
+        offsets,
+    };
     const BLOCK: usize = 256;
     let nparts = bounds.len() - 1;
     // Each block's keys go to the part of their lower id.
@@ -259,104 +250,12 @@ fn single_cell_pairs(
             let mut pairs = Parted(&mut parted, bounds);
             let mut hits: Vec<u32> = Vec::new();
             for c in blk * BLOCK..((blk + 1) * BLOCK).min(ncell) {
-                let here = slots_of(c);
-                if here.is_empty() {
+                if cells.slots_of(c).is_empty() {
                     continue;
                 }
-                let cz = c / (n[0] * n[1]);
-                let cy = (c / n[0]) % n[1];
-                let cx = c % n[0];
-                if let Some([sx, sy, sz, sr]) = &slot_xyzr {
-                    // The runs of slots of the forward neighbours (clipped at the sides).
-                    let (x0, x1) = (cx.saturating_sub(1), (cx + 1).min(n[0] - 1));
-                    let row = |y: usize, z: usize| {
-                        let f = x0 + n[0] * (y + n[1] * z);
-                        start[f] as usize..start[f + x1 - x0 + 1] as usize
-                    };
-                    let mut runs = [0..0, 0..0, 0..0, 0..0, 0..0];
-                    runs[0] = here.end..start[c + 1 + usize::from(cx + 1 < n[0])] as usize;
-                    if cy + 1 < n[1] {
-                        runs[1] = row(cy + 1, cz);
-                    }
-                    if cz + 1 < n[2] {
-                        for (r, dy) in [(2, -1i64), (3, 0), (4, 1)] {
-                            let y = cy as i64 + dy;
-                            if y >= 0 && y < n[1] as i64 {
-                                runs[r] = row(y as usize, cz + 1);
-                            }
-                        }
-                    }
-                    let most = here.len() + runs.iter().map(|r| r.len()).sum::<usize>();
-                    if hits.len() < most {
-                        hits.resize(most, 0);
-                    }
-                    for sa in here.clone() {
-                        let (xa, ya, za, ra) = (sx[sa], sy[sa], sz[sa], sr[sa]);
-                        let mut nh = 0;
-                        // Same cell (later slots), then the runs; the test is that of
-                        // `close_slots` (d = x_b − x_a, |d|² as (dx² + dy²) + dz²,
-                        // reach (R_a + R_b) + TOL, summed in that order).
-                        for run in std::iter::once(sa + 1..here.end).chain(runs.iter().cloned()) {
-                            for sb in run {
-                                let (dx, dy, dz) = (sx[sb] - xa, sy[sb] - ya, sz[sb] - za);
-                                let reach = ra + sr[sb] + tol;
-                                hits[nh] = sb as u32;
-                                nh += usize::from(dx * dx + dy * dy + dz * dz < reach * reach);
-                            }
-                        }
-                        for &sb in &hits[..nh] {
-                            pairs.push(key(members[sa] as usize, members[sb as usize] as usize));
-                        }
-                    }
-                    continue;
-                }
-                for sa in here.clone() {
-                    for sb in sa + 1..here.end {
-                        if close_slots(sa, sb) {
-                            pairs.push(key(members[sa] as usize, members[sb] as usize));
-                        }
-                    }
-                }
-                let interior =
-                    cx >= 1 && cx + 2 <= n[0] && cy >= 1 && cy + 2 <= n[1] && cz + 2 <= n[2];
-                if interior {
-                    // All 13 neighbours exist without wrapping: flat offsets, same order.
-                    for &off in &offsets {
-                        let there = slots_of(c.wrapping_add_signed(off));
-                        for sa in here.clone() {
-                            for sb in there.clone() {
-                                if close_slots(sa, sb) {
-                                    pairs.push(key(members[sa] as usize, members[sb] as usize));
-                                }
-                            }
-                        }
-                    }
-                    continue;
-                }
-                for d in &stencil {
-                    let mut o = [0usize; 3];
-                    let mut inside = true;
-                    for (k, (&ck, &dk)) in [cx, cy, cz].iter().zip(d).enumerate() {
-                        let q = ck as i64 + dk;
-                        if periodic[k] {
-                            o[k] = wrap(q, n[k]);
-                        } else if q < 0 || q >= n[k] as i64 {
-                            inside = false;
-                        } else {
-                            o[k] = q as usize;
-                        }
-                    }
-                    if !inside {
-                        continue;
-                    }
-                    let there = slots_of(flat(o));
-                    for sa in here.clone() {
-                        for sb in there.clone() {
-                            if close_slots(sa, sb) {
-                                pairs.push(key(members[sa] as usize, members[sb] as usize));
-                            }
-                        }
-                    }
+                match &slot_xyzr {
+                    Some(xyzr) => cells.by_runs(c, xyzr, &mut hits, &mut pairs),
+                    None => cells.by_stencil(c, &mut pairs),
                 }
             }
             parted
@@ -386,100 +285,165 @@ fn single_cell_pairs(
     (pairs, info)
 }
 
-/// Search of a sheared cell (Lees–Edwards offset `shift ≠ 0`, `sim::cell`): one cell per
-/// particle, cells at least 2 R_max + TOL wide, every particle compared with the particles of
-/// its 27 neighbour cells; across the y sides the neighbours are the images, whose columns
-/// are displaced by the offset (four columns instead of three, since the offset is not a
-/// whole number of cells). Each pair once, by its lower index; the nearest image decides
-/// (`Scene::branch`), so a small cell, whose neighbour cells repeat, finds each pair once too.
-fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
-    let p = &scene.particles;
-    let np = p.len();
-    let periodic = scene.settings.periodic;
-    let (n, cell) = grid_of(scene, 2.0 * scene.max_radius() + tol, 2);
-    let ncell = n[0] * n[1] * n[2];
-    let coord = |i: usize, k: usize| -> usize {
-        let c = cell_index(p.pos[i][k], k, &n, &cell, periodic[k]);
-        if periodic[k] {
-            wrap(c, n[k])
-        } else {
-            c as usize
+/// The 13 forward neighbours of a cell, and the same as offsets of the flat cell index (for
+/// cells whose 13 neighbours all exist without wrapping).
+fn forward_stencil(n: [usize; 3]) -> (Vec<[i64; 3]>, Vec<isize>) {
+    let mut stencil = Vec::with_capacity(13);
+    for dz in -1i64..=1 {
+        for dy in -1i64..=1 {
+            for dx in -1i64..=1 {
+                if (dz, dy, dx) > (0, 0, 0) {
+                    stencil.push([dx, dy, dz]);
+                }
+            }
         }
-    };
-    let flat = |c: [usize; 3]| c[0] + n[0] * (c[1] + n[1] * c[2]);
-    let cell_of: Vec<u32> = (0..np)
-        .map(|i| flat([coord(i, 0), coord(i, 1), coord(i, 2)]) as u32)
+    }
+    let offsets: Vec<isize> = stencil
+        .iter()
+        .map(|d| (d[0] + n[0] as i64 * (d[1] + n[1] as i64 * d[2])) as isize)
         .collect();
-    let (start, members) = by_cell(&cell_of, ncell, 1);
-    // Whole cells the offset spans, for the images above (+) and below (−).
-    let s = floor_i64(scene.cell.shift / cell[0]);
-    let pairs: Vec<PairKey> = (0..np)
-        .into_par_iter()
-        .with_min_len(256)
-        .flat_map_iter(|a| {
-            let c = cell_of[a] as usize;
-            let (cx, cy, cz) = (
-                (c % n[0]) as i64,
-                ((c / n[0]) % n[1]) as i64,
-                (c / (n[0] * n[1])) as i64,
-            );
-            let mut found: Vec<u32> = Vec::new();
-            for dz in -1..=1i64 {
-                let z = cz + dz;
-                let z = if periodic[2] {
-                    wrap(z, n[2])
-                } else if z < 0 || z >= n[2] as i64 {
-                    continue;
-                } else {
-                    z as usize
-                };
-                for dy in -1..=1i64 {
-                    let y = cy + dy;
-                    let cols = if y >= n[1] as i64 {
-                        cx - s - 2..=cx - s + 1
-                    } else if y < 0 {
-                        cx + s - 1..=cx + s + 2
-                    } else {
-                        cx - 1..=cx + 1
-                    };
-                    let y = wrap(y, n[1]);
-                    for x in cols {
-                        let f = flat([wrap(x, n[0]), y, z]);
-                        for &b in &members[start[f] as usize..start[f + 1] as usize] {
-                            if (b as usize) > a {
-                                found.push(b);
-                            }
-                        }
+    (stencil, offsets)
+}
+
+/// The sorted cells of the single-cell search.
+struct Cells<'a> {
+    scene: &'a Scene,
+    tol: f64,
+    n: [usize; 3],
+    /// `start[c]..start[c + 1]`: cell c's slots in `members` (particle indices).
+    start: &'a [u32],
+    members: &'a [u32],
+    stencil: Vec<[i64; 3]>,
+    offsets: Vec<isize>,
+}
+
+impl Cells<'_> {
+    #[inline]
+    fn slots_of(&self, c: usize) -> std::ops::Range<usize> {
+        self.start[c] as usize..self.start[c + 1] as usize
+    }
+
+    #[inline]
+    fn key(&self, sa: usize, sb: usize) -> PairKey {
+        key_of(
+            &self.scene.particles,
+            self.members[sa] as usize,
+            self.members[sb] as usize,
+        )
+    }
+
+    /// Whether the particles in cell slots sa and sb are candidates (gap below TOL).
+    #[inline]
+    fn close_slots(&self, sa: usize, sb: usize) -> bool {
+        let p = &self.scene.particles;
+        let (i, j) = (self.members[sa] as usize, self.members[sb] as usize);
+        let d = self.scene.branch(&p.pos[i], &p.pos[j]);
+        let reach = p.radius[i] + p.radius[j] + self.tol;
+        d.norm_squared() < reach * reach
+    }
+
+    /// Cell c's pairs without periodic axes: its later slots and the five runs of slots of
+    /// its forward neighbours (clipped at the sides), tested on the slot-ordered x, y, z, R.
+    fn by_runs(&self, c: usize, xyzr: &[Vec<f64>; 4], hits: &mut Vec<u32>, pairs: &mut Parted) {
+        let (n, start) = (self.n, self.start);
+        let [sx, sy, sz, sr] = xyzr;
+        let here = self.slots_of(c);
+        let cz = c / (n[0] * n[1]);
+        let cy = (c / n[0]) % n[1];
+        let cx = c % n[0];
+        let (x0, x1) = (cx.saturating_sub(1), (cx + 1).min(n[0] - 1));
+        let row = |y: usize, z: usize| {
+            let f = x0 + n[0] * (y + n[1] * z);
+            start[f] as usize..start[f + x1 - x0 + 1] as usize
+        };
+        let mut runs = [0..0, 0..0, 0..0, 0..0, 0..0];
+        runs[0] = here.end..start[c + 1 + usize::from(cx + 1 < n[0])] as usize;
+        if cy + 1 < n[1] {
+            runs[1] = row(cy + 1, cz);
+        }
+        if cz + 1 < n[2] {
+            for (r, dy) in [(2, -1i64), (3, 0), (4, 1)] {
+                let y = cy as i64 + dy;
+                if y >= 0 && y < n[1] as i64 {
+                    runs[r] = row(y as usize, cz + 1);
+                }
+            }
+        }
+        let most = here.len() + runs.iter().map(|r| r.len()).sum::<usize>();
+        if hits.len() < most {
+            hits.resize(most, 0);
+        }
+        let tol = self.tol;
+        for sa in here.clone() {
+            let (xa, ya, za, ra) = (sx[sa], sy[sa], sz[sa], sr[sa]);
+            let mut nh = 0;
+            // Same cell (later slots), then the runs; the test is that of `close_slots`
+            // (d = x_b − x_a, |d|² as (dx² + dy²) + dz², reach (R_a + R_b) + TOL, summed in
+            // that order).
+            for run in std::iter::once(sa + 1..here.end).chain(runs.iter().cloned()) {
+                for sb in run {
+                    let (dx, dy, dz) = (sx[sb] - xa, sy[sb] - ya, sz[sb] - za);
+                    let reach = ra + sr[sb] + tol;
+                    hits[nh] = sb as u32;
+                    nh += usize::from(dx * dx + dy * dy + dz * dz < reach * reach);
+                }
+            }
+            for &sb in &hits[..nh] {
+                pairs.push(self.key(sa, sb as usize));
+            }
+        }
+    }
+
+    /// Cell c's pairs with periodic axes: its later slots, then its 13 forward neighbours
+    /// (by flat offsets for an interior cell, wrapped or clipped at the sides otherwise).
+    fn by_stencil(&self, c: usize, pairs: &mut Parted) {
+        let (n, periodic) = (self.n, self.scene.settings.periodic);
+        let here = self.slots_of(c);
+        let cz = c / (n[0] * n[1]);
+        let cy = (c / n[0]) % n[1];
+        let cx = c % n[0];
+        for sa in here.clone() {
+            for sb in sa + 1..here.end {
+                if self.close_slots(sa, sb) {
+                    pairs.push(self.key(sa, sb));
+                }
+            }
+        }
+        let with = |pairs: &mut Parted, there: std::ops::Range<usize>| {
+            for sa in here.clone() {
+                for sb in there.clone() {
+                    if self.close_slots(sa, sb) {
+                        pairs.push(self.key(sa, sb));
                     }
                 }
             }
-            found.sort_unstable();
-            found.dedup();
-            found.into_iter().filter_map(move |b| {
-                let (i, j) = (a, b as usize);
-                let d = scene.branch(&p.pos[i], &p.pos[j]);
-                let reach = p.radius[i] + p.radius[j] + tol;
-                (d.norm_squared() < reach * reach).then(|| {
-                    let (i, j) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
-                    PairKey {
-                        i: i as u32,
-                        j: j as u32,
-                        ida: p.id[i],
-                        idb: p.id[j],
-                    }
-                })
-            })
-        })
-        .collect();
-    let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
-    let info = GridInfo {
-        n,
-        cell,
-        entries: np,
-        max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
-        empty_boxes: counts.filter(|&m| m == 0).count(),
-    };
-    (pairs, info)
+        };
+        let interior = cx >= 1 && cx + 2 <= n[0] && cy >= 1 && cy + 2 <= n[1] && cz + 2 <= n[2];
+        if interior {
+            // All 13 neighbours exist without wrapping: flat offsets, same order.
+            for &off in &self.offsets {
+                with(pairs, self.slots_of(c.wrapping_add_signed(off)));
+            }
+            return;
+        }
+        for d in &self.stencil {
+            let mut o = [0usize; 3];
+            let mut inside = true;
+            for (k, (&ck, &dk)) in [cx, cy, cz].iter().zip(d).enumerate() {
+                let q = ck as i64 + dk;
+                if periodic[k] {
+                    o[k] = wrap(q, n[k]);
+                } else if q < 0 || q >= n[k] as i64 {
+                    inside = false;
+                } else {
+                    o[k] = q as usize;
+                }
+            }
+            if inside {
+                with(pairs, self.slots_of(o[0] + n[0] * (o[1] + n[1] * o[2])));
+            }
+        }
+    }
 }
 
 /// Counting sort of the particles by cell: `start[c]..start[c + 1]` are cell `c`'s slots in
@@ -558,17 +522,22 @@ impl Parted<'_> {
     }
 }
 
-/// Multi-entry search (TRUBAL's): each particle is entered in every box its cube of side
-/// 2(R + TOL/2) touches, so that a wide size distribution stays linear.
-fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
+/// The boxes of the multi-entry search as link lists: `head[box]` → entry, `next[entry]` →
+/// entry, `owner[entry]` = particle; and each particle's cube as its lowest and highest box.
+struct LinkLists {
+    head: Vec<u32>,
+    next: Vec<u32>,
+    owner: Vec<u32>,
+    lo_cell: Vec<[i64; 3]>,
+    hi_cell: Vec<[i64; 3]>,
+}
+
+/// Enters each particle in every box its cube of side 2(R + half) touches.
+fn enter_cubes(scene: &Scene, n: [usize; 3], cell: [f64; 3], half: f64) -> LinkLists {
     let p = &scene.particles;
     let np = p.len();
-    let (n, cell) = grid_dims(scene, tol);
     let ncell = n[0] * n[1] * n[2];
     let periodic = scene.settings.periodic;
-    let half = 0.5 * tol;
-
-    // Link lists: head[box] -> entry, next[entry] -> entry, owner[entry] = particle.
     let mut head = vec![u32::MAX; ncell];
     let mut next: Vec<u32> = Vec::with_capacity(np * 2);
     let mut owner: Vec<u32> = Vec::with_capacity(np * 2);
@@ -602,6 +571,30 @@ fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
             }
         }
     }
+    LinkLists {
+        head,
+        next,
+        owner,
+        lo_cell,
+        hi_cell,
+    }
+}
+
+/// Multi-entry search (TRUBAL's): each particle is entered in every box its cube of side
+/// 2(R + TOL/2) touches, so that a wide size distribution stays linear.
+fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
+    let p = &scene.particles;
+    let (n, cell) = grid_dims(scene, tol);
+    let periodic = scene.settings.periodic;
+    let half = 0.5 * tol;
+
+    let LinkLists {
+        head,
+        next,
+        owner,
+        lo_cell,
+        hi_cell,
+    } = enter_cubes(scene, n, cell, half);
 
     // A pair found in several boxes is reported only by the box of the lower corner of the
     // intersection of the two cubes (computed in i's frame, then wrapped).
@@ -661,18 +654,7 @@ fn multi_entry_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
                         if !reports(i, j, &d, [bx, by, bz]) {
                             continue;
                         }
-                        let (ida, idb) = (p.id[i], p.id[j]);
-                        let (i, j, ida, idb) = if ida < idb {
-                            (i, j, ida, idb)
-                        } else {
-                            (j, i, idb, ida)
-                        };
-                        pairs.push(PairKey {
-                            i: i as u32,
-                            j: j as u32,
-                            ida,
-                            idb,
-                        });
+                        pairs.push(key_of(p, i, j));
                     }
                 }
             }

@@ -1,0 +1,95 @@
+//! The contact search of a sheared cell (Lees–Edwards images, `sim::cell`).
+
+use rayon::prelude::*;
+
+use super::super::contacts::PairKey;
+use super::super::scene::Scene;
+use super::{GridInfo, by_cell, cell_index, floor_i64, grid_of, key_of, wrap};
+
+/// Search of a sheared cell (Lees–Edwards offset `shift ≠ 0`, `sim::cell`): one cell per
+/// particle, cells at least 2 R_max + TOL wide, every particle compared with the particles of
+/// its 27 neighbour cells; across the y sides the neighbours are the images, whose columns
+/// are displaced by the offset (four columns instead of three, since the offset is not a
+/// whole number of cells). Each pair once, by its lower index; the nearest image decides
+/// (`Scene::branch`), so a small cell, whose neighbour cells repeat, finds each pair once too.
+pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
+    let p = &scene.particles;
+    let np = p.len();
+    let periodic = scene.settings.periodic;
+    let (n, cell) = grid_of(scene, 2.0 * scene.max_radius() + tol, 2);
+    let ncell = n[0] * n[1] * n[2];
+    let coord = |i: usize, k: usize| -> usize {
+        let c = cell_index(p.pos[i][k], k, &n, &cell, periodic[k]);
+        if periodic[k] {
+            wrap(c, n[k])
+        } else {
+            c as usize
+        }
+    };
+    let flat = |c: [usize; 3]| c[0] + n[0] * (c[1] + n[1] * c[2]);
+    let cell_of: Vec<u32> = (0..np)
+        .map(|i| flat([coord(i, 0), coord(i, 1), coord(i, 2)]) as u32)
+        .collect();
+    let (start, members) = by_cell(&cell_of, ncell, 1);
+    // Whole cells the offset spans, for the images above (+) and below (−).
+    let s = floor_i64(scene.cell.shift / cell[0]);
+    let pairs: Vec<PairKey> = (0..np)
+        .into_par_iter()
+        .with_min_len(256)
+        .flat_map_iter(|a| {
+            let c = cell_of[a] as usize;
+            let (cx, cy, cz) = (
+                (c % n[0]) as i64,
+                ((c / n[0]) % n[1]) as i64,
+                (c / (n[0] * n[1])) as i64,
+            );
+            let mut found: Vec<u32> = Vec::new();
+            for dz in -1..=1i64 {
+                let z = cz + dz;
+                let z = if periodic[2] {
+                    wrap(z, n[2])
+                } else if z < 0 || z >= n[2] as i64 {
+                    continue;
+                } else {
+                    z as usize
+                };
+                for dy in -1..=1i64 {
+                    let y = cy + dy;
+                    let cols = if y >= n[1] as i64 {
+                        cx - s - 2..=cx - s + 1
+                    } else if y < 0 {
+                        cx + s - 1..=cx + s + 2
+                    } else {
+                        cx - 1..=cx + 1
+                    };
+                    let y = wrap(y, n[1]);
+                    for x in cols {
+                        let f = flat([wrap(x, n[0]), y, z]);
+                        for &b in &members[start[f] as usize..start[f + 1] as usize] {
+                            if (b as usize) > a {
+                                found.push(b);
+                            }
+                        }
+                    }
+                }
+            }
+            found.sort_unstable();
+            found.dedup();
+            found.into_iter().filter_map(move |b| {
+                let (i, j) = (a, b as usize);
+                let d = scene.branch(&p.pos[i], &p.pos[j]);
+                let reach = p.radius[i] + p.radius[j] + tol;
+                (d.norm_squared() < reach * reach).then(|| key_of(p, i, j))
+            })
+        })
+        .collect();
+    let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
+    let info = GridInfo {
+        n,
+        cell,
+        entries: np,
+        max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
+        empty_boxes: counts.filter(|&m| m == 0).count(),
+    };
+    (pairs, info)
+}
