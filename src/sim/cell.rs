@@ -76,6 +76,12 @@ impl Cell {
         self.is_active() || self.shift != 0.0
     }
 
+    /// Whether the end of a step needs the average stress: the cell moves or is sheared, or
+    /// the last deformation's second half is still to be booked.
+    pub fn needs_stress(&self) -> bool {
+        self.in_use() || self.half != [[0.0; 3]; 3]
+    }
+
     /// The mean-field velocity difference `G l` across a branch vector `l`.
     #[inline(always)]
     pub fn field(&self, l: &Vec3) -> Vec3 {
@@ -199,8 +205,19 @@ pub fn servo_step(cell: &mut Cell, servo: &Servo, s: &[[f64; 3]; 3]) {
 
 /// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
 /// stress of this step's forces, the deformation ([`deform`]) and the servo's new rates.
-pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, dt: f64) {
-    let s = super::stress::of(scene);
+/// `fl`: Σ f ⊗ l of this step's particle pairs (row-major), summed by the pair loop.
+pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64) {
+    let v = super::stress::volume(scene);
+    let mut contact = [[0.0; 3]; 3];
+    for (a, row) in contact.iter_mut().enumerate() {
+        for (b, x) in row.iter_mut().enumerate() {
+            *x = fl[3 * a + b] / v;
+        }
+    }
+    let s = super::stress::Stress {
+        contact,
+        kinetic: super::stress::kinetic_part(scene),
+    };
     let total = s.total();
     let dot = |h: &[[f64; 3]; 3]| -> f64 {
         let mut w = 0.0;

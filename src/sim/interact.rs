@@ -70,6 +70,9 @@ pub struct Acc {
     pub viscous: f64,
     pub adhesion: f64,
     pub rupture: f64,
+    /// Σ f ⊗ l of the particle pairs (row-major; `sim::stress`), summed only when the pair
+    /// loop is asked for it (`PairCtx::stress`: a deforming or servo-held cell).
+    pub stress: [f64; 9],
 }
 
 impl Acc {
@@ -79,6 +82,9 @@ impl Acc {
         self.viscous += o.viscous;
         self.adhesion += o.adhesion;
         self.rupture += o.rupture;
+        for (a, b) in self.stress.iter_mut().zip(&o.stress) {
+            *a += b;
+        }
     }
 }
 

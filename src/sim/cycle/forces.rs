@@ -142,6 +142,7 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         periodic: scene.settings.periodic,
         shift: scene.cell.shift,
         cell: scene.cell.is_active().then_some(&scene.cell),
+        stress: scene.cell.needs_stress() || scene.derived.servo.is_some(),
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&scene.derived.reach_ext[..]),
     };

@@ -378,6 +378,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         // (Not used with a deforming or sheared cell: `one_step`.)
         shift: 0.0,
         cell: None,
+        stress: false,
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&derived.reach_ext[..]),
     };

@@ -400,7 +400,8 @@ pub fn one_step(
     }
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
-    if model.plan.threads > 1 && model.plan.one_region && !conserve && !scene.cell.in_use() {
+    let cell = scene.cell.needs_stress() || scene.derived.servo.is_some();
+    if model.plan.threads > 1 && model.plan.one_region && !conserve && !cell {
         // Both steps in one parallel region (`fused`): the same bits. (With more threads
         // than cores two regions are faster: a task that waits for another holds a core;
         // 3 threads on 2 cores took 6 × the time of two regions, 1.3 × without the wait.)

@@ -80,6 +80,8 @@ pub(super) struct PairCtx<'a> {
     /// The deforming cell, whose mean field adds to the pairs' relative velocity (`None`
     /// while it is at rest).
     pub(super) cell: Option<&'a crate::sim::cell::Cell>,
+    /// Sum Σ f ⊗ l over the evaluated pairs into `Acc::stress` (the cell's work and servo).
+    pub(super) stress: bool,
     /// The particles are all alike: their radius, mass and pair constants.
     pub(super) uni: Option<UniPair>,
     /// Per particle, the dashpot's margin of reach (`Scene::reach_ext`; `None`: none).
@@ -220,6 +222,15 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                     },
                 }
             };
+            if c.stress {
+                // The average stress's contact part (`sim::stress`), in pair order.
+                let l = ds[q] * dists[q];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        acc.stress[3 * a + b] += f.f[a] * l[b];
+                    }
+                }
+            }
             emit(k, h, f);
         }
         start = end;

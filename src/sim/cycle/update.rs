@@ -468,10 +468,10 @@ pub(super) fn finish_move(
         });
     }
     let servo = std::mem::take(&mut scene.derived.servo);
-    if scene.cell.is_active() || scene.cell.half != [[0.0; 3]; 3] || servo.is_some() {
+    if scene.cell.needs_stress() || servo.is_some() {
         // The deforming cell (`sim::cell`): its work, the mean field's share of the motion
         // and the stress servo.
-        crate::sim::cell::end_step(scene, servo.as_ref(), dt);
+        crate::sim::cell::end_step(scene, servo.as_ref(), &acc.stress, dt);
     }
     scene.derived.servo = servo;
     // Wrap periodic coordinates (across a sheared side at the image).
