@@ -416,6 +416,7 @@ mod tests {
                 periodic,
                 shift,
                 cell: None,
+                stress: false,
                 uni: UniPair::of(&model),
                 ext: None,
             };
