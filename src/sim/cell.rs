@@ -382,25 +382,25 @@ pub fn deform(scene: &mut Scene, dt: f64) {
 /// Lees–Edwards offset (`shift`, x displacement of the images above), before x is wrapped.
 pub fn wrap(scene: &mut Scene) {
     let (size, periodic, shift) = (scene.size, scene.settings.periodic, scene.cell.shift);
-    let p = &mut scene.particles;
-    if periodic[1] && shift != 0.0 {
-        let l = size[1];
-        for x in p.pos.iter_mut() {
-            if x.y < 0.0 || x.y >= l {
-                let n = (x.y / l).floor();
-                x.y -= n * l;
-                x.x -= n * shift;
-                if x.y >= l {
-                    // (Rounding: y − n l may land on l.)
-                    x.y = 0.0;
-                }
+    if periodic == [false; 3] {
+        return;
+    }
+    let sheared = periodic[1] && shift != 0.0;
+    // (One pass; per particle the same operations in the same order as an axis at a time.)
+    for x in scene.particles.pos.iter_mut() {
+        if sheared && (x.y < 0.0 || x.y >= size[1]) {
+            let l = size[1];
+            let n = (x.y / l).floor();
+            x.y -= n * l;
+            x.x -= n * shift;
+            if x.y >= l {
+                // (Rounding: y − n l may land on l.)
+                x.y = 0.0;
             }
         }
-    }
-    for k in 0..3 {
-        if periodic[k] {
-            let l = size[k];
-            for x in p.pos.iter_mut() {
+        for k in 0..3 {
+            if periodic[k] {
+                let l = size[k];
                 if x[k] < 0.0 || x[k] >= l {
                     x[k] = x[k].rem_euclid(l);
                 }

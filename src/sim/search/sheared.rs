@@ -33,56 +33,78 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
     let (start, members) = by_cell(&cell_of, ncell, 1);
     // Whole cells the offset spans, for the images above (+) and below (−).
     let s = floor_i64(scene.cell.shift / cell[0]);
-    let pairs: Vec<PairKey> = (0..np)
+    // With at least four columns and three rows and layers, the cells visited for a particle
+    // are distinct: each candidate is met once and tested at once; in a smaller grid the
+    // cells repeat, and a particle's candidates are sorted and made unique first.
+    let distinct = n[0] >= 4 && n[1] >= 3 && (n[2] >= 3 || !periodic[2]);
+    let close = |i: usize, j: usize| {
+        let d = scene.branch(&p.pos[i], &p.pos[j]);
+        let reach = p.radius[i] + p.radius[j] + tol;
+        d.norm_squared() < reach * reach
+    };
+    const CHUNK: usize = 512;
+    let per_chunk: Vec<Vec<PairKey>> = (0..np.div_ceil(CHUNK))
         .into_par_iter()
-        .with_min_len(256)
-        .flat_map_iter(|a| {
-            let c = cell_of[a] as usize;
-            let (cx, cy, cz) = (
-                (c % n[0]) as i64,
-                ((c / n[0]) % n[1]) as i64,
-                (c / (n[0] * n[1])) as i64,
-            );
+        .map(|k| {
+            let mut keys = Vec::new();
             let mut found: Vec<u32> = Vec::new();
-            for dz in -1..=1i64 {
-                let z = cz + dz;
-                let z = if periodic[2] {
-                    wrap(z, n[2])
-                } else if z < 0 || z >= n[2] as i64 {
-                    continue;
-                } else {
-                    z as usize
-                };
-                for dy in -1..=1i64 {
-                    let y = cy + dy;
-                    let cols = if y >= n[1] as i64 {
-                        cx - s - 2..=cx - s + 1
-                    } else if y < 0 {
-                        cx + s - 1..=cx + s + 2
+            for a in k * CHUNK..((k + 1) * CHUNK).min(np) {
+                let c = cell_of[a] as usize;
+                let (cx, cy, cz) = (
+                    (c % n[0]) as i64,
+                    ((c / n[0]) % n[1]) as i64,
+                    (c / (n[0] * n[1])) as i64,
+                );
+                found.clear();
+                for dz in -1..=1i64 {
+                    let z = cz + dz;
+                    let z = if periodic[2] {
+                        wrap(z, n[2])
+                    } else if z < 0 || z >= n[2] as i64 {
+                        continue;
                     } else {
-                        cx - 1..=cx + 1
+                        z as usize
                     };
-                    let y = wrap(y, n[1]);
-                    for x in cols {
-                        let f = flat([wrap(x, n[0]), y, z]);
-                        for &b in &members[start[f] as usize..start[f + 1] as usize] {
-                            if (b as usize) > a {
-                                found.push(b);
+                    for dy in -1..=1i64 {
+                        let y = cy + dy;
+                        let cols = if y >= n[1] as i64 {
+                            cx - s - 2..=cx - s + 1
+                        } else if y < 0 {
+                            cx + s - 1..=cx + s + 2
+                        } else {
+                            cx - 1..=cx + 1
+                        };
+                        let y = wrap(y, n[1]);
+                        for x in cols {
+                            let f = flat([wrap(x, n[0]), y, z]);
+                            for &b in &members[start[f] as usize..start[f + 1] as usize] {
+                                let b = b as usize;
+                                if b <= a {
+                                    continue;
+                                }
+                                if !distinct {
+                                    found.push(b as u32);
+                                } else if close(a, b) {
+                                    keys.push(key_of(p, a, b));
+                                }
                             }
                         }
                     }
                 }
+                if !distinct {
+                    found.sort_unstable();
+                    found.dedup();
+                    for &b in &found {
+                        if close(a, b as usize) {
+                            keys.push(key_of(p, a, b as usize));
+                        }
+                    }
+                }
             }
-            found.sort_unstable();
-            found.dedup();
-            found.into_iter().filter_map(move |b| {
-                let (i, j) = (a, b as usize);
-                let d = scene.branch(&p.pos[i], &p.pos[j]);
-                let reach = p.radius[i] + p.radius[j] + tol;
-                (d.norm_squared() < reach * reach).then(|| key_of(p, i, j))
-            })
+            keys
         })
         .collect();
+    let pairs: Vec<PairKey> = per_chunk.into_iter().flatten().collect();
     let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
     let info = GridInfo {
         n,
