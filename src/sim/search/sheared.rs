@@ -33,10 +33,61 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
     let (start, members) = by_cell(&cell_of, ncell, 1);
     // Whole cells the offset spans, for the images above (+) and below (−).
     let s = floor_i64(scene.cell.shift / cell[0]);
-    // With at least four columns and three rows and layers, the cells visited for a particle
-    // are distinct: each candidate is met once and tested at once; in a smaller grid the
-    // cells repeat, and a particle's candidates are sorted and made unique first.
+    // With at least four columns and three rows and layers the neighbour cells are distinct:
+    // each pair is met once, by the half stencil within the cell and from the top row across
+    // the sheared side (`half_stencil`). In a smaller grid the cells repeat: every particle
+    // meets its 27 neighbour cells' particles, keeps those of higher index, sorted and made
+    // unique.
     let distinct = n[0] >= 4 && n[1] >= 3 && (n[2] >= 3 || !periodic[2]);
+    let cell_at = |x: i64, y: usize, z: i64| -> Option<usize> {
+        let z = if periodic[2] {
+            wrap(z, n[2])
+        } else if z < 0 || z >= n[2] as i64 {
+            return None;
+        } else {
+            z as usize
+        };
+        Some(flat([wrap(x, n[0]), y, z]))
+    };
+    let slots = |f: usize| &members[start[f] as usize..start[f + 1] as usize];
+    // The particles a distinct grid pairs particle `a` (in cell `c`) with: the later ones of
+    // its cell, those of its 13 forward neighbours that do not lie across the sheared side,
+    // and, from the top row, the bottom row's images (displaced by the offset: four columns,
+    // three layers).
+    let half_stencil = |a: usize, [cx, cy, cz]: [i64; 3], s: i64, each: &mut dyn FnMut(usize)| {
+        let here = cell_at(cx, cy as usize, cz).unwrap_or(0);
+        for &b in slots(here) {
+            if (b as usize) > a {
+                each(b as usize);
+            }
+        }
+        for dz in -1..=1i64 {
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    let y = cy + dy;
+                    if (dz, dy, dx) <= (0, 0, 0) || y < 0 || y >= n[1] as i64 {
+                        continue;
+                    }
+                    if let Some(f) = cell_at(cx + dx, y as usize, cz + dz) {
+                        for &b in slots(f) {
+                            each(b as usize);
+                        }
+                    }
+                }
+            }
+        }
+        if cy == n[1] as i64 - 1 {
+            for dz in -1..=1i64 {
+                for x in cx - s - 2..=cx - s + 1 {
+                    if let Some(f) = cell_at(x, 0, cz + dz) {
+                        for &b in slots(f) {
+                            each(b as usize);
+                        }
+                    }
+                }
+            }
+        }
+    };
     let close = |i: usize, j: usize| {
         let d = scene.branch(&p.pos[i], &p.pos[j]);
         let reach = p.radius[i] + p.radius[j] + tol;
@@ -55,6 +106,14 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                     ((c / n[0]) % n[1]) as i64,
                     (c / (n[0] * n[1])) as i64,
                 );
+                if distinct {
+                    half_stencil(a, [cx, cy, cz], s, &mut |b| {
+                        if close(a, b) {
+                            keys.push(key_of(p, a, b));
+                        }
+                    });
+                    continue;
+                }
                 found.clear();
                 for dz in -1..=1i64 {
                     let z = cz + dz;
@@ -79,25 +138,18 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                             let f = flat([wrap(x, n[0]), y, z]);
                             for &b in &members[start[f] as usize..start[f + 1] as usize] {
                                 let b = b as usize;
-                                if b <= a {
-                                    continue;
-                                }
-                                if !distinct {
+                                if b > a {
                                     found.push(b as u32);
-                                } else if close(a, b) {
-                                    keys.push(key_of(p, a, b));
                                 }
                             }
                         }
                     }
                 }
-                if !distinct {
-                    found.sort_unstable();
-                    found.dedup();
-                    for &b in &found {
-                        if close(a, b as usize) {
-                            keys.push(key_of(p, a, b as usize));
-                        }
+                found.sort_unstable();
+                found.dedup();
+                for &b in &found {
+                    if close(a, b as usize) {
+                        keys.push(key_of(p, a, b as usize));
                     }
                 }
             }
