@@ -267,6 +267,12 @@ fn bad_cell_input_is_refused() {
     refused("gain 1e-3 10\ncycle 10 ring 5", "RING");
     refused("mode 2", "between 0 and 1");
     refused("gain -1 10", "positive");
+    refused("probe e23", "E12");
+    let mut empty = session(
+        "start 1e-3 1e-3 1e-3 10 100 0\nrad 1e-4 1\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n",
+    );
+    let e = empty.run_line("probe e11").unwrap_err().message;
+    assert!(e.contains("no particles"), "{e}");
     // The refused Cycle ran nothing.
     let mut s = session(base);
     let _ = s.run_line("grid -1000 0 0 0 0 0");
