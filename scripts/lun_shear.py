@@ -49,20 +49,32 @@ def rayleigh_dt():
     return 0.2 * math.pi * SIGMA / 2 * math.sqrt(RHO / g) / (0.1631 * NU + 0.8766)
 
 
-def run(exe, phi, npart, strain, work):
-    l = (npart * math.pi * SIGMA ** 3 / (6 * phi)) ** (1 / 3)
+def start(phi, npart, dt, sigma=SIGMA):
+    """The starting cell: side l0 (a random gas at phi <= 0.25) and the compression to the
+    side of phi, rate rc for nc cycles (0 when phi <= 0.25)."""
+    l = (npart * math.pi * sigma ** 3 / (6 * phi)) ** (1 / 3)
     l0 = l * max(1.0, (phi / 0.25) ** (1 / 3))
-    dt = rayleigh_dt()
     nc = 0 if l0 == l else 20000
     rc = 0.0 if nc == 0 else math.log(l / l0) / (nc * dt)
-    n = int(strain / (S * dt))
-    h = max(1, n // 400)
-    sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": S, "n": n, "h": h}
-    args = [exe, "--json", os.path.join(HERE, "lun_shear.tru")]
+    return l0, rc, nc
+
+
+def run_json(exe, tru, sets, work):
+    """Runs scripts/TRU with the --set values; the JSON objects it printed."""
+    args = [exe, "--json", os.path.join(HERE, tru)]
     for k, v in sets.items():
         args += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
     out = subprocess.run(args, cwd=work, capture_output=True, text=True, check=True).stdout
-    objs = [json.loads(x) for x in out.splitlines() if x.startswith("{")]
+    return [json.loads(x) for x in out.splitlines() if x.startswith("{")]
+
+
+def run(exe, phi, npart, strain, work):
+    dt = rayleigh_dt()
+    l0, rc, nc = start(phi, npart, dt)
+    n = int(strain / (S * dt))
+    h = max(1, n // 400)
+    sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": S, "n": n, "h": h}
+    objs = run_json(exe, "lun_shear.tru", sets, work)
     grid = next(o for o in objs if o["print"] == "grid")
     hist = next(o for o in objs if o["print"] == "history")
     cols = hist["columns"]

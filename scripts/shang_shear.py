@@ -12,7 +12,6 @@ import csv
 import json
 import math
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -32,20 +31,13 @@ def cn_e(phi, s, gamma=GAMMA_SHANG):
 
 
 def run(exe, phi, npart, s, strain, work):
-    l = (npart * math.pi * SIGMA ** 3 / (6 * phi)) ** (1 / 3)
-    l0 = l * max(1.0, (phi / 0.25) ** (1 / 3))
     g = E / (2 * (1 + NU))
     dt = FRAC * math.pi * SIGMA / 2 * math.sqrt(RHO / g) / (0.1631 * NU + 0.8766)
-    nc = 0 if l0 == l else 20000
-    rc = 0.0 if nc == 0 else math.log(l / l0) / (nc * dt)
+    l0, rc, nc = lun_shear.start(phi, npart, dt)
     n = int(strain / (s * dt))
     sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": s, "n": n, "h": max(1, n // 400),
             "gamma": GAMMA_SHANG / 2, "frac": FRAC}
-    args = [exe, "--json", os.path.join(HERE, "shang_shear.tru")]
-    for k, v in sets.items():
-        args += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
-    out = subprocess.run(args, cwd=work, capture_output=True, text=True, check=True).stdout
-    objs = [json.loads(x) for x in out.splitlines() if x.startswith("{")]
+    objs = lun_shear.run_json(exe, "shang_shear.tru", sets, work)
     hist = next(o for o in objs if o["print"] == "history")
     cols = hist["columns"]
     rows = [r for r in hist["rows"] if r[0] > nc + n / 2]

@@ -41,6 +41,26 @@ fn the_sheared_search_finds_the_brute_force_pairs() {
     }
 }
 
+/// The command lines of a simple-cubic lattice of 27 touching Hertz spheres (radius `r`,
+/// E = 100 MPa, ν = 0.3) filling a periodic cell of 3 × 3 × 3 diameters.
+fn sc_lattice_lines(r: f64) -> String {
+    let d0 = 2.0 * r;
+    let mut lines = format!(
+        "start {0} {0} {0} 27 100 0\nrad {r} 1\ndensity 2500 1\nymd 1e8 1\npra 0.3 1\nfriction 0.5 1\n",
+        3.0 * d0
+    );
+    for i in 0..27 {
+        let c = |q: i32| (q as f64 + 0.5) * d0;
+        lines.push_str(&format!(
+            "cr {:e} {:e} {:e} 0 0 0 0 0 0 1 1\n",
+            c(i / 9),
+            c((i / 3) % 3),
+            c(i % 3)
+        ));
+    }
+    lines
+}
+
 /// One free particle: the cell's lengths follow L₀ exp(∫ed dt), the strains ∫ed dt, the
 /// offset ed12 L_y t; the particle keeps its total velocity c = C + G x (SLLOD with
 /// Lees–Edwards images is Newton's law), except the jump of −ed12 L_y in x when it leaves
@@ -100,23 +120,7 @@ fn a_free_particle_and_the_cell_follow_the_rates() {
 fn a_compressed_simple_cubic_lattice_has_the_closed_form_stress() {
     let r: f64 = 1e-3;
     let d0 = 2.0 * r;
-    let mut lines = format!(
-        "start {0} {0} {0} 27 100 0\nrad {r} 1\ndensity 2500 1\nymd 1e8 1\npra 0.3 1\nfriction 0.5 1\n",
-        3.0 * d0
-    );
-    for i in 0..3 {
-        for j in 0..3 {
-            for k in 0..3 {
-                let c = |q: i32| (q as f64 + 0.5) * d0;
-                lines.push_str(&format!(
-                    "cr {:e} {:e} {:e} 0 0 0 0 0 0 1 1\n",
-                    c(i),
-                    c(j),
-                    c(k)
-                ));
-            }
-        }
-    }
+    let mut lines = sc_lattice_lines(r);
     lines.push_str("grid -2 -2 -2 0 0 0\n");
     let mut s = session(&lines);
     let sc = s.scene.as_mut().unwrap();
@@ -288,19 +292,7 @@ fn bad_cell_input_is_refused() {
 fn a_probe_gives_the_closed_form_modulus_and_restores_the_state() {
     let r: f64 = 1e-3;
     let d0 = 2.0 * r;
-    let mut lines = format!(
-        "start {0} {0} {0} 27 100 0\nrad {r} 1\ndensity 2500 1\nymd 1e8 1\npra 0.3 1\nfriction 0.5 1\n",
-        3.0 * d0
-    );
-    for i in 0..27 {
-        let c = |q: i32| (q as f64 + 0.5) * d0;
-        lines.push_str(&format!(
-            "cr {:e} {:e} {:e} 0 0 0 0 0 0 1 1\n",
-            c(i / 9),
-            c((i / 3) % 3),
-            c(i % 3)
-        ));
-    }
+    let mut lines = sc_lattice_lines(r);
     lines.push_str(
         "grid -2 -2 -2 0 0 0\ncycle 300\ngrid 0 0 0 0 0 0\ncycle 1\nsave a.sav\nprint grid\n\
          probe e11\nsave b.sav\nprint grid\n",
@@ -381,21 +373,7 @@ fn two_d_motion_stays_in_the_plane() {
 /// refused before cycling, with the largest usable gain; that gain (halved) holds the target.
 #[test]
 fn a_diverging_servo_gain_is_refused() {
-    let r: f64 = 1e-3;
-    let d0 = 2.0 * r;
-    let mut lines = format!(
-        "start {0} {0} {0} 27 100 0\nrad {r} 1\ndensity 2500 1\nymd 1e8 1\npra 0.3 1\nfriction 0.5 1\n",
-        3.0 * d0
-    );
-    for i in 0..27 {
-        let c = |q: i32| (q as f64 + 0.5) * d0;
-        lines.push_str(&format!(
-            "cr {:e} {:e} {:e} 0 0 0 0 0 0 1 1\n",
-            c(i / 9),
-            c((i / 3) % 3),
-            c(i % 3)
-        ));
-    }
+    let mut lines = sc_lattice_lines(1e-3);
     lines.push_str("grid -2 -2 -2 0 0 0\ncycle 300\ngrid 0 0 0 0 0 0\nmode 1\ngain 1e3 10\n");
     let mut s = session(&lines);
     let before = s.scene.as_ref().unwrap().cycle;

@@ -35,6 +35,20 @@ pub struct GridInfo {
     pub empty_boxes: usize,
 }
 
+impl GridInfo {
+    /// The grid of a one-cell-per-particle search, from its cells' slot starts.
+    fn of_cells(n: [usize; 3], cell: [f64; 3], start: &[u32]) -> GridInfo {
+        let counts = start.windows(2).map(|w| w[1] - w[0]);
+        GridInfo {
+            n,
+            cell,
+            entries: start.last().copied().unwrap_or(0) as usize,
+            max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
+            empty_boxes: counts.filter(|&m| m == 0).count(),
+        }
+    }
+}
+
 /// Chooses the box size: twice the median radius plus TOL (boxes need not exceed the largest
 /// diameter: large particles simply get more entries), limited so the grid has at most about
 /// 4 boxes per particle.
@@ -274,15 +288,7 @@ fn single_cell_pairs(
         bounds: bounds.to_vec(),
         parts,
     };
-    let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
-    let info = GridInfo {
-        n,
-        cell,
-        entries: np,
-        max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
-        empty_boxes: counts.filter(|&m| m == 0).count(),
-    };
-    (pairs, info)
+    (pairs, GridInfo::of_cells(n, cell, &start))
 }
 
 /// The 13 forward neighbours of a cell, and the same as offsets of the flat cell index (for

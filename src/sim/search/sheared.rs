@@ -157,13 +157,5 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
         })
         .collect();
     let pairs: Vec<PairKey> = per_chunk.into_iter().flatten().collect();
-    let counts = (0..ncell).map(|c| start[c + 1] - start[c]);
-    let info = GridInfo {
-        n,
-        cell,
-        entries: np,
-        max_entries_per_box: counts.clone().max().unwrap_or(0) as usize,
-        empty_boxes: counts.filter(|&m| m == 0).count(),
-    };
-    (pairs, info)
+    (pairs, GridInfo::of_cells(n, cell, &start))
 }
