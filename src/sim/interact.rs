@@ -62,6 +62,26 @@ pub struct Laws<'a> {
     pub margin: f64,
 }
 
+impl Laws<'static> {
+    /// Dry laws with rotation and no damping or liquid, for the tests of the kernels.
+    #[cfg(test)]
+    pub fn dry(dt: f64, tangential: TangentialChoice) -> Laws<'static> {
+        Laws {
+            dt,
+            tangential,
+            rotation: true,
+            beta: 0.0,
+            liquid: None,
+            bridge: BridgeChoice::Fit,
+            smin: None,
+            impact: false,
+            liquid_share: None,
+            goldman: false,
+            margin: 0.0,
+        }
+    }
+}
+
 /// Energy increments of this step.
 #[derive(Default, Clone, Copy)]
 pub struct Acc {
@@ -649,19 +669,7 @@ mod tests {
     use crate::sim::contacts::ContactExt;
 
     fn laws() -> Laws<'static> {
-        Laws {
-            dt: 1e-6,
-            tangential: TangentialChoice::Md,
-            rotation: true,
-            beta: 0.0,
-            liquid: None,
-            bridge: BridgeChoice::Fit,
-            smin: None,
-            impact: false,
-            liquid_share: None,
-            goldman: false,
-            margin: 0.0,
-        }
+        Laws::dry(1e-6, TangentialChoice::Md)
     }
 
     fn kin(gap: f64) -> Kin {

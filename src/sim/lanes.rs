@@ -297,7 +297,7 @@ mod tests {
     use super::*;
     use crate::sim::contacts::ContactState;
     use crate::sim::interact::{Acc, Kin, Laws, interact};
-    use crate::sim::model::{BridgeChoice, TangentialChoice};
+    use crate::sim::model::TangentialChoice;
     use crate::sim::params::PairConst;
     use crate::sim::rng::Rng;
     use crate::sim::scene::Vec3;
@@ -315,19 +315,7 @@ mod tests {
     fn batch_kernel_is_the_general_kernel_bit_for_bit() {
         let mut r = Rng::new(7);
         let dt = 1.7e-5;
-        let laws = Laws {
-            dt,
-            tangential: TangentialChoice::NoSlip,
-            rotation: true,
-            beta: 0.0,
-            liquid: None,
-            bridge: BridgeChoice::Fit,
-            smin: None,
-            impact: false,
-            liquid_share: None,
-            goldman: false,
-            margin: 0.0,
-        };
+        let laws = Laws::dry(dt, TangentialChoice::NoSlip);
         let mut cases = 0;
         let mut seen = [0usize; 5]; // sliding, sticking, zero shear, shear along n, clamped
         for _ in 0..200 {

@@ -346,7 +346,7 @@ mod tests {
     use super::super::{PairCtx, UniPair};
     use super::*;
     use crate::sim::interact::Laws;
-    use crate::sim::model::{BridgeChoice, TangentialChoice};
+    use crate::sim::model::TangentialChoice;
     use crate::sim::rng::Rng;
     use crate::sim::scene::{Material, Scene};
 
@@ -373,19 +373,7 @@ mod tests {
                 .push(k + 1, x, Vec3::zeros(), Vec3::zeros(), rad, 1e-9, 1, 1, 0);
         }
         let model = crate::sim::params::build(&sc).unwrap();
-        let laws = Laws {
-            dt: 1e-7,
-            tangential: TangentialChoice::NoSlip,
-            rotation: true,
-            beta: 0.0,
-            liquid: None,
-            bridge: BridgeChoice::Fit,
-            smin: None,
-            impact: false,
-            liquid_share: None,
-            goldman: false,
-            margin: 0.0,
-        };
+        let laws = Laws::dry(1e-7, TangentialChoice::NoSlip);
         // Every pair, so that many are near (and many across the sides).
         let all: Vec<HotPair> = (0..200u32)
             .flat_map(|i| {
