@@ -204,20 +204,25 @@ pub fn servo_step(cell: &mut Cell, servo: &Servo, s: &[[f64; 3]; 3]) {
 }
 
 /// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
-/// stress of this step's forces, the deformation ([`deform`]) and the servo's new rates.
-/// `fl`: Σ f ⊗ l of this step's particle pairs (row-major), summed by the pair loop.
-pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64) {
+/// stress of this step's forces, the deformation ([`deform`], which also wraps the
+/// particles) and the servo's new rates. `fl`: Σ f ⊗ l of this step's particle pairs
+/// (row-major), summed by the pair loop. Returns whether the particles were wrapped.
+pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64) -> bool {
     let v = super::stress::volume(scene);
-    let mut contact = [[0.0; 3]; 3];
-    for (a, row) in contact.iter_mut().enumerate() {
-        for (b, x) in row.iter_mut().enumerate() {
-            *x = fl[3 * a + b] / v;
+    let active = scene.cell.is_active();
+    // Σ m C ⊗ C of the velocities of this step (before the field's share of it).
+    let kin = if active {
+        deform(scene, dt)
+    } else {
+        kinetic_sum(&scene.particles)
+    };
+    let mut s = super::stress::Stress::default();
+    for a in 0..3 {
+        for b in 0..3 {
+            s.contact[a][b] = fl[3 * a + b] / v;
+            s.kinetic[a][b] = kin[a][b] / v;
         }
     }
-    let s = super::stress::Stress {
-        contact,
-        kinetic: super::stress::kinetic_part(scene),
-    };
     let total = s.total();
     let dot = |h: &[[f64; 3]; 3]| -> f64 {
         let mut w = 0.0;
@@ -233,20 +238,36 @@ pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64
     c.work += c.pending + dot(&c.half);
     c.half = [[0.0; 3]; 3];
     c.pending = 0.0;
-    if c.is_active() {
+    if active {
         let g = c.gradient();
-        let v = super::stress::volume(scene);
-        let c = &mut scene.cell;
         for a in 0..3 {
             for b in 0..3 {
                 c.half[a][b] = -0.5 * v * g[a][b] * dt;
             }
         }
         c.pending = dot(&c.half);
-        deform(scene, dt);
     }
     if let Some(servo) = servo {
-        servo_step(&mut scene.cell, servo, &s.total());
+        servo_step(&mut scene.cell, servo, &total);
+    }
+    active
+}
+
+/// Σ m C ⊗ C over the particles, in particle order (`stress::kinetic_part` times V).
+fn kinetic_sum(p: &super::scene::Particles) -> [[f64; 3]; 3] {
+    let mut k = [[0.0; 3]; 3];
+    for i in 0..p.len() {
+        add_kinetic(&mut k, p.mass[i], &p.vel[i]);
+    }
+    k
+}
+
+#[inline(always)]
+fn add_kinetic(k: &mut [[f64; 3]; 3], m: f64, c: &Vec3) {
+    for (a, row) in k.iter_mut().enumerate() {
+        for (b, x) in row.iter_mut().enumerate() {
+            *x += m * c[a] * c[b];
+        }
     }
 }
 
@@ -351,20 +372,10 @@ pub fn shrink_refusal(scene: &Scene, n: u64, dt: f64) -> Option<String> {
 /// most about `4 R_max`. So the field's share of the particles' motion is not counted as
 /// their displacement (`Particles::disp`: the peculiar motion only); the bound
 /// `max_k Σ_j |G_kj| 4 R_max Δt` of its relative share is added to `Cell::travel`.
-pub fn deform(scene: &mut Scene, dt: f64) {
+pub fn deform(scene: &mut Scene, dt: f64) -> [[f64; 3]; 3] {
     let r = scene.cell.rate;
     let f = [(r[0] * dt).exp(), (r[1] * dt).exp(), (r[2] * dt).exp()];
     let shear = r[3] * dt;
-    let reach = 4.0 * scene.max_radius();
-    let p = &mut scene.particles;
-    for i in 0..p.pos.len() {
-        let x = p.pos[i];
-        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
-        y.x += shear * x.y;
-        p.pos[i] = y;
-        let c = p.vel[i];
-        p.vel[i] = Vec3::new(c.x / f[0] - shear * c.y, c.y / f[1], c.z / f[2]);
-    }
     for k in 0..3 {
         scene.size[k] *= f[k];
         scene.cell.strain[k] += r[k] * dt;
@@ -374,8 +385,27 @@ pub fn deform(scene: &mut Scene, dt: f64) {
         let (lx, step) = (scene.size[0], r[3] * scene.size[1] * dt);
         scene.cell.shift = (scene.cell.shift + step).rem_euclid(lx);
     }
+    // One pass: the kinetic sum of the velocities before, the field's share of the motion,
+    // SLLOD, and the wrap into the new cell ([`wrap_one`]).
+    let (size, periodic, shift) = (scene.size, scene.settings.periodic, scene.cell.shift);
+    let sheared = periodic[1] && shift != 0.0;
+    let mut kin = [[0.0; 3]; 3];
+    let mut rmax = 0.0f64;
+    let p = &mut scene.particles;
+    for i in 0..p.pos.len() {
+        let c = p.vel[i];
+        add_kinetic(&mut kin, p.mass[i], &c);
+        rmax = rmax.max(p.radius[i]);
+        let x = p.pos[i];
+        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
+        y.x += shear * x.y;
+        wrap_one(&mut y, size, periodic, sheared.then_some(shift));
+        p.pos[i] = y;
+        p.vel[i] = Vec3::new(c.x / f[0] - shear * c.y, c.y / f[1], c.z / f[2]);
+    }
     let row = (r[0].abs() + r[3].abs()).max(r[1].abs()).max(r[2].abs());
-    scene.cell.travel += row * reach * dt;
+    scene.cell.travel += row * (4.0 * rmax) * dt;
+    kin
 }
 
 /// Brings every particle back into the cell through the periodic sides; across y with the
@@ -385,25 +415,33 @@ pub fn wrap(scene: &mut Scene) {
     if periodic == [false; 3] {
         return;
     }
-    let sheared = periodic[1] && shift != 0.0;
-    // (One pass; per particle the same operations in the same order as an axis at a time.)
+    let sheared = (periodic[1] && shift != 0.0).then_some(shift);
     for x in scene.particles.pos.iter_mut() {
-        if sheared && (x.y < 0.0 || x.y >= size[1]) {
-            let l = size[1];
-            let n = (x.y / l).floor();
-            x.y -= n * l;
-            x.x -= n * shift;
-            if x.y >= l {
-                // (Rounding: y − n l may land on l.)
-                x.y = 0.0;
-            }
+        wrap_one(x, size, periodic, sheared);
+    }
+}
+
+/// One particle into the cell: across a sheared y side first (at the image, `shift`), then
+/// along each periodic axis.
+#[inline(always)]
+fn wrap_one(x: &mut Vec3, size: [f64; 3], periodic: [bool; 3], shift: Option<f64>) {
+    if let Some(shift) = shift
+        && (x.y < 0.0 || x.y >= size[1])
+    {
+        let l = size[1];
+        let n = (x.y / l).floor();
+        x.y -= n * l;
+        x.x -= n * shift;
+        if x.y >= l {
+            // (Rounding: y − n l may land on l.)
+            x.y = 0.0;
         }
-        for k in 0..3 {
-            if periodic[k] {
-                let l = size[k];
-                if x[k] < 0.0 || x[k] >= l {
-                    x[k] = x[k].rem_euclid(l);
-                }
+    }
+    for k in 0..3 {
+        if periodic[k] {
+            let l = size[k];
+            if x[k] < 0.0 || x[k] >= l {
+                x[k] = x[k].rem_euclid(l);
             }
         }
     }

@@ -468,14 +468,15 @@ pub(super) fn finish_move(
         });
     }
     let servo = std::mem::take(&mut scene.derived.servo);
-    if scene.cell.needs_stress() || servo.is_some() {
-        // The deforming cell (`sim::cell`): its work, the mean field's share of the motion
-        // and the stress servo.
-        crate::sim::cell::end_step(scene, servo.as_ref(), &acc.stress, dt);
-    }
+    // The deforming cell (`sim::cell`): its work, the mean field's share of the motion with
+    // the wrap, and the stress servo.
+    let wrapped = (scene.cell.needs_stress() || servo.is_some())
+        && crate::sim::cell::end_step(scene, servo.as_ref(), &acc.stress, dt);
     scene.derived.servo = servo;
-    // Wrap periodic coordinates (across a sheared side at the image).
-    crate::sim::cell::wrap(scene);
+    if !wrapped {
+        // Wrap periodic coordinates (across a sheared side at the image).
+        crate::sim::cell::wrap(scene);
+    }
     let p = &mut scene.particles;
     if scene.zero_always {
         // The kinetic energy taken out leaves the books as a command's change.
