@@ -255,19 +255,33 @@ pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64
 
 /// Σ m C ⊗ C over the particles, in particle order (`stress::kinetic_part` times V).
 fn kinetic_sum(p: &super::scene::Particles) -> [[f64; 3]; 3] {
-    let mut k = [[0.0; 3]; 3];
+    let mut k = Kinetic::default();
     for i in 0..p.len() {
-        add_kinetic(&mut k, p.mass[i], &p.vel[i]);
+        k.add(p.mass[i], &p.vel[i]);
     }
-    k
+    k.tensor()
 }
 
-#[inline(always)]
-fn add_kinetic(k: &mut [[f64; 3]; 3], m: f64, c: &Vec3) {
-    for (a, row) in k.iter_mut().enumerate() {
-        for (b, x) in row.iter_mut().enumerate() {
-            *x += m * c[a] * c[b];
-        }
+/// Σ m c ⊗ c as its six distinct sums (xx yy zz xy yz zx), kept in registers through a loop.
+#[derive(Clone, Copy, Default)]
+struct Kinetic([f64; 6]);
+
+impl Kinetic {
+    #[inline(always)]
+    fn add(&mut self, m: f64, c: &Vec3) {
+        let (mx, my, mz) = (m * c.x, m * c.y, m * c.z);
+        let k = &mut self.0;
+        k[0] += mx * c.x;
+        k[1] += my * c.y;
+        k[2] += mz * c.z;
+        k[3] += mx * c.y;
+        k[4] += my * c.z;
+        k[5] += mz * c.x;
+    }
+
+    fn tensor(self) -> [[f64; 3]; 3] {
+        let [xx, yy, zz, xy, yz, zx] = self.0;
+        [[xx, xy, zx], [xy, yy, yz], [zx, yz, zz]]
     }
 }
 
@@ -389,23 +403,38 @@ pub fn deform(scene: &mut Scene, dt: f64) -> [[f64; 3]; 3] {
     // SLLOD, and the wrap into the new cell ([`wrap_one`]).
     let (size, periodic, shift) = (scene.size, scene.settings.periodic, scene.cell.shift);
     let sheared = periodic[1] && shift != 0.0;
-    let mut kin = [[0.0; 3]; 3];
+    let mut kin = Kinetic::default();
     let mut rmax = 0.0f64;
     let p = &mut scene.particles;
-    for i in 0..p.pos.len() {
-        let c = p.vel[i];
-        add_kinetic(&mut kin, p.mass[i], &c);
-        rmax = rmax.max(p.radius[i]);
-        let x = p.pos[i];
-        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
-        y.x += shear * x.y;
-        wrap_one(&mut y, size, periodic, sheared.then_some(shift));
-        p.pos[i] = y;
-        p.vel[i] = Vec3::new(c.x / f[0] - shear * c.y, c.y / f[1], c.z / f[2]);
+    let inv = [1.0 / f[0], 1.0 / f[1], 1.0 / f[2]];
+    let shift = sheared.then_some(shift);
+    if r[..3] == [0.0; 3] {
+        // Simple shear: no scaling.
+        for i in 0..p.pos.len() {
+            let c = p.vel[i];
+            kin.add(p.mass[i], &c);
+            rmax = rmax.max(p.radius[i]);
+            let x = &mut p.pos[i];
+            x.x += shear * x.y;
+            wrap_one(x, size, periodic, shift);
+            p.vel[i].x = c.x - shear * c.y;
+        }
+    } else {
+        for i in 0..p.pos.len() {
+            let c = p.vel[i];
+            kin.add(p.mass[i], &c);
+            rmax = rmax.max(p.radius[i]);
+            let x = p.pos[i];
+            let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
+            y.x += shear * x.y;
+            wrap_one(&mut y, size, periodic, shift);
+            p.pos[i] = y;
+            p.vel[i] = Vec3::new(c.x * inv[0] - shear * c.y, c.y * inv[1], c.z * inv[2]);
+        }
     }
     let row = (r[0].abs() + r[3].abs()).max(r[1].abs()).max(r[2].abs());
     scene.cell.travel += row * (4.0 * rmax) * dt;
-    kin
+    kin.tensor()
 }
 
 /// Brings every particle back into the cell through the periodic sides; across y with the

@@ -50,17 +50,12 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
         Some(flat([wrap(x, n[0]), y, z]))
     };
     let slots = |f: usize| &members[start[f] as usize..start[f + 1] as usize];
-    // The particles a distinct grid pairs particle `a` (in cell `c`) with: the later ones of
-    // its cell, those of its 13 forward neighbours that do not lie across the sheared side,
-    // and, from the top row, the bottom row's images (displaced by the offset: four columns,
-    // three layers).
-    let half_stencil = |a: usize, [cx, cy, cz]: [i64; 3], s: i64, each: &mut dyn FnMut(usize)| {
-        let here = cell_at(cx, cy as usize, cz).unwrap_or(0);
-        for &b in slots(here) {
-            if (b as usize) > a {
-                each(b as usize);
-            }
-        }
+    // The cells whose particles a distinct grid pairs a particle of cell (cx, cy, cz) with,
+    // besides the later ones of its own cell: its 13 forward neighbours that do not lie
+    // across the sheared side, and, from the top row, the bottom row's images (displaced by
+    // the offset: four columns, three layers).
+    let half_stencil = |[cx, cy, cz]: [i64; 3], s: i64, cells: &mut Vec<usize>| {
+        cells.clear();
         for dz in -1..=1i64 {
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
@@ -69,9 +64,7 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                         continue;
                     }
                     if let Some(f) = cell_at(cx + dx, y as usize, cz + dz) {
-                        for &b in slots(f) {
-                            each(b as usize);
-                        }
+                        cells.push(f);
                     }
                 }
             }
@@ -80,9 +73,7 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
             for dz in -1..=1i64 {
                 for x in cx - s - 2..=cx - s + 1 {
                     if let Some(f) = cell_at(x, 0, cz + dz) {
-                        for &b in slots(f) {
-                            each(b as usize);
-                        }
+                        cells.push(f);
                     }
                 }
             }
@@ -99,6 +90,7 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
         .map(|k| {
             let mut keys = Vec::new();
             let mut found: Vec<u32> = Vec::new();
+            let mut cells: Vec<usize> = Vec::with_capacity(26);
             for a in k * CHUNK..((k + 1) * CHUNK).min(np) {
                 let c = cell_of[a] as usize;
                 let (cx, cy, cz) = (
@@ -107,11 +99,21 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                     (c / (n[0] * n[1])) as i64,
                 );
                 if distinct {
-                    half_stencil(a, [cx, cy, cz], s, &mut |b| {
-                        if close(a, b) {
+                    for &b in slots(c) {
+                        let b = b as usize;
+                        if b > a && close(a, b) {
                             keys.push(key_of(p, a, b));
                         }
-                    });
+                    }
+                    half_stencil([cx, cy, cz], s, &mut cells);
+                    for &f in &cells {
+                        for &b in slots(f) {
+                            let b = b as usize;
+                            if close(a, b) {
+                                keys.push(key_of(p, a, b));
+                            }
+                        }
+                    }
                     continue;
                 }
                 found.clear();
