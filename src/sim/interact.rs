@@ -684,10 +684,9 @@ mod tests {
         }
     }
 
-    /// Loads a contact with the Mindlin–Deresiewicz law (which keeps its displacement in the
-    /// law-specific part), then separates it; returns the state after each.
-    fn load_and_separate(gamma: f64) -> (ContactState, ContactState) {
-        let pc = PairConst {
+    /// The pair constants of the adhesion tests (E* = 1 GPa, G* = 0.4 GPa, μ = 0.3).
+    fn adhesive_pair(gamma: f64) -> PairConst {
+        PairConst {
             e_star: 1e9,
             g_star: 4e8,
             mu: 0.3,
@@ -695,7 +694,13 @@ mod tests {
             gamma_base: gamma,
             zeta: 0.0,
             dash: 0.0,
-        };
+        }
+    }
+
+    /// Loads a contact with the Mindlin–Deresiewicz law (which keeps its displacement in the
+    /// law-specific part), then separates it; returns the state after each.
+    fn load_and_separate(gamma: f64) -> (ContactState, ContactState) {
+        let pc = adhesive_pair(gamma);
         let mut s = ContactState::default();
         let mut acc = Acc::default();
         for _ in 0..3 {
@@ -730,15 +735,7 @@ mod tests {
     #[test]
     fn walton_friction_of_a_jkr_contact_is_bounded_by_the_hertz_part() {
         let gamma = 0.1;
-        let pc = PairConst {
-            e_star: 1e9,
-            g_star: 4e8,
-            mu: 0.3,
-            gamma,
-            gamma_base: gamma,
-            zeta: 0.0,
-            dash: 0.0,
-        };
+        let pc = adhesive_pair(gamma);
         let laws = Laws {
             tangential: TangentialChoice::Walton,
             ..laws()
