@@ -6,7 +6,7 @@ time-step table (1.2326, 2.4509, 1.3184 at s = 12000 1/s) and Lun's theory (e = 
 beta = 0); with --sweep, the same at several shear rates, against the energy cohesion number
 CN_e (Shang (3.17)), written to doc/data/shang_shear.csv and doc/img/shang_shear.png.
 
-usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--sweep] [S ...]
+usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--seed K] [--sweep] [S ...]
 """
 import csv
 import json
@@ -23,6 +23,7 @@ import run_table  # noqa: E402
 SIGMA, RHO, E, NU, GAMMA_SHANG = 2e-5, 2600.0, 6e10, 0.25, 0.2
 E_STAR = E / (2 * (1 - NU ** 2))
 FRAC = 0.8281
+SEED = 0
 
 
 def cn_e(phi, s, gamma=GAMMA_SHANG):
@@ -36,14 +37,14 @@ def run(exe, phi, npart, s, strain, work):
     l0, rc, nc = lun_shear.start(phi, npart, dt)
     n = int(strain / (s * dt))
     sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": s, "n": n, "h": max(1, n // 400),
-            "gamma": GAMMA_SHANG / 2, "frac": FRAC}
+            "gamma": GAMMA_SHANG / 2, "frac": FRAC, "seed": SEED}
     objs = lun_shear.run_json(exe, "shang_shear.tru", sets, work)
     hist = next(o for o in objs if o["print"] == "history")
     cols = hist["columns"]
     rows = [r for r in hist["rows"] if r[0] > nc + n / 2]
     mean = lambda c: sum(r[cols.index(c)] for r in rows) / len(rows)
     norm = RHO * (SIGMA * s) ** 2
-    return {"phi": phi, "s": s, "cn_e": cn_e(phi, s), "pxy": -mean("sxy") / norm,
+    return {"phi": phi, "s": s, "seed": SEED, "strain": strain, "cn_e": cn_e(phi, s), "pxy": -mean("sxy") / norm,
             "pyy": mean("syy") / norm, "3T": 3 * mean("temperature") / (SIGMA * s) ** 2,
             "dt": dt, "steps": n}
 
@@ -55,7 +56,11 @@ def main():
         i = argv.index("--strain")
         strain = float(argv[i + 1])
         del argv[i : i + 2]
-    global FRAC
+    global FRAC, SEED
+    if "--seed" in argv:
+        i = argv.index("--seed")
+        SEED = int(argv[i + 1])
+        del argv[i : i + 2]
     if "--frac" in argv:
         i = argv.index("--frac")
         FRAC = float(argv[i + 1])

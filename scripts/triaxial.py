@@ -4,7 +4,7 @@
 deviator q/p, volumetric strain, mobilised friction angle) and doc/img/triaxial.png, and
 prints the peak and critical-state friction angles and the servo's error.
 
-usage: scripts/triaxial.py [--np N] [--p PA] [--rate 1/S] [--strain AXIAL]
+usage: scripts/triaxial.py [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T]
 """
 import csv
 import json
@@ -42,9 +42,13 @@ def main():
     p = arg(argv, "--p", 1e5)
     rate = arg(argv, "--rate", 5.0)
     axial = arg(argv, "--strain", 0.25)
+    mu0 = arg(argv, "--mu0", 0.5)
+    seed = arg(argv, "--seed", 0)
+    tag = arg(argv, "--tag", "")
     n = int(axial / (rate * dt()))
     vols = sum(math.pi * 4 / 3 * rr ** 3 for rr in [1e-4] * (npart // 2) + [1.2e-4] * (npart // 2))
-    sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n, "niso": 80000, "h": max(1, n // 300)}
+    sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n, "niso": 80000, "h": max(1, n // 300), "mu0": mu0,
+            "seed": seed}
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "triaxial")
     os.makedirs(work, exist_ok=True)
@@ -72,7 +76,7 @@ def main():
             "phi_mobilised_deg": math.degrees(math.asin(max(-1.0, min(1.0, sphi)))),
             "mean_stress": mean,
         })
-    with open(os.path.join(ROOT, "doc", "data", "triaxial.csv"), "w", newline="") as fh:
+    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
@@ -90,11 +94,11 @@ def main():
         "largest_mean_stress_error": err, "steps": n,
     }
     print(json.dumps(summary, indent=1))
-    with open(os.path.join(ROOT, "doc", "data", "triaxial_summary.json"), "w") as fh:
+    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
     run_table.chart(
-        os.path.join(ROOT, "doc", "img", "triaxial.png"),
-        f"CONSTANT-MEAN-STRESS TRIAXIAL TEST, {npart} SPHERES, P = {p:g} PA, MU = 0.5",
+        os.path.join(ROOT, "doc", "img", f"triaxial{tag}.png"),
+        f"CONSTANT-MEAN-STRESS TRIAXIAL TEST, {npart} SPHERES, P = {p:g} PA, MU = 0.5 (PREPARED WITH {mu0:g})",
         [("Q/P", [(r["axial_strain"], r["q_over_p"]) for r in rows]),
          ("EV X 10", [(r["axial_strain"], 10 * r["volumetric_strain"]) for r in rows])],
         "AXIAL STRAIN",
