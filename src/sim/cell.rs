@@ -106,7 +106,13 @@ pub enum StressTarget {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Servo {
     pub targets: Vec<(StressTarget, f64, [bool; 3])>,
+    /// Consecutive steps in which an adjusted rate jumped from one limit ±edmax to the
+    /// other: the servo hunting, a sign of a gain too high for the packing it has made.
+    pub flips: u32,
 }
+
+/// Steps of hunting between ±edmax after which the Cycle stops (`cycle::update`).
+pub const HUNTING_STEPS: u32 = 200;
 
 impl Servo {
     /// The servo of `targets` in a cell: σii adjusts ed_ii; the means adjust the axes they
@@ -145,7 +151,7 @@ impl Servo {
                 (t, v, free)
             })
             .collect();
-        Servo { targets }
+        Servo { targets, flips: 0 }
     }
 }
 
@@ -158,56 +164,63 @@ pub fn measured(t: StressTarget, s: &[[f64; 3]; 3]) -> f64 {
     }
 }
 
-/// The servo's loop gain per step, `g M Δt`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a the
-/// Hertz stiffness of each touching contact, l its branch length): an upper bound of the
-/// assembly's modulus dσ/dε under an affine strain. Mode 1 relaxes the error by
-/// `(1 − g M Δt)` per step (it overshoots above 1 and diverges above 2); mode 0 oscillates
+/// The servo's loop gain per step, `g (M Δt + η)`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a
+/// the Hertz stiffness of each touching contact, l its branch length), an upper bound of the
+/// assembly's modulus dσ/dε under an affine strain, and `η = Σ_c c_n l² / V` (c_n the
+/// restitution dashpot's coefficient `dash (m*² R* α)^{1/4}`, `physics::dashpot`), the
+/// stress the dashpots add per unit strain rate at once: a strain rate set from the stress
+/// (mode 1) feeds back through them in the same step. Mode 1 relaxes the error by about
+/// `(1 − gain)` per step (it overshoots above 1 and diverges above 2); mode 0 oscillates
 /// about the target and diverges above 4 (doc/cell.md, "Choosing the servo gain").
-pub fn servo_loop_gain(scene: &Scene, dt: f64) -> f64 {
+pub fn servo_loop_gain(scene: &Scene, model: &super::params::Model, dt: f64) -> f64 {
     let p = &scene.particles;
-    let mut m = 0.0;
+    let (mut m, mut eta) = (0.0, 0.0);
     for c in scene.contacts.iter() {
         if !c.s.touching {
             continue;
         }
         let (i, j) = (c.i as usize, c.j as usize);
-        let (a, b) = (
-            &scene.materials[p.material[i] as usize - 1],
-            &scene.materials[p.material[j] as usize - 1],
-        );
+        let (ka, kb) = (p.material[i] as usize, p.material[j] as usize);
+        let (a, b) = (&scene.materials[ka - 1], &scene.materials[kb - 1]);
         let es = crate::physics::hertz::e_star(a.young, a.poisson, b.young, b.poisson);
-        let l = scene.branch(&p.pos[i], &p.pos[j]);
-        m += 2.0 * es * c.s.a * l.norm_squared();
+        let l2 = scene.branch(&p.pos[i], &p.pos[j]).norm_squared();
+        m += 2.0 * es * c.s.a * l2;
+        let dash = model.pair(ka, kb).dash;
+        if dash > 0.0 && c.s.overlap > 0.0 {
+            let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+            let m_star = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+            eta += dash * (m_star * m_star * r_star * c.s.overlap).powf(0.25) * l2;
+        }
     }
-    scene.cell.gain[0] * m / super::stress::volume(scene) * dt
+    scene.cell.gain[0] * (m * dt + eta) / super::stress::volume(scene)
 }
 
 /// One servo update after a step (TRUBAL's `GAIN g edmax`, `Mode`): with the error
 /// `e = target − measured` (compression positive), mode 0 (velocity-increment control)
 /// changes each adjusted rate by `−g e`, mode 1 (velocity control) sets it to `−g e`; the
 /// rate is kept within ±edmax. A compressive error compresses (ed < 0).
-pub fn servo_step(cell: &mut Cell, servo: &Servo, s: &[[f64; 3]; 3]) {
+pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
     let [g, edmax] = cell.gain;
+    let mut flipped = false;
     for &(t, target, axes) in &servo.targets {
         let e = target - measured(t, s);
         for k in 0..3 {
             if axes[k] {
-                let ed = if cell.mode == 0 {
-                    cell.rate[k] - g * e
-                } else {
-                    -g * e
-                };
+                let old = cell.rate[k];
+                let ed = if cell.mode == 0 { old - g * e } else { -g * e };
                 cell.rate[k] = ed.clamp(-edmax, edmax);
+                flipped |= old.abs() == edmax && cell.rate[k] == -old;
             }
         }
     }
+    servo.flips = if flipped { servo.flips + 1 } else { 0 };
 }
 
 /// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
 /// stress of this step's forces, the deformation ([`deform`], which also wraps the
 /// particles) and the servo's new rates. `fl`: Σ f ⊗ l of this step's particle pairs
 /// (row-major), summed by the pair loop. Returns whether the particles were wrapped.
-pub fn end_step(scene: &mut Scene, servo: Option<&Servo>, fl: &[f64; 9], dt: f64) -> bool {
+pub fn end_step(scene: &mut Scene, servo: Option<&mut Servo>, fl: &[f64; 9], dt: f64) -> bool {
     let v = super::stress::volume(scene);
     let active = scene.cell.is_active();
     // Σ m C ⊗ C of the velocities of this step (before the field's share of it).

@@ -428,3 +428,17 @@ fn no_contact_is_missed_in_a_deforming_cell() {
     }
     assert!(across > 0, "no pair across the sheared side was seen");
 }
+
+/// A servo whose gain suits the loose gas it starts from but not the packing it makes
+/// hunts between ±edmax; the Cycle stops with a message and the last good state.
+#[test]
+fn a_hunting_servo_stops_the_cycle() {
+    let mut s = session(
+        "start 1e-3 1e-3 1e-3 100 1000 0\nrad 8e-5 1\ndensity 2600 1\nymd 1e8 1\npra 0.25 1\n\
+         friction 0.3 1\ndamping restitution 0.2\nrge 100 1 1 0\ngain 1 600\nmode 1\n",
+    );
+    let e = s.run_line("cycle 40000 s0 2e4").unwrap_err().message;
+    assert!(e.contains("hunts"), "{e}");
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.cycle < 40000);
+}

@@ -24,22 +24,22 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
         }
     }
     check_cell(scene)?;
-    check_gain(scene, model.dt)?;
+    check_gain(scene, &model)?;
     check_plane(scene)?;
     Ok(model)
 }
 
 /// A servo whose gain would make the cell's stress diverge at the present contacts
 /// (`cell::servo_loop_gain`) is refused before cycling.
-fn check_gain(scene: &Scene, dt: f64) -> Result<(), String> {
+fn check_gain(scene: &Scene, model: &Model) -> Result<(), String> {
     if scene.derived.servo.is_none() {
         return Ok(());
     }
-    let lg = crate::sim::cell::servo_loop_gain(scene, dt);
+    let lg = crate::sim::cell::servo_loop_gain(scene, model, model.dt);
     let limit = if scene.cell.mode == 0 { 4.0 } else { 2.0 };
     if lg > limit {
         return Err(format!(
-            "GAIN {:e} would make the stress servo diverge: its loop gain g M Δt is {lg:.3} at the present contacts (mode {} diverges above {limit}); use GAIN below {:.3e} (doc/cell.md, \"Choosing the servo gain\")",
+            "GAIN {:e} would make the stress servo diverge: its loop gain g (M Δt + η) is {lg:.3} at the present contacts (stiffness and dashpots) (mode {} diverges above {limit}); use GAIN below {:.3e} (doc/cell.md, \"Choosing the servo gain\")",
             scene.cell.gain[0],
             scene.cell.mode,
             scene.cell.gain[0] * 0.5 * limit / lg

@@ -467,12 +467,26 @@ pub(super) fn finish_move(
             ),
         });
     }
-    let servo = std::mem::take(&mut scene.derived.servo);
+    let mut servo = std::mem::take(&mut scene.derived.servo);
     // The deforming cell (`sim::cell`): its work, the mean field's share of the motion with
     // the wrap, and the stress servo.
     let wrapped = (scene.cell.needs_stress() || servo.is_some())
-        && crate::sim::cell::end_step(scene, servo.as_ref(), &acc.stress, dt);
+        && crate::sim::cell::end_step(scene, servo.as_mut(), &acc.stress, dt);
+    let hunting = servo
+        .as_ref()
+        .is_some_and(|s| s.flips >= crate::sim::cell::HUNTING_STEPS);
     scene.derived.servo = servo;
+    if hunting {
+        return Err(Blowup {
+            cycle: scene.cycle + 1,
+            message: format!(
+                "the stress servo hunts: its strain rates jumped between +edmax and -edmax for {} steps up to cycle {} (the packing it made is too stiff, or too damped, for GAIN {:e}); reduce GAIN (doc/cell.md, \"Choosing the servo gain\")",
+                crate::sim::cell::HUNTING_STEPS,
+                scene.cycle + 1,
+                scene.cell.gain[0]
+            ),
+        });
+    }
     if !wrapped {
         // Wrap periodic coordinates (across a sheared side at the image).
         crate::sim::cell::wrap(scene);
