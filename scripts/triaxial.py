@@ -4,7 +4,7 @@
 deviator q/p, volumetric strain, mobilised friction angle) and doc/img/triaxial.png, and
 prints the peak and critical-state friction angles and the servo's error.
 
-usage: scripts/triaxial.py [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T]
+usage: scripts/triaxial.py [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T] [--gain G]
 """
 import csv
 import json
@@ -45,10 +45,11 @@ def main():
     mu0 = arg(argv, "--mu0", 0.5)
     seed = arg(argv, "--seed", 0)
     tag = arg(argv, "--tag", "")
+    gain = arg(argv, "--gain", 5e-3)
     n = int(axial / (rate * dt()))
     vols = sum(math.pi * 4 / 3 * rr ** 3 for rr in [1e-4] * (npart // 2) + [1.2e-4] * (npart // 2))
     sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n, "niso": 80000, "h": max(1, n // 300), "mu0": mu0,
-            "seed": seed}
+            "seed": seed, "g": gain}
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "triaxial")
     os.makedirs(work, exist_ok=True)
@@ -91,7 +92,7 @@ def main():
         "solid_fraction_at_p": vols / (size[0] * size[1] * size[2]),
         "peak_phi_deg": peak["phi_mobilised_deg"], "peak_axial_strain": peak["axial_strain"],
         "critical_phi_deg": crit, "final_volumetric_strain": rows[-1]["volumetric_strain"],
-        "largest_mean_stress_error": err, "steps": n,
+        "largest_mean_stress_error": err, "steps": n, "gain": gain, "mu0": mu0,
     }
     print(json.dumps(summary, indent=1))
     with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), "w") as fh:
