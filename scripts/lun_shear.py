@@ -93,17 +93,20 @@ def run(exe, phi, npart, strain, work):
     }
 
 
+def option(argv, name, default):
+    """The value after `name` in argv (removed from it), of default's type, or default."""
+    if name in argv:
+        i = argv.index(name)
+        v = type(default)(argv[i + 1])
+        del argv[i : i + 2]
+        return v
+    return default
+
+
 def main():
     argv = sys.argv[1:]
-    strain, npart = 40.0, 250
-    if "--strain" in argv:
-        i = argv.index("--strain")
-        strain = float(argv[i + 1])
-        del argv[i : i + 2]
-    if "--np" in argv:
-        i = argv.index("--np")
-        npart = int(argv[i + 1])
-        del argv[i : i + 2]
+    strain = option(argv, "--strain", 40.0)
+    npart = option(argv, "--np", 250)
     if "--chart-only" in argv:
         with open(os.path.join(ROOT, "doc", "data", "lun_shear.csv")) as fh:
             draw([{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)])

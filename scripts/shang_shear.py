@@ -52,19 +52,10 @@ def run(exe, phi, npart, s, strain, work):
 def main():
     argv = sys.argv[1:]
     strain = 40.0
-    if "--strain" in argv:
-        i = argv.index("--strain")
-        strain = float(argv[i + 1])
-        del argv[i : i + 2]
+    strain = lun_shear.option(argv, "--strain", strain)
     global FRAC, SEED
-    if "--seed" in argv:
-        i = argv.index("--seed")
-        SEED = int(argv[i + 1])
-        del argv[i : i + 2]
-    if "--frac" in argv:
-        i = argv.index("--frac")
-        FRAC = float(argv[i + 1])
-        del argv[i : i + 2]
+    SEED = lun_shear.option(argv, "--seed", SEED)
+    FRAC = lun_shear.option(argv, "--frac", FRAC)
     sweep = "--sweep" in argv
     argv = [a for a in argv if a != "--sweep"]
     rates = [float(a) for a in argv] or ([12000, 9000, 7000, 5800, 4500] if sweep else [12000])

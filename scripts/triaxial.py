@@ -17,6 +17,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import run_table  # noqa: E402
+from lun_shear import option as arg  # noqa: E402
 
 R_MEAN = 1.1e-4
 E, NU, RHO = 1e9, 0.3, 2600.0
@@ -25,15 +26,6 @@ E, NU, RHO = 1e9, 0.3, 2600.0
 def dt():
     g = E / (2 * (1 + NU))
     return 0.2 * math.pi * 1e-4 * math.sqrt(RHO / g) / (0.1631 * NU + 0.8766)
-
-
-def arg(argv, name, default):
-    if name in argv:
-        i = argv.index(name)
-        v = argv[i + 1]
-        del argv[i : i + 2]
-        return type(default)(v)
-    return default
 
 
 def main():
