@@ -219,7 +219,9 @@ pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
 /// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
 /// stress of this step's forces, the deformation ([`deform`], which also wraps the
 /// particles) and the servo's new rates. `fl`: Σ f ⊗ l of this step's particle pairs
-/// (row-major), summed by the pair loop. Returns whether the particles were wrapped.
+/// (row-major), summed by the pair loop for the components 11, 22, 33 and 12 (those that
+/// the work `σ:G` and the servo read; the others are 0). Returns whether the particles
+/// were wrapped.
 pub fn end_step(scene: &mut Scene, servo: Option<&mut Servo>, fl: &[f64; 9], dt: f64) -> bool {
     let v = super::stress::volume(scene);
     let active = scene.cell.is_active();

@@ -91,7 +91,8 @@ pub struct Acc {
     pub adhesion: f64,
     pub rupture: f64,
     /// Σ f ⊗ l of the particle pairs (row-major; `sim::stress`), summed only when the pair
-    /// loop is asked for it (`PairCtx::stress`: a deforming or servo-held cell).
+    /// loop is asked for it (`PairCtx::stress`: a deforming or servo-held cell), and only
+    /// the components 11, 22, 33 and 12 that the cell reads (`cell::end_step`).
     pub stress: [f64; 9],
 }
 

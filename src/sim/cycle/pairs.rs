@@ -223,13 +223,14 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                 }
             };
             if c.stress {
-                // The average stress's contact part (`sim::stress`), in pair order.
+                // The average stress's contact part (`sim::stress`), in pair order: the
+                // components the cell's work and servo read (σ11 σ22 σ33 and σ12, where
+                // the velocity gradient can be non-zero).
                 let l = ds[q] * dists[q];
-                for a in 0..3 {
-                    for b in 0..3 {
-                        acc.stress[3 * a + b] += f.f[a] * l[b];
-                    }
-                }
+                acc.stress[0] += f.f.x * l.x;
+                acc.stress[4] += f.f.y * l.y;
+                acc.stress[8] += f.f.z * l.z;
+                acc.stress[1] += f.f.x * l.y;
             }
             emit(k, h, f);
         }
