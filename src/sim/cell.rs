@@ -23,7 +23,8 @@
 //! (`cycle::pairs::rel_velocity`). Spins are total.
 //!
 //! Work: the cell puts in `−V σ:G Δt` per step (σ the average stress, compression positive,
-//! kinetic part included: [`super::stress`]), booked as `Ledger::cell`.
+//! kinetic part included: [`super::stress`]), booked as `Cell::work`, an input of the
+//! energy books.
 use serde::{Deserialize, Serialize};
 
 use super::scene::{Scene, Vec3};
@@ -38,8 +39,8 @@ pub struct Cell {
     /// Lees–Edwards offset: x displacement of the images above the cell (y + L_y), in
     /// [0, L_x) (m).
     pub shift: f64,
-    /// The stress servo's gain g (1/(s Pa) in mode 0 per step, 1/(s Pa) in mode 1) and the
-    /// largest strain rate it may set (1/s) (`GAIN g edmax`).
+    /// The stress servo's gain g (1/(s Pa): the rate, or in mode 0 its change per step, per
+    /// pascal of error) and the largest strain rate it may set (1/s) (`GAIN g edmax`).
     pub gain: [f64; 2],
     /// Servo mode: 0 velocity-increment control, 1 velocity control (`Mode n`).
     pub mode: u8,
@@ -52,9 +53,10 @@ pub struct Cell {
     /// deformation is booked by the trapezoid rule, `−½ V (σⁿ + σⁿ⁺¹):G Δt`, once the
     /// forces at its end are known (the next step), like the other terms of the books.
     pub work: f64,
-    /// `−½ V G Δt` of the last step's deformation, and its first half `σⁿ : (−½ V G Δt)`,
-    /// still to be booked.
+    /// `−½ V G Δt` of the last step's deformation, whose second half `σⁿ⁺¹ : half` is still
+    /// to be booked.
     pub half: [[f64; 3]; 3],
+    /// The first half of the last step's work, `σⁿ : half`, booked with the second.
     pub pending: f64,
 }
 
@@ -65,7 +67,7 @@ impl Cell {
         [[r[0], r[3], 0.0], [0.0, r[1], 0.0], [0.0, 0.0, r[2]]]
     }
 
-    /// Whether the cell moves at all (a rate set, or a Lees–Edwards offset left from one).
+    /// Whether the cell moves at all (a strain rate is set).
     pub fn is_active(&self) -> bool {
         self.rate.iter().any(|&r| r != 0.0)
     }
@@ -393,7 +395,8 @@ pub fn shrink_refusal(scene: &Scene, n: u64, dt: f64) -> Option<String> {
 
 /// The cell's share of a step, after the particles moved with their peculiar velocities:
 /// the cell and the particles' positions follow the mean field, the peculiar velocities lose
-/// `G C Δt` (SLLOD), the Lees–Edwards offset advances.
+/// `G C Δt` (SLLOD), the Lees–Edwards offset advances, the particles are wrapped into the new
+/// cell. Returns Σ m C ⊗ C of the velocities before (the kinetic stress times V).
 ///
 /// The re-mapping rule: the mean field moves the cell's images with it, so it changes the
 /// branch vector `l` of any pair (across a side or the sheared side included) by exactly
@@ -423,29 +426,16 @@ pub fn deform(scene: &mut Scene, dt: f64) -> [[f64; 3]; 3] {
     let p = &mut scene.particles;
     let inv = [1.0 / f[0], 1.0 / f[1], 1.0 / f[2]];
     let shift = sheared.then_some(shift);
-    if r[..3] == [0.0; 3] {
-        // Simple shear: no scaling.
-        for i in 0..p.pos.len() {
-            let c = p.vel[i];
-            kin.add(p.mass[i], &c);
-            rmax = rmax.max(p.radius[i]);
-            let x = &mut p.pos[i];
-            x.x += shear * x.y;
-            wrap_one(x, size, periodic, shift);
-            p.vel[i].x = c.x - shear * c.y;
-        }
-    } else {
-        for i in 0..p.pos.len() {
-            let c = p.vel[i];
-            kin.add(p.mass[i], &c);
-            rmax = rmax.max(p.radius[i]);
-            let x = p.pos[i];
-            let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
-            y.x += shear * x.y;
-            wrap_one(&mut y, size, periodic, shift);
-            p.pos[i] = y;
-            p.vel[i] = Vec3::new(c.x * inv[0] - shear * c.y, c.y * inv[1], c.z * inv[2]);
-        }
+    for i in 0..p.pos.len() {
+        let c = p.vel[i];
+        kin.add(p.mass[i], &c);
+        rmax = rmax.max(p.radius[i]);
+        let x = p.pos[i];
+        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
+        y.x += shear * x.y;
+        wrap_one(&mut y, size, periodic, shift);
+        p.pos[i] = y;
+        p.vel[i] = Vec3::new(c.x * inv[0] - shear * c.y, c.y * inv[1], c.z * inv[2]);
     }
     let row = (r[0].abs() + r[3].abs()).max(r[1].abs()).max(r[2].abs());
     scene.cell.travel += row * (4.0 * rmax) * dt;

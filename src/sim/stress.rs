@@ -60,39 +60,22 @@ pub fn contact_part(scene: &Scene) -> [[f64; 3]; 3] {
     let p = &scene.particles;
     let vol = volume(scene);
     let mut sig = [[0.0; 3]; 3];
-    let mut add = |i: usize, j: usize, s: &super::contacts::ContactState| {
+    for c in scene.contacts.iter() {
         // (Most candidates carry no force: skipped before their branch vector.)
+        let s = c.s;
         if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
-            return;
+            continue;
         }
-        let l = scene.branch(&p.pos[i], &p.pos[j]);
+        let l = scene.branch(&p.pos[c.i as usize], &p.pos[c.j as usize]);
         let dist = l.norm();
         if dist == 0.0 {
-            return;
+            continue;
         }
         let f = pair_force(s, &(l / dist));
-        if f == Vec3::zeros() {
-            return;
-        }
         for (a, row) in sig.iter_mut().enumerate() {
             for (b, x) in row.iter_mut().enumerate() {
                 *x += f[a] * l[b];
             }
-        }
-    };
-    let store = &scene.contacts;
-    let hot = &store.step.hot;
-    if hot.len() == store.pairs().len() {
-        // The step's hot list says which pairs have a live state (a solid contact, a bridge
-        // or a dashpot's history): the others are not looked up.
-        for (k, h) in hot.iter().enumerate() {
-            if h.live {
-                add(h.i as usize, h.j as usize, store.state(k));
-            }
-        }
-    } else {
-        for c in store.iter() {
-            add(c.i as usize, c.j as usize, c.s);
         }
     }
     for row in sig.iter_mut() {

@@ -8,6 +8,7 @@ use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Scene, Vec
 use crate::sim::walls;
 
 mod cell_cmd;
+pub use cell_cmd::probe;
 mod materials;
 mod model;
 mod motion;
