@@ -7,11 +7,12 @@ use super::super::scene::Scene;
 use super::{GridInfo, by_cell, cell_index, floor_i64, grid_of, key_of, wrap};
 
 /// Search of a sheared cell (Lees–Edwards offset `shift ≠ 0`, `sim::cell`): one cell per
-/// particle, cells at least 2 R_max + TOL wide, every particle compared with the particles of
-/// its 27 neighbour cells; across the y sides the neighbours are the images, whose columns
-/// are displaced by the offset (four columns instead of three, since the offset is not a
-/// whole number of cells). Each pair once, by its lower index; the nearest image decides
-/// (`Scene::branch`), so a small cell, whose neighbour cells repeat, finds each pair once too.
+/// particle, cells at least 2 R_max + TOL wide. Across the y sides the neighbours are the
+/// images, whose columns are displaced by the offset (four columns instead of three, since
+/// the offset is not a whole number of cells); the nearest image decides (`Scene::branch`).
+/// Each pair is found once: by a half stencil where the neighbour cells are distinct, else
+/// (a small grid, whose neighbour cells repeat) by the 27 cells around each particle, keeping
+/// the partners of higher index, sorted and made unique.
 pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo) {
     let p = &scene.particles;
     let np = p.len();
@@ -54,7 +55,7 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
     // besides the later ones of its own cell: its 13 forward neighbours that do not lie
     // across the sheared side, and, from the top row, the bottom row's images (displaced by
     // the offset: four columns, three layers).
-    let half_stencil = |[cx, cy, cz]: [i64; 3], s: i64, cells: &mut Vec<usize>| {
+    let half_stencil = |[cx, cy, cz]: [i64; 3], cells: &mut Vec<usize>| {
         cells.clear();
         for dz in -1..=1i64 {
             for dy in -1..=1i64 {
@@ -105,7 +106,7 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                             keys.push(key_of(p, a, b));
                         }
                     }
-                    half_stencil([cx, cy, cz], s, &mut cells);
+                    half_stencil([cx, cy, cz], &mut cells);
                     for &f in &cells {
                         for &b in slots(f) {
                             let b = b as usize;
@@ -118,14 +119,6 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                 }
                 found.clear();
                 for dz in -1..=1i64 {
-                    let z = cz + dz;
-                    let z = if periodic[2] {
-                        wrap(z, n[2])
-                    } else if z < 0 || z >= n[2] as i64 {
-                        continue;
-                    } else {
-                        z as usize
-                    };
                     for dy in -1..=1i64 {
                         let y = cy + dy;
                         let cols = if y >= n[1] as i64 {
@@ -135,15 +128,11 @@ pub(super) fn sheared_pairs(scene: &Scene, tol: f64) -> (Vec<PairKey>, GridInfo)
                         } else {
                             cx - 1..=cx + 1
                         };
-                        let y = wrap(y, n[1]);
                         for x in cols {
-                            let f = flat([wrap(x, n[0]), y, z]);
-                            for &b in &members[start[f] as usize..start[f + 1] as usize] {
-                                let b = b as usize;
-                                if b > a {
-                                    found.push(b as u32);
-                                }
-                            }
+                            let Some(f) = cell_at(x, wrap(y, n[1]), cz + dz) else {
+                                continue;
+                            };
+                            found.extend(slots(f).iter().filter(|&&b| b as usize > a));
                         }
                     }
                 }
