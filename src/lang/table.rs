@@ -246,7 +246,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["S0", "S1MS2", "S11", "S22", "S33", "RING"],
         true,
         b_cycle,
-        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. With stress-servo keywords the periodic cell's strain rates are adjusted every step to hold the named average stress (Pa, compression positive): S0 the mean (σ11+σ22+σ33)/3, S1MS2 the x-y mean, S11/S22/S33 one direction (GAIN and Mode first; doc/cell.md). A mean adjusts the axes whose GRID rate is 0. RING is not modelled."
+        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. With stress-servo keywords the periodic cell's strain rates are adjusted every step to hold the named average stress (Pa, compression positive): S0 the mean (σ11+σ22+σ33)/3, S1MS2 the x-y mean, S11/S22/S33 one direction (GAIN and Mode first; doc/cell.md). A mean adjusts the axes whose GRID rate is 0. RING θ holds the angle of the major principal stress in the x-y plane (degrees from x towards y; ring shear) by turning the x-y strain-rate deviator (ed12 and ed11 - ed22)."
     ),
     def!(
         "DAmping",

@@ -350,6 +350,7 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
 fn stress(scene: &Scene) -> (String, Value) {
     let st = crate::sim::stress::of(scene);
     let total = st.total();
+    let angle = crate::sim::cell::principal_angle(&total);
     let matrix = |name: &str, m: &[[f64; 3]; 3]| {
         format!(
             "  {name:<8} {:>13.6e} {:>13.6e} {:>13.6e}\n  {:8} {:>13.6e} {:>13.6e} {:>13.6e}\n  {:8} {:>13.6e} {:>13.6e} {:>13.6e}\n",
@@ -357,8 +358,9 @@ fn stress(scene: &Scene) -> (String, Value) {
         )
     };
     let s = format!(
-        "average stress (Pa, compression positive; row: force component, column: branch component), mean {:.6e}\n{}{}{}",
+        "average stress (Pa, compression positive; row: force component, column: branch component), mean {:.6e}, major principal stress in x-y at {:.3} deg from x\n{}{}{}",
         st.mean(),
+        angle,
         matrix("total", &total),
         matrix("contact", &st.contact),
         matrix("kinetic", &st.kinetic),
@@ -367,7 +369,7 @@ fn stress(scene: &Scene) -> (String, Value) {
         s,
         json!({"print": "stress", "cycle": scene.cycle, "stress": total,
             "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
-            "temperature": crate::sim::stress::temperature(scene)}),
+            "angle_xy": angle, "temperature": crate::sim::stress::temperature(scene)}),
     )
 }
 

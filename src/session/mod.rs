@@ -384,11 +384,15 @@ impl Session {
                 StressServo::S11 => StressTarget::Axis(0),
                 StressServo::S22 => StressTarget::Axis(1),
                 StressServo::S33 => StressTarget::Axis(2),
-                StressServo::Ring => {
-                    return Err("RING (the principal-stress angle of a ring shear test) is not modelled (doc/limits.md, \"What is not modelled\"); hold S0, S1MS2, S11, S22 or S33".into());
-                }
+                StressServo::Ring => StressTarget::Ring,
             };
-            if !(v.is_finite() && v > 0.0) {
+            if t == StressTarget::Ring {
+                if !(v.is_finite() && (0.0..180.0).contains(&v)) {
+                    return Err(format!(
+                        "Cycle: RING takes the angle of the major principal stress in the x-y plane, in degrees from x towards y, 0 <= angle < 180; got {v}"
+                    ));
+                }
+            } else if !(v.is_finite() && v > 0.0) {
                 return Err(format!(
                     "Cycle: the servo's target stress must be a positive number (Pa, compression positive); got {v}"
                 ));
@@ -396,7 +400,15 @@ impl Session {
             targets.push((t, v));
         }
         let scene = self.scene_mut()?;
-        scene.derived.servo = Some(Servo::new(&scene.cell, &targets));
+        let servo = Servo::new(&scene.cell, &targets);
+        if servo
+            .targets
+            .iter()
+            .any(|&(t, _, axes)| t == StressTarget::Ring && axes == [false; 4])
+        {
+            return Err("Cycle: RING has no strain rate to turn: GRID prescribes the shear rate ed12 and S11 and S22 hold ed11 and ed22; give up one of them (doc/cell.md, \"Ring shear\")".into());
+        }
+        scene.derived.servo = Some(servo);
         let r = self.cycle(n);
         if let Ok(scene) = self.scene_mut() {
             scene.derived.servo = None;

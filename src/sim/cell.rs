@@ -101,13 +101,22 @@ pub enum StressTarget {
     Mean12,
     /// One principal direction: σ11, σ22 or σ33 (axis 0, 1, 2).
     Axis(usize),
+    /// The angle θ of the major principal stress in the x–y plane, from x towards y
+    /// (TRUBAL's `RING`, ring shear; the target is θ in degrees): see [`ring_error`].
+    Ring,
 }
 
 /// The stress servo of one `Cycle`: its targets and the axes each adjusts (derived: set by
 /// the session for the Cycle, not saved).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Servo {
-    pub targets: Vec<(StressTarget, f64, [bool; 3])>,
+    /// Each target, its value and the rates it adjusts (ed11, ed22, ed33, ed12; only a
+    /// `Ring` target adjusts ed12).
+    pub targets: Vec<(StressTarget, f64, [bool; 4])>,
+    /// The strain rates when the Cycle started: in mode 1 a rate that only the `Ring`
+    /// target adjusts is this plus the servo's part (a prescribed shear rate stays the
+    /// base of a ring-shear servo).
+    pub base: [f64; 6],
     /// Consecutive steps in which an adjusted rate jumped from one limit ±edmax to the
     /// other: the servo hunting, a sign of a gain too high for the packing it has made.
     pub flips: u32,
@@ -134,18 +143,27 @@ impl Servo {
             .map(|&(t, v)| {
                 let over: &[usize] = match t {
                     StressTarget::Mean => &[0, 1, 2],
-                    StressTarget::Mean12 => &[0, 1],
+                    StressTarget::Mean12 | StressTarget::Ring => &[0, 1],
                     StressTarget::Axis(k) => {
-                        let mut a = [false; 3];
+                        let mut a = [false; 4];
                         a[k] = true;
                         return (t, v, a);
                     }
                 };
-                let mut free = [false; 3];
+                let mut free = [false; 4];
+                if t == StressTarget::Ring {
+                    // ed11 − ed22 on the axes no σii target holds; ed12 unless GRID
+                    // prescribes a shear rate.
+                    for &k in over {
+                        free[k] = !held.contains(&k);
+                    }
+                    free[3] = cell.rate[3] == 0.0;
+                    return (t, v, free);
+                }
                 for &k in over {
                     free[k] = !held.contains(&k) && cell.rate[k] == 0.0;
                 }
-                if free == [false; 3] {
+                if free == [false; 4] {
                     for &k in over {
                         free[k] = !held.contains(&k);
                     }
@@ -153,7 +171,11 @@ impl Servo {
                 (t, v, free)
             })
             .collect();
-        Servo { targets, flips: 0 }
+        Servo {
+            targets,
+            base: cell.rate,
+            flips: 0,
+        }
     }
 }
 
@@ -163,7 +185,28 @@ pub fn measured(t: StressTarget, s: &[[f64; 3]; 3]) -> f64 {
         StressTarget::Mean => (s[0][0] + s[1][1] + s[2][2]) / 3.0,
         StressTarget::Mean12 => (s[0][0] + s[1][1]) / 2.0,
         StressTarget::Axis(k) => s[k][k],
+        StressTarget::Ring => principal_angle(s),
     }
+}
+
+/// The angle (degrees, in [0, 180)) of the major principal stress in the x–y plane,
+/// measured from x towards y: `tan 2θ = 2 σ12 / (σ11 − σ22)` with σ compression positive,
+/// so the major (most compressive) direction. σ12 is the `[0][1]` entry (force x, branch
+/// y), the component the pair loop sums.
+pub fn principal_angle(s: &[[f64; 3]; 3]) -> f64 {
+    let t = 0.5 * (2.0 * s[0][1]).atan2(s[0][0] - s[1][1]).to_degrees();
+    if t < 0.0 { t + 180.0 } else { t }
+}
+
+/// The error of a ring-shear servo holding the major principal stress at θ* (degrees): the
+/// component of the x–y stress deviator `d = (½(σ11 − σ22), σ12) = r (cos 2θ, sin 2θ)`
+/// normal to the target direction `(cos 2θ*, sin 2θ*)`,
+/// `e = σ12 cos 2θ* − ½(σ11 − σ22) sin 2θ* = r sin 2(θ − θ*)` (Pa): zero at the target,
+/// stable there, and measured as a stress so that `GAIN` means the same as for the other
+/// targets.
+pub fn ring_error(theta: f64, s: &[[f64; 3]; 3]) -> f64 {
+    let (sn, cs) = (2.0 * theta.to_radians()).sin_cos();
+    s[0][1] * cs - 0.5 * (s[0][0] - s[1][1]) * sn
 }
 
 /// The servo's loop gain per step, `g (M Δt + η)`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a
@@ -201,18 +244,65 @@ pub fn servo_loop_gain(scene: &Scene, model: &super::params::Model, dt: f64) -> 
 /// `e = target − measured` (compression positive), mode 0 (velocity-increment control)
 /// changes each adjusted rate by `−g e`, mode 1 (velocity control) sets it to `−g e`; the
 /// rate is kept within ±edmax. A compressive error compresses (ed < 0).
+///
+/// `RING θ*` turns the x–y strain-rate deviator `q = (½(ed11 − ed22), ½ ed12)` along the
+/// normal `n⊥ = (−sin 2θ*, cos 2θ*)` of its target by `g e_R` ([`ring_error`]): a deviatoric
+/// strain rate q changes the stress deviator by about `−2G q Δt` (compression positive, G
+/// the shear modulus), so e_R relaxes. ed12 gets `2 g e_R cos 2θ*` (unless GRID prescribes
+/// a shear rate, which then stays); `−2 g e_R sin 2θ*` goes to ed11 − ed22, split equally
+/// between them when no S11/S22 target holds either (the mean is then untouched), else all
+/// on the free one. In mode 1 the rates it adjusts alone are the Cycle's starting rates
+/// plus its part.
 pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
     let [g, edmax] = cell.gain;
     let mut flipped = false;
+    let mut set = |rate: &mut f64, ed: f64| {
+        let old = *rate;
+        *rate = ed.clamp(-edmax, edmax);
+        flipped |= old.abs() == edmax && *rate == -old;
+    };
+    // Rates some stress target (not the ring) sets this step.
+    let mut by_stress = [false; 3];
     for &(t, target, axes) in &servo.targets {
+        if t == StressTarget::Ring {
+            continue;
+        }
         let e = target - measured(t, s);
         for k in 0..3 {
             if axes[k] {
                 let old = cell.rate[k];
                 let ed = if cell.mode == 0 { old - g * e } else { -g * e };
-                cell.rate[k] = ed.clamp(-edmax, edmax);
-                flipped |= old.abs() == edmax && cell.rate[k] == -old;
+                set(&mut cell.rate[k], ed);
+                by_stress[k] = true;
             }
+        }
+    }
+    for &(t, theta, axes) in &servo.targets {
+        if t != StressTarget::Ring {
+            continue;
+        }
+        let e = ring_error(theta, s);
+        let (sn, cs) = (2.0 * theta.to_radians()).sin_cos();
+        let diff = -2.0 * g * e * sn;
+        let mut part = [0.0; 4];
+        match (axes[0], axes[1]) {
+            (true, true) => (part[0], part[1]) = (0.5 * diff, -0.5 * diff),
+            (true, false) => part[0] = diff,
+            (false, true) => part[1] = -diff,
+            (false, false) => {}
+        }
+        part[3] = 2.0 * g * e * cs;
+        for k in [0, 1, 3] {
+            if !axes[k] {
+                continue;
+            }
+            // In mode 1 a rate no stress target set this step starts from the Cycle's.
+            let from = if cell.mode == 0 || (k < 3 && by_stress[k]) {
+                cell.rate[k]
+            } else {
+                servo.base[k]
+            };
+            set(&mut cell.rate[k], from + part[k]);
         }
     }
     servo.flips = if flipped { servo.flips + 1 } else { 0 };
@@ -508,5 +598,76 @@ mod tests {
             g[2][0] * l.x + g[2][1] * l.y + g[2][2] * l.z,
         );
         assert_eq!(c.field(&l), want);
+    }
+
+    /// A stress tensor whose major principal direction in x–y is at θ (degrees): σ1 along
+    /// (cos θ, sin θ), σ2 across it (compression positive, σ1 > σ2).
+    fn rotated(s1: f64, s2: f64, theta: f64) -> [[f64; 3]; 3] {
+        let (sn, cs) = theta.to_radians().sin_cos();
+        let xx = s1 * cs * cs + s2 * sn * sn;
+        let yy = s1 * sn * sn + s2 * cs * cs;
+        let xy = (s1 - s2) * sn * cs;
+        [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, 0.5 * (s1 + s2)]]
+    }
+
+    #[test]
+    fn the_principal_angle_and_the_ring_error_of_a_rotated_stress() {
+        for theta in [0.0, 10.0, 45.0, 89.0, 90.0, 120.0, 135.0, 170.0] {
+            let s = rotated(3e4, 1e4, theta);
+            assert!((principal_angle(&s) - theta).abs() < 1e-9, "{theta}");
+            assert!(ring_error(theta, &s).abs() < 1e-9 * 3e4, "{theta}");
+            // Off the target, the error is r sin 2(θ − θ*), r = (σ1 − σ2)/2.
+            let e = ring_error(theta + 10.0, &s);
+            let want = 1e4 * (2.0 * (-10.0f64).to_radians()).sin();
+            assert!((e - want).abs() < 1e-9 * 3e4, "{theta}: {e} vs {want}");
+        }
+    }
+
+    /// The ring servo's sign: on a linear visco-elastic cell (σ = σ₀ − 2G ε − 2η D in x–y,
+    /// compression positive, ε the cell's strain, D its rate; the viscosity stands for the
+    /// dashpots that damp mode 0's integral loop) it turns the major principal stress to
+    /// its target, in both modes, from both sides, with or without a held σ22.
+    #[test]
+    fn the_ring_servo_turns_an_elastic_cell_to_its_target() {
+        let (g_mod, eta, dt) = (1e7, 20.0, 1e-6);
+        for (mode, gain) in [(0u8, 1e-4), (1, 1e-2)] {
+            for (theta, start) in [(120.0, 135.0), (120.0, 100.0), (30.0, 70.0), (160.0, 135.0)] {
+                for hold22 in [false, true] {
+                    let s0 = rotated(3e4, 1e4, start);
+                    let mut cell = Cell {
+                        gain: [gain, 1e3],
+                        mode,
+                        ..Default::default()
+                    };
+                    let mut targets = vec![(StressTarget::Ring, theta)];
+                    if hold22 {
+                        targets.push((StressTarget::Axis(1), s0[1][1]));
+                    }
+                    let mut servo = Servo::new(&cell, &targets);
+                    let mut strain = [0.0; 4];
+                    let mut s = s0;
+                    for _ in 0..20000 {
+                        servo_step(&mut cell, &mut servo, &s);
+                        for (k, e) in strain.iter_mut().enumerate() {
+                            *e += cell.rate[k] * dt;
+                        }
+                        let r = &cell.rate;
+                        s = s0;
+                        s[0][0] -= 2.0 * g_mod * strain[0] + 2.0 * eta * r[0];
+                        s[1][1] -= 2.0 * g_mod * strain[1] + 2.0 * eta * r[1];
+                        s[0][1] -= g_mod * strain[3] + eta * r[3];
+                        s[1][0] = s[0][1];
+                    }
+                    let got = principal_angle(&s);
+                    assert!(
+                        (got - theta).abs() < 0.1,
+                        "mode {mode}, {start} -> {theta}, hold22 {hold22}: {got}"
+                    );
+                    if hold22 {
+                        assert!((s[1][1] - s0[1][1]).abs() < 1e-3 * s0[1][1]);
+                    }
+                }
+            }
+        }
     }
 }

@@ -268,7 +268,12 @@ fn bad_cell_input_is_refused() {
     refused("grid -1000 0 0 0 0 0\ncycle 100000", "shrink");
     refused("cycle 10 s0 1e4", "GAIN");
     refused("gain 1e-3 10\ncycle 10 s0 -5", "positive");
-    refused("gain 1e-3 10\ncycle 10 ring 5", "RING");
+    refused("gain 1e-3 10\ncycle 10 ring 180", "0 <= angle < 180");
+    refused("gain 1e-3 10\ncycle 10 ring -5", "0 <= angle < 180");
+    refused(
+        "gain 1e-3 10\ngrid 0 0 0 5 0 0\ncycle 10 s11 1e3 s22 1e3 ring 120",
+        "no strain rate to turn",
+    );
     refused("mode 2", "between 0 and 1");
     refused("gain -1 10", "positive");
     refused("probe e23", "E12");
@@ -441,4 +446,57 @@ fn a_hunting_servo_stops_the_cycle() {
     assert!(e.contains("hunts"), "{e}");
     let sc = s.scene.as_ref().unwrap();
     assert!(sc.cycle < 40000);
+}
+
+/// `RING θ` (ring shear): the major principal stress of a packing held at a mean stress
+/// turns to θ and stays there (mode 1); then, sheared at a prescribed ed12 with σ22 and
+/// σ33 held, the servo (mode 0) keeps it at a second angle on average while the packing
+/// flows. The angle is computed here from the recorded stress components.
+#[test]
+fn the_ring_servo_holds_the_principal_stress_angle() {
+    let mut s = session(
+        "start 1e-3 1e-3 1e-3 100 1000 0\nrad 8e-5 1\ndensity 2600 1\nymd 1e8 1\npra 0.25 1\n\
+         friction 0.3 1\ndamping restitution 0.2\nrge 100 1 1 0\ngain 2e-2 600\nmode 1\n\
+         cycle 20000 s0 2e4\n",
+    );
+    let angle = |sc: &trubal::sim::Scene| {
+        let t = stress::of(sc).total();
+        let a = 0.5 * (2.0 * t[0][1]).atan2(t[0][0] - t[1][1]).to_degrees();
+        if a < 0.0 { a + 180.0 } else { a }
+    };
+    let before = angle(s.scene.as_ref().unwrap());
+    s.run_line("cycle 20000 s0 2e4 ring 120").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert!((before - 120.0).abs() > 2.0, "started at {before}");
+    assert!((angle(sc) - 120.0).abs() < 0.5, "{}", angle(sc));
+    assert!(rel(stress::of(sc).mean(), 2e4) < 0.01);
+    assert!(sc.cell.strain[3] != 0.0, "the servo sheared the cell");
+    // Continuous shear at 20 1/s: the angle is held on average at 105° (the packing alone
+    // would take it to ~120–135°).
+    for l in [
+        "grid 0 0 0 20 0 0",
+        "gain 1e-3 600",
+        "mode 0",
+        "set history 100",
+    ] {
+        s.run_line(l).unwrap();
+    }
+    s.run_line("cycle 40000 s22 2e4 s33 2e4 ring 105").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert_eq!(sc.cell.rate[3], 20.0, "the prescribed shear rate stays");
+    let cols = trubal::sim::history::COLUMNS;
+    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let rows = &sc.history.rows[sc.history.rows.len() - 200..];
+    let (mut a, mut syy) = (0.0, 0.0);
+    for r in rows {
+        let t = 0.5
+            * (2.0 * r[at("sxy")])
+                .atan2(r[at("sxx")] - r[at("syy")])
+                .to_degrees();
+        a += if t < 0.0 { t + 180.0 } else { t } / rows.len() as f64;
+        syy += r[at("syy")] / rows.len() as f64;
+    }
+    assert!((a - 105.0).abs() < 1.0, "mean angle {a}");
+    assert!(rel(syy, 2e4) < 0.01, "σ22 {syy:e}");
+    assert!(sc.cell.strain[3] > 0.3, "sheared: {}", sc.cell.strain[3]);
 }
