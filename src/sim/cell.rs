@@ -511,25 +511,57 @@ pub fn deform(scene: &mut Scene, dt: f64) -> [[f64; 3]; 3] {
     // SLLOD, and the wrap into the new cell ([`wrap_one`]).
     let (size, periodic, shift) = (scene.size, scene.settings.periodic, scene.cell.shift);
     let sheared = periodic[1] && shift != 0.0;
-    let mut kin = Kinetic::default();
-    let mut rmax = 0.0f64;
     let p = &mut scene.particles;
     let inv = [1.0 / f[0], 1.0 / f[1], 1.0 / f[2]];
     let shift = sheared.then_some(shift);
-    for i in 0..p.pos.len() {
-        let c = p.vel[i];
-        kin.add(p.mass[i], &c);
-        rmax = rmax.max(p.radius[i]);
-        let x = p.pos[i];
-        let mut y = Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2]);
-        y.x += shear * x.y;
-        wrap_one(&mut y, size, periodic, shift);
-        p.pos[i] = y;
-        p.vel[i] = Vec3::new(c.x * inv[0] - shear * c.y, c.y * inv[1], c.z * inv[2]);
-    }
+    let (kin, rmax) = if r[..3] == [0.0; 3] {
+        // Simple shear: no scaling (a factor of exactly 1, so the same bits).
+        field_pass::<false>(p, f, inv, shear, size, periodic, shift)
+    } else {
+        field_pass::<true>(p, f, inv, shear, size, periodic, shift)
+    };
     let row = (r[0].abs() + r[3].abs()).max(r[1].abs()).max(r[2].abs());
     scene.cell.travel += row * (4.0 * rmax) * dt;
     kin.tensor()
+}
+
+/// The particle pass of [`deform`]: returns Σ m C ⊗ C of the velocities before it and the
+/// largest radius. `SCALE`: whether a diagonal rate is set (else `f` and `inv` are 1).
+#[inline(always)]
+fn field_pass<const SCALE: bool>(
+    p: &mut super::scene::Particles,
+    f: [f64; 3],
+    inv: [f64; 3],
+    shear: f64,
+    size: [f64; 3],
+    periodic: [bool; 3],
+    shift: Option<f64>,
+) -> (Kinetic, f64) {
+    let mut kin = Kinetic::default();
+    let mut rmax = 0.0f64;
+    let (lo, hi) = bounds(size, periodic);
+    let parts = p.pos.iter_mut().zip(p.vel.iter_mut());
+    for ((x, v), (&m, &r)) in parts.zip(p.mass.iter().zip(p.radius.iter())) {
+        let c = *v;
+        kin.add(m, &c);
+        rmax = rmax.max(r);
+        let mut y = if SCALE {
+            Vec3::new(x.x * f[0], x.y * f[1], x.z * f[2])
+        } else {
+            *x
+        };
+        y.x += shear * x.y;
+        if outside(&y, &lo, &hi) {
+            wrap_one(&mut y, size, periodic, shift);
+        }
+        *x = y;
+        *v = if SCALE {
+            Vec3::new(c.x * inv[0] - shear * c.y, c.y * inv[1], c.z * inv[2])
+        } else {
+            Vec3::new(c.x - shear * c.y, c.y, c.z)
+        };
+    }
+    (kin, rmax)
 }
 
 /// Brings every particle back into the cell through the periodic sides; across y with the
@@ -540,9 +572,27 @@ pub fn wrap(scene: &mut Scene) {
         return;
     }
     let sheared = (periodic[1] && shift != 0.0).then_some(shift);
+    let (lo, hi) = bounds(size, periodic);
     for x in scene.particles.pos.iter_mut() {
-        wrap_one(x, size, periodic, sheared);
+        if outside(x, &lo, &hi) {
+            wrap_one(x, size, periodic, sheared);
+        }
     }
+}
+
+/// The cell's bounds on its periodic axes, unbounded on the others: [`outside`] is one test
+/// per particle of whether [`wrap_one`] has anything to do.
+fn bounds(size: [f64; 3], periodic: [bool; 3]) -> ([f64; 3], [f64; 3]) {
+    let lo = periodic.map(|q| if q { 0.0 } else { f64::NEG_INFINITY });
+    let hi = std::array::from_fn(|k| if periodic[k] { size[k] } else { f64::INFINITY });
+    (lo, hi)
+}
+
+/// Whether `x` lies outside the bounds of [`bounds`] (the conditions of [`wrap_one`],
+/// evaluated without branches).
+#[inline(always)]
+fn outside(x: &Vec3, lo: &[f64; 3], hi: &[f64; 3]) -> bool {
+    (x.x < lo[0]) | (x.x >= hi[0]) | (x.y < lo[1]) | (x.y >= hi[1]) | (x.z < lo[2]) | (x.z >= hi[2])
 }
 
 /// One particle into the cell: across a sheared y side first (at the image, `shift`), then
