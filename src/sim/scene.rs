@@ -517,31 +517,44 @@ impl Scene {
     pub fn draw_radius(&mut self, size: usize) -> Option<f64> {
         use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
-        Some(
-            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
-                SizeDist::Fixed => r,
-                SizeDist::Normal { sd } => loop {
-                    let z = self.rng.normal();
-                    if z.abs() <= 3.0 {
-                        break r + sd * z;
-                    }
-                },
-                SizeDist::Uniform { min, max } => min + (max - min) * self.rng.uniform(),
+        Some(match self.size_dist.get(size - 1) {
+            None | Some(SizeDist::Fixed) => r,
+            Some(&SizeDist::Normal { sd }) => loop {
+                let z = self.rng.normal();
+                if z.abs() <= 3.0 {
+                    break r + sd * z;
+                }
             },
-        )
+            Some(&SizeDist::Uniform { min, max }) => min + (max - min) * self.rng.uniform(),
+            Some(SizeDist::Table { radius, freq }) => {
+                // Inverse of the cumulative frequencies: the first entry whose running sum
+                // exceeds u Σf (one uniform number per particle).
+                let u = self.rng.uniform() * freq.iter().sum::<f64>();
+                let mut acc = 0.0;
+                // (u Σf rounded up to Σf: the last entry drawn at all.)
+                let mut pick = freq.iter().rposition(|&f| f > 0.0).unwrap_or(0);
+                for (k, f) in freq.iter().enumerate() {
+                    acc += f;
+                    if u < acc {
+                        pick = k;
+                        break;
+                    }
+                }
+                radius[pick]
+            }
+        })
     }
 
     /// Largest radius a size type can produce.
     pub fn max_radius_of(&self, size: usize) -> Option<f64> {
         use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
-        Some(
-            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
-                SizeDist::Fixed => r,
-                SizeDist::Normal { sd } => r + 3.0 * sd,
-                SizeDist::Uniform { max, .. } => max,
-            },
-        )
+        Some(match self.size_dist.get(size - 1) {
+            None | Some(SizeDist::Fixed) => r,
+            Some(&SizeDist::Normal { sd }) => r + 3.0 * sd,
+            Some(&SizeDist::Uniform { max, .. }) => max,
+            Some(SizeDist::Table { radius, .. }) => radius.iter().copied().fold(0.0, f64::max),
+        })
     }
 
     /// Largest particle radius present (0 if none).

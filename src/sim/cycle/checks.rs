@@ -180,12 +180,52 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
     out
 }
 
+/// A servo of wall `w` that cannot reach its target force: it cannot move (vmax or g is 0)
+/// while the force differs, or it asks for a pull (F < 0) from particles that cannot pull
+/// (no adhesion between the wall's material and any particle's): the wall would back away
+/// at vmax for ever.
+fn unreachable_target(scene: &Scene, w: usize) -> Option<String> {
+    let wall = &scene.walls[w];
+    let s = wall.servo?;
+    if (s.vmax == 0.0 || s.gain == 0.0) && s.force != wall.normal_force {
+        return Some(format!(
+            "servo of wall {} cannot move (vmax = {}, g = {}): its target force {} N will not be reached (the force is {:e} N now)",
+            w + 1,
+            s.vmax,
+            s.gain,
+            s.force,
+            wall.normal_force
+        ));
+    }
+    if s.force < 0.0 {
+        let gw = scene
+            .materials
+            .get(wall.material - 1)
+            .map_or(0.0, |m| m.gamma);
+        let p = &scene.particles;
+        let sticky = (0..scene.materials.len()).any(|m| {
+            scene.materials[m].gamma * gw > 0.0 && p.material.iter().any(|&k| k as usize == m + 1)
+        });
+        if !sticky {
+            return Some(format!(
+                "servo of wall {} targets a pull ({} N < 0) but no particle adheres to its material {} (COHesion): the target cannot be reached, the wall will back away at vmax = {} m/s",
+                w + 1,
+                s.force,
+                wall.material,
+                s.vmax
+            ));
+        }
+    }
+    None
+}
+
 /// Servo walls whose gain makes them hunt: through the contacts' stiffness over a step, or
 /// through the contacts' dashpots at once.
 fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
     let mut out = Vec::new();
     for (w, wall) in scene.walls.iter().enumerate() {
         if let Some(s) = wall.servo {
+            out.extend(unreachable_target(scene, w));
             // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
             // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
             // the wall; above 1 the wall overshoots every step.
