@@ -155,20 +155,24 @@ def main():
     gain = v / f_target
     tr.send(f"awall 3 p 0 0 -1 {-(tops[-1] + 0.2 * d_mean)!r} se {f_target!r} {v!r} {gain!r}")
     consolidation = []
+    t1 = time.time()
     n = 0
     within = 0
     chunk = 500
-    while n < 300000:
+    while n < 100000:
         tr.cycle(chunk)
         n += chunk
         w = tr.print("walls")["walls"][2]
         f = w["normal_force"]
         consolidation.append((n, f))
+        if n % 5000 == 0:
+            say(f"  consolidating: {n} cycles, piston force {f:.4g} N of {f_target:.4g}")
         within = within + 1 if abs(f / f_target - 1) < 0.02 else 0
         if within >= 6:
             break
     piston = tr.print("walls")["walls"][2]
     z_piston = -piston["geometry"]["Plane"]["d"] / abs(piston["geometry"]["Plane"]["normal"][2])
+    out["seconds_per_1000_consolidating"] = (time.time() - t1) / n * 1000
     out.update({"consolidation_cycles": n, "piston_force": consolidation[-1][1],
                 "piston_error": consolidation[-1][1] / f_target - 1,
                 "consolidated_height": z_piston})
@@ -200,6 +204,7 @@ def main():
     steps = travel / v / dt
     chunk = max(1, int(steps / 250))
     rows = []
+    t1 = time.time()
     zc_first = None
     n = 0
     while n < 3 * steps:
@@ -216,8 +221,11 @@ def main():
         area_h = math.pi * (d_ind * h - h * h)
         rows.append({"h": h, "h_over_d": h / d_ind, "h_over_r": 2 * h / d_ind, "force": f,
                      "hardness": f / area_h if area_h > 0 else 0.0})
+        if len(rows) % 25 == 0:
+            say(f"  indenting: h/r {2 * h / d_ind:.3f}, F {f:.4g} N, {time.time() - t0:.0f} s")
         if h >= hmax * d_ind / 2:
             break
+    out["seconds_per_1000_indenting"] = (time.time() - t1) / n * 1000
     energy = tr.print("energy")
     tr.close()
     log.close()

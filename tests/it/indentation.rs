@@ -261,3 +261,24 @@ fn bad_dies_indenters_tables_and_servos() {
         assert!(run.stderr.contains(want), "{want}: {}", run.stderr);
     }
 }
+
+/// A die with an indenter and table sizes goes through SAve and RESTart: the continued run
+/// is the uninterrupted one to the bit.
+#[test]
+fn a_die_with_an_indenter_continues_bitwise_after_restart() {
+    let run = trubal_json(
+        &format!(
+            "start 0.01 0.01 0.01 10 100 4\nset open all\nrad 5e-4 1 table 4e-4 1 6e-4 1\n{MATS}\
+             damping restitution 0.5 1\ndwall cylinder 5e-3 5e-3 0 0 0 1 3e-3 v 0 0 0 -0.01 m 2\n\
+             dwall p 0 0 1 0 m 2\ndwall p 0 0 -1 -0.004 m 2\nrge 40 1 1 0 walls\ngravity 0 0 -9.81\ncycle 2000\n\
+             dwall ob 5e-3 5e-3 6e-3 1e-3 v 0 0 -0.2 m 2\ncycle 300\nsave a.sav\ncycle 300\n\
+             print balls walls\nnew\nrestart a.sav\ncycle 300\nprint balls walls\n"
+        ),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    let (b, w) = (printed(&run, "balls"), printed(&run, "walls"));
+    assert_eq!(b[0], b[1]);
+    assert_eq!(w[0], w[1]);
+    assert!(w[0]["walls"][0]["geometry"]["Cylinder"]["radius"].as_f64().unwrap() < 3e-3);
+}
