@@ -1007,11 +1007,7 @@ fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
         U,
         T,
     }
-    const DISTS: &[Keyword<D>] = &[
-        kw("NORmal", D::N),
-        kw("UNIform", D::U),
-        kw("TABle", D::T),
-    ];
+    const DISTS: &[Keyword<D>] = &[kw("NORmal", D::N), kw("UNIform", D::U), kw("TABle", D::T)];
     let r = a.positive("r")?;
     let size = a.index("isize")?;
     let dist = match a.try_keyword(DISTS)? {

@@ -423,7 +423,10 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
     s.settings.view = View::Xy;
     let pic = picture(&s, &[PlotItem::Wall]).expect("picture");
     assert_eq!(pic.rings.len(), 1);
-    assert_eq!((pic.rings[0].centre, pic.rings[0].radius), ([0.5, 0.5], 0.3));
+    assert_eq!(
+        (pic.rings[0].centre, pic.rings[0].radius),
+        ([0.5, 0.5], 0.3)
+    );
 }
 
 #[test]

@@ -27,9 +27,18 @@ pub enum SizeDist {
 /// a spherical obstacle/indenter (particles outside) or a cylindrical die (particles inside).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum WallGeom {
-    Plane { normal: [f64; 3], d: f64 },
-    Sphere { centre: [f64; 3], radius: f64 },
-    Obstacle { centre: [f64; 3], radius: f64 },
+    Plane {
+        normal: [f64; 3],
+        d: f64,
+    },
+    Sphere {
+        centre: [f64; 3],
+        radius: f64,
+    },
+    Obstacle {
+        centre: [f64; 3],
+        radius: f64,
+    },
     /// An infinitely long circular cylinder, particles inside (a die): its axis passes
     /// through `point` along the unit vector `axis` (made unit by `DWAll`).
     Cylinder {

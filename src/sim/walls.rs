@@ -382,7 +382,10 @@ mod tests {
         assert!((k - 1.685750354812596).abs() < 1e-14 && (e - 1.467462209339427).abs() < 1e-14);
         // Equal radii: the circular Hertz contact, 4/3 E* √R δ^{3/2}.
         let f = elliptical_hertz(0.5, 0.5 * (1.0 + 1e-12), 2.0, 1e-4);
-        assert!((f / (4.0 / 3.0 * 2.0 * 0.5f64.sqrt() * 1e-6) - 1.0).abs() < 1e-5, "{f}");
+        assert!(
+            (f / (4.0 / 3.0 * 2.0 * 0.5f64.sqrt() * 1e-6) - 1.0).abs() < 1e-5,
+            "{f}"
+        );
         let (r, e_star, delta) = (1e-3, 3e9, 2e-6f64);
         for (d_over_r, within) in [(5.0, 1.1e-3), (10.0, 2.4e-4), (40.0, 1.4e-5)] {
             let g = die(d_over_r * r);

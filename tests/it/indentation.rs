@@ -22,7 +22,11 @@ fn a_sphere_on_the_die_wall_gets_hertz_with_the_equivalent_radius() {
     let (r, rc, delta) = (4e-4f64, 4e-3, 2e-6f64);
     // The axis through (5, 5, 5) mm; the sphere 2 mm along the axis and Rc − R + δ off it
     // along x (x is perpendicular to the axis).
-    let (px, py, pz) = (5e-3 + (rc - r + delta), 5e-3 + 0.6 * 2e-3, 5e-3 + 0.8 * 2e-3);
+    let (px, py, pz) = (
+        5e-3 + (rc - r + delta),
+        5e-3 + 0.6 * 2e-3,
+        5e-3 + 0.8 * 2e-3,
+    );
     let mut sc = scene(&format!(
         "start 0.01 0.01 0.01 10 10 2\nset open all\nrad {r} 1\n{MATS}\
          dwall cylinder 5e-3 5e-3 5e-3 0 3 4 {rc} m 2\n\
@@ -33,7 +37,11 @@ fn a_sphere_on_the_die_wall_gets_hertz_with_the_equivalent_radius() {
     let r_e = (r1 * r).sqrt();
     let want = 4.0 / 3.0 * e_star() * r_e.sqrt() * delta.powf(1.5);
     let w = &sc.walls[0];
-    assert!(rel(w.normal_force, want) < 1e-9, "{} vs {want}", w.normal_force);
+    assert!(
+        rel(w.normal_force, want) < 1e-9,
+        "{} vs {want}",
+        w.normal_force
+    );
     assert!(rel(w.force[0], want) < 1e-9 && w.force[1].abs() < 1e-12 * want);
     // Not the plane's R nor the sphere container's R'.
     let plane = 4.0 / 3.0 * e_star() * r.sqrt() * delta.powf(1.5);
@@ -95,8 +103,10 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
         .map(|i| sc.particles.pos[i].z + sc.particles.radius[i])
         .fold(0.0, f64::max);
     let z_ind = top + 1.5e-3 + 1e-4;
-    s.run_line(&format!("dwall ob 5e-3 5e-3 {z_ind} 1.5e-3 v 0 0 -0.05 m 2"))
-        .unwrap();
+    s.run_line(&format!(
+        "dwall ob 5e-3 5e-3 {z_ind} 1.5e-3 v 0 0 -0.05 m 2"
+    ))
+    .unwrap();
     s.run_line("cycle 4000").unwrap();
     let sc = s.scene.as_ref().unwrap();
     let input = sc.ledger.input() - before.1;
@@ -146,7 +156,10 @@ fn table_sizes_come_out_in_the_table_frequencies() {
         let p = f / total;
         let sd = (p * (1.0 - p) / n as f64).sqrt();
         let got = k as f64 / n as f64;
-        assert!((got - p).abs() < 4.0 * sd + 1e-9, "d = {d} mm: {got} vs {p}");
+        assert!(
+            (got - p).abs() < 4.0 * sd + 1e-9,
+            "d = {d} mm: {got} vs {p}"
+        );
     }
     // Every radius is one of the table's.
     assert!(
@@ -177,7 +190,10 @@ fn generation_inside_the_die_and_a_warning_outside_it() {
         let x: Vec<f64> = (0..3).map(|k| b["pos"][k].as_f64().unwrap()).collect();
         let r = b["radius"].as_f64().unwrap();
         let rho = (x[0] - 0.01).hypot(x[1] - 0.01);
-        assert!(rho + r <= 0.005 && x[2] - r >= 0.001 && x[2] + r <= 0.015, "{x:?} {r}");
+        assert!(
+            rho + r <= 0.005 && x[2] - r >= 0.001 && x[2] + r <= 0.015,
+            "{x:?} {r}"
+        );
     }
     let run = trubal_json(&deck(""), &[]);
     assert!(run.ok, "{}", run.stderr);
@@ -212,13 +228,16 @@ fn bad_dies_indenters_tables_and_servos() {
     assert_eq!(sc.sizes[1], 0.0, "{:?}", sc.sizes);
     // A bed, then an indenter that starts inside it: refused (a particle's centre inside
     // the indenter), nothing changed; one that only cuts the top particles: a warning.
-    s.run_line("create 0.01 0.01 0.0005 0 0 0 0 0 0 1 1").unwrap();
-    s.run_line("create 0.011 0.01 0.0005 0 0 0 0 0 0 1 1").unwrap();
+    s.run_line("create 0.01 0.01 0.0005 0 0 0 0 0 0 1 1")
+        .unwrap();
+    s.run_line("create 0.011 0.01 0.0005 0 0 0 0 0 0 1 1")
+        .unwrap();
     let e = s
         .run_line("dwall ob 0.01 0.01 0.002 0.0018 m 2")
         .expect_err("indenter in the bed");
     assert!(
-        e.message.contains("wall 1 would leave 1 particle(s) with the centre behind"),
+        e.message
+            .contains("wall 1 would leave 1 particle(s) with the centre behind"),
         "{}",
         e.message
     );
@@ -241,7 +260,9 @@ fn bad_dies_indenters_tables_and_servos() {
         run.stderr
     );
     // RGEnerate WAlls when the walls leave no room in the work-space.
-    let mut s = session(&format!("{base}dwall p 0 0 -1 -0.03\ndwall p 0 0 1 0.025\n"));
+    let mut s = session(&format!(
+        "{base}dwall p 0 0 -1 -0.03\ndwall p 0 0 1 0.025\n"
+    ));
     let e = s.run_line("rge 10 1 1 0 walls").expect_err("no room");
     assert!(e.message.contains("leave no room"), "{}", e.message);
     assert!(s.scene.as_ref().unwrap().particles.is_empty());
@@ -280,5 +301,10 @@ fn a_die_with_an_indenter_continues_bitwise_after_restart() {
     let (b, w) = (printed(&run, "balls"), printed(&run, "walls"));
     assert_eq!(b[0], b[1]);
     assert_eq!(w[0], w[1]);
-    assert!(w[0]["walls"][0]["geometry"]["Cylinder"]["radius"].as_f64().unwrap() < 3e-3);
+    assert!(
+        w[0]["walls"][0]["geometry"]["Cylinder"]["radius"]
+            .as_f64()
+            .unwrap()
+            < 3e-3
+    );
 }

@@ -30,7 +30,10 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             });
             scene.contacts.mark_stale();
             let opened = open_crossed_axes(scene);
-            Ok(format!("wall {} defined{opened}{overlap}", scene.walls.len()))
+            Ok(format!(
+                "wall {} defined{opened}{overlap}",
+                scene.walls.len()
+            ))
         }
         Command::Awall { n, opts } => {
             if *n == 0 || *n > scene.walls.len() {
