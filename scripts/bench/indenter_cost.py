@@ -5,7 +5,7 @@ and the contact search").
 Loads the unloaded bed that scripts/pasha_indent.py saved (target/pasha_indent/unloaded<tag>.sav)
 and times N cycles, one thread, in three states: without the indenter; with the indenter
 pressed into the bed (to 0.3 of its radius) and held still; with it moving down at the
-procedure's speed. Prints per state the seconds per 1000 cycles, the rebuilds of the
+procedure's speed. Prints per state the CPU (and wall-clock) seconds per 1000 cycles, the rebuilds of the
 candidate list, the particle-wall candidates and the indenter's contacts.
 
 usage: scripts/bench/indenter_cost.py [--tag T] [--n N] [--d MM] [--v M/S]
@@ -43,7 +43,13 @@ def session(work):
                 if o.get("print") == item:
                     return o
 
-    return p, ask
+    def cpu():
+        """The process's CPU seconds (user + system; robust to other jobs on the machine)."""
+        with open(f"/proc/{p.pid}/stat") as fh:
+            f = fh.read().rsplit(")", 1)[1].split()
+        return (int(f[11]) + int(f[12])) / os.sysconf("SC_CLK_TCK")
+
+    return p, ask, cpu
 
 
 def main():
@@ -55,7 +61,7 @@ def main():
     work = os.path.join(ROOT, "target", "pasha_indent")
     out = {}
     for state in ["none", "held", "moving"]:
-        p, ask = session(work)
+        p, ask, cpu = session(work)
         ask(f"restart unloaded{tag}.sav")
         info = ask("print info", "info")
         balls = ask("print balls", "balls")["balls"]
@@ -73,13 +79,13 @@ def main():
             if state == "held":
                 ask("awall 4 v 0 0 0")
         e0 = ask("print entries", "entries")
-        t = time.time()
+        t, c0 = time.time(), cpu()
         ask(f"cycle {n}")
         e1 = ask("print entries", "entries")
-        sec = time.time() - t
+        sec, csec = time.time() - t, cpu() - c0
         w = ask("print info", "info")
         out[state] = {
-            "particles": info["balls"], "seconds_per_1000": sec / n * 1000,
+            "particles": info["balls"], "cpu_seconds_per_1000": csec / n * 1000, "wall_seconds_per_1000": sec / n * 1000,
             "rebuilds": e1["rebuilds"] - e0["rebuilds"],
             "wall_contacts": w["wall_contacts"],
         }

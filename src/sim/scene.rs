@@ -528,19 +528,21 @@ impl Scene {
             Some(&SizeDist::Uniform { min, max }) => min + (max - min) * self.rng.uniform(),
             Some(SizeDist::Table { radius, freq }) => {
                 // Inverse of the cumulative frequencies: the first entry whose running sum
-                // exceeds u Σf (one uniform number per particle).
-                let u = self.rng.uniform() * freq.iter().sum::<f64>();
+                // exceeds u Σf (one uniform number per particle). (A table read from a
+                // damaged checkpoint, empty or of unequal lengths, gives the nominal r.)
+                let pairs = || radius.iter().zip(freq);
+                let u = self.rng.uniform() * pairs().map(|(_, f)| f).sum::<f64>();
                 let mut acc = 0.0;
                 // (u Σf rounded up to Σf: the last entry drawn at all.)
-                let mut pick = freq.iter().rposition(|&f| f > 0.0).unwrap_or(0);
-                for (k, f) in freq.iter().enumerate() {
+                let mut pick = pairs().filter(|(_, f)| **f > 0.0).last().map(|(r, _)| *r);
+                for (rk, f) in pairs() {
                     acc += f;
                     if u < acc {
-                        pick = k;
+                        pick = Some(*rk);
                         break;
                     }
                 }
-                radius[pick]
+                pick.unwrap_or(r)
             }
         })
     }
