@@ -534,7 +534,7 @@ impl Scene {
                 let u = self.rng.uniform() * pairs().map(|(_, f)| f).sum::<f64>();
                 let mut acc = 0.0;
                 // (u Σf rounded up to Σf: the last entry drawn at all.)
-                let mut pick = pairs().filter(|(_, f)| **f > 0.0).last().map(|(r, _)| *r);
+                let mut pick = pairs().rfind(|(_, f)| **f > 0.0).map(|(r, _)| *r);
                 for (rk, f) in pairs() {
                     acc += f;
                     if u < acc {

@@ -308,3 +308,44 @@ fn a_die_with_an_indenter_continues_bitwise_after_restart() {
             < 3e-3
     );
 }
+
+/// A piston still above the bed (no contacts yet) with a gain that will make it hunt through
+/// the dashpots of the layer it is going to press: warned about before the first Cycle, with
+/// the gain to use; a gain below that is not warned about.
+#[test]
+fn a_hunting_piston_is_warned_about_before_it_touches() {
+    let deck = |g: f64| {
+        format!(
+            "start 0.01 0.01 0.001 10 200 4\nset open all\nrad 5e-4 1\n{MATS}\
+             damping restitution 0.5 1\ndwall p 0 0 1 0 m 2\n\
+             age 1 1 0 5e-4 5e-4 5e-4 1e-3 1e-3 1e-3\n\
+             dwall p 0 0 -1 -0.003 m 2 se 5 0.1 {g}\ncycle 1\n"
+        )
+    };
+    let run = trubal_json(&deck(1e3), &[]);
+    let at = run
+        .stderr
+        .find("through the contacts' dashpots")
+        .expect(&run.stderr);
+    let tail = &run.stderr[at..];
+    let g_max: f64 = tail[tail.find("use g below ").unwrap() + 12..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    // The 100 particles of the layer count (with the candidate list of the moment, empty,
+    // the estimate took one contact and allowed a gain about 100 times larger).
+    let run = trubal_json(&deck(2.0 * g_max), &[]);
+    assert!(
+        run.stderr.contains("through the contacts' dashpots"),
+        "{}",
+        run.stderr
+    );
+    let run = trubal_json(&deck(0.5 * g_max), &[]);
+    assert!(
+        !run.stderr.contains("through the contacts' dashpots"),
+        "{}",
+        run.stderr
+    );
+}

@@ -232,12 +232,17 @@ fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
             let m = &scene.materials[wall.material - 1];
             let r = scene.max_radius();
             let k = 2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
+            // The wall's contacts: those of the candidate list, or, if more, the particles of
+            // the layer nearest to the wall (within a largest diameter of the nearest one),
+            // which a wall still away from the bed (or just moved by AWAll, its candidates
+            // not yet found) will press.
             let n = scene
                 .contacts
                 .wall_pairs
                 .iter()
                 .filter(|c| c.wall as usize == w)
                 .count()
+                .max(nearest_layer(scene, w))
                 .max(1) as f64;
             let loop_gain = s.gain * k * n * model.dt;
             if loop_gain > 1.0 {
@@ -257,8 +262,12 @@ fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
             if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
                 let pc = model.pair(p.material[i] as usize, wall.material);
                 let (mi, ri) = (p.mass[i], p.radius[i]);
-                let c =
-                    pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt() + scene.damping_pw.beta * k;
+                // The dashpot grows as the overlap^{1/4}: at the overlap of the target force
+                // shared by the n contacts (Hertz against a plane), at least 1e-3 R.
+                let f = s.force.abs() / n;
+                let hertz = (3.0 * f / (4.0 * pc.e_star * ri.sqrt())).powf(2.0 / 3.0);
+                let delta = hertz.max(1e-3 * ri);
+                let c = pc.dash * (mi * mi * ri * delta).sqrt().sqrt() + scene.damping_pw.beta * k;
                 let dash_gain = s.gain * n * c;
                 if dash_gain > 1.0 {
                     out.push(format!(
@@ -272,6 +281,20 @@ fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
         }
     }
     out
+}
+
+/// The particles of the layer nearest to wall `w`: those whose gap is within the largest
+/// particle diameter of the smallest gap.
+fn nearest_layer(scene: &Scene, w: usize) -> usize {
+    let p = &scene.particles;
+    let shape = WallShape::of(&scene.walls[w].geom);
+    let gaps: Vec<f64> = (0..p.len())
+        .map(|i| shape.gap(&p.pos[i], p.radius[i]).0)
+        .filter(|g| g.is_finite())
+        .collect();
+    let least = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+    let reach = least + 2.0 * scene.max_radius();
+    gaps.iter().filter(|&&g| g <= reach).count()
 }
 
 /// Particles whose centre lies behind a wall's surface (gap < −R: behind a plane, outside a
