@@ -182,8 +182,8 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
 
 /// A servo of wall `w` that cannot reach its target force: it cannot move (vmax or g is 0)
 /// while the force differs, or it asks for a pull (F < 0) from particles that cannot pull
-/// (no adhesion between the wall's material and any particle's): the wall would back away
-/// at vmax for ever.
+/// (no adhesion between the wall's material and any particle's, no liquid bridges): the wall
+/// would back away at vmax for ever.
 fn unreachable_target(scene: &Scene, w: usize) -> Option<String> {
     let wall = &scene.walls[w];
     let s = wall.servo?;
@@ -203,12 +203,16 @@ fn unreachable_target(scene: &Scene, w: usize) -> Option<String> {
             .get(wall.material - 1)
             .map_or(0.0, |m| m.gamma);
         let p = &scene.particles;
-        let sticky = (0..scene.materials.len()).any(|m| {
-            scene.materials[m].gamma * gw > 0.0 && p.material.iter().any(|&k| k as usize == m + 1)
-        });
+        // Liquid bridges pull on walls too (`LIQuid`).
+        let wet = scene.liquid.is_some_and(|l| l.pvol > 0.0 && l.gamma > 0.0);
+        let sticky = wet
+            || (0..scene.materials.len()).any(|m| {
+                scene.materials[m].gamma * gw > 0.0
+                    && p.material.iter().any(|&k| k as usize == m + 1)
+            });
         if !sticky {
             return Some(format!(
-                "servo of wall {} targets a pull ({} N < 0) but no particle adheres to its material {} (COHesion): the target cannot be reached, the wall will back away at vmax = {} m/s",
+                "servo of wall {} targets a pull ({} N < 0) but no particle adheres to its material {} (COHesion) and there is no liquid (LIQuid): the target cannot be reached, the wall will back away at vmax = {} m/s",
                 w + 1,
                 s.force,
                 wall.material,
