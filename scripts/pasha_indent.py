@@ -5,9 +5,9 @@ Feeds scripts/pasha_indent.tru (the set-up: die, floor, piston, materials of Tab
 sizes of Table 5.1 generated inside the die) to `trubal --json -` and drives the procedure
 of ch. 5 through the same pipe, reading the JSON of each PRint:
   1. settle under gravity (until the kinetic energy is below 1e-4 of m g d_p of the bed);
-  2. consolidate: the piston is brought to the bed's top and servo-controlled to
-     sigma_pre x die area at a top speed of rate x bed height (constant strain rate until the
-     stress is near its target), until its force stays within 2 % of the target;
+  2. consolidate: the piston, brought to the bed's top, comes down at rate x bed height
+     (constant strain rate) until its force reaches sigma_pre x die area; then a servo of
+     small gain holds it until the force stays within 2 % of the target;
   3. unload: the servo's target goes to 0 at the same top speed; then the piston is lifted
      out of the way;
   4. indent: an obstacle sphere of diameter d (material 3: glass without adhesion) moves
