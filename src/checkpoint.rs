@@ -477,6 +477,17 @@ fn check_wall_values(scene: &Scene) -> Result<(), String> {
             WallGeom::Sphere { centre, radius } | WallGeom::Obstacle { centre, radius } => {
                 fin3(&centre) && radius >= 0.0 && fin(radius)
             }
+            WallGeom::Cylinder {
+                point,
+                axis,
+                radius,
+            } => {
+                fin3(&point)
+                    && fin3(&axis)
+                    && axis.iter().any(|&x| x != 0.0)
+                    && radius >= 0.0
+                    && fin(radius)
+            }
         };
         let servo_ok = w.servo.is_none_or(|s| {
             fin(s.force) && s.vmax >= 0.0 && fin(s.vmax) && s.gain >= 0.0 && fin(s.gain)

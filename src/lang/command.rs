@@ -274,6 +274,8 @@ pub enum Command {
         size: usize,
         material: usize,
         nagg: usize,
+        /// `WAlls`: only on the particles' side of every wall.
+        walls: bool,
     },
     RgenerateSeed {
         n: u64,

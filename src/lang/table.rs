@@ -105,6 +105,7 @@ enum WallKw {
     P,
     Sp,
     Ob,
+    Cy,
     V,
     M,
     Se,
@@ -114,6 +115,7 @@ const WALL_KWS: &[Keyword<WallKw>] = &[
     kw("P", WallKw::P),
     kw("SP", WallKw::Sp),
     kw("OB", WallKw::Ob),
+    kw("CYlinder", WallKw::Cy),
     kw("V", WallKw::V),
     kw("M", WallKw::M),
     kw("SE", WallKw::Se),
@@ -210,11 +212,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "AWAll",
-        "n [P a b c d | SP a b c d | OB a b c d] [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
-        &["P", "SP", "OB", "V", "M", "SE"],
+        "n [P a b c d | SP a b c d | OB a b c d | CYlinder x y z ax ay az r] [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
+        &["P", "SP", "OB", "CYlinder", "V", "M", "SE"],
         true,
         b_awall,
-        "Alter wall n: geometry (plane <-> sphere allowed), velocity, material or servo."
+        "Alter wall n: geometry (any kind to any other), velocity, material or servo. Refused if the new geometry puts a particle's centre behind the wall's surface (with SET TUNnel STOP, the default)."
     ),
     def!(
         "CGRavity",
@@ -266,11 +268,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "DWAll",
-        "P a b c d | SP a b c d | OB a b c d [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
-        &["P", "SP", "OB", "V", "M", "SE"],
+        "P a b c d | SP a b c d | OB a b c d | CYlinder x y z ax ay az r [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
+        &["P", "SP", "OB", "CYlinder", "V", "M", "SE"],
         true,
         b_dwall,
-        "Define a wall: plane ax+by+cz=d (particles on the side the normal (a,b,c) points to), spherical container SP (centre a,b,c radius d, particles inside) or obstacle/indenter OB (particles outside). V: velocity (and radial velocity vr for spheres); M: material (default 1); SE: servo to normal/radial force F with max speed vmax and gain g."
+        "Define a wall: plane ax+by+cz=d (particles on the side the normal (a,b,c) points to), spherical container SP (centre a,b,c radius d, particles inside), obstacle/indenter OB (particles outside) or cylindrical die CYlinder (axis through (x,y,z) along (ax,ay,az), radius r, particles inside; infinitely long: close it with planes; Hertz R* = R sqrt(r/(r - R)), doc/indentation.md). V: velocity (and radial velocity vr for spheres and cylinders); M: material (default 1); SE: servo to normal/radial force F with max speed vmax and gain g. Refused if it puts a particle's centre behind its surface (outside a die, inside an indenter; with SET TUNnel STOP, the default); a warning names the particles it overlaps."
     ),
     def!(
         "Fix",
@@ -464,11 +466,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "RAdius",
-        "r isize [NORmal sd | UNIform rmin rmax]",
-        &["NORmal", "UNIform"],
+        "r isize [NORmal sd | UNIform rmin rmax | TABle r1 f1 r2 f2 ...]",
+        &["NORmal", "UNIform", "TABle"],
         true,
         b_radius,
-        "Radius (m) of size type isize. NORmal sd: generated particles draw radii from a normal distribution (mean r, standard deviation sd, truncated at 3 sd); UNIform rmin rmax: uniform in [rmin, rmax] (r is then the nominal radius). Existing particles of the type keep their radii unless the type is Fixed."
+        "Radius (m) of size type isize. NORmal sd: generated particles draw radii from a normal distribution (mean r, standard deviation sd, truncated at 3 sd); UNIform rmin rmax: uniform in [rmin, rmax] (r is then the nominal radius); TABle r1 f1 r2 f2 ...: radius rk with number frequency fk (any unit: per cent or counts; they are normalised by their sum), e.g. Pasha 2013 Table 5.1 with its diameters halved. Existing particles of the type keep their radii unless the type is Fixed."
     ),
     def!(
         "MOVe",
@@ -511,11 +513,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "RGEnerate",
-        "n isize mtyp naggm | Seed n",
-        &["Seed"],
+        "n isize mtyp naggm [WAlls] | Seed n",
+        &["Seed", "WAlls"],
         true,
         b_rgenerate,
-        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; the placed particles are numbered along a space-filling (Morton) curve, so that neighbours in space are neighbours in memory; Seed n draws and discards n random numbers. Needs the radius of isize only: the material mtyp may be defined after (Density re-computes the masses; the first Cycle asks for what is missing)."
+        "Random generation of n particles in agglomerate region naggm (0 = whole work-space), rejecting overlaps; WAlls: also only where the whole particle lies on the particles' side of every wall (inside a die or container, above a floor, outside an indenter; the draws are confined to the walls' bounding box where a sphere, an axis-parallel cylinder or an axis-normal plane bounds it), without it a warning counts the particles placed behind walls; the placed particles are numbered along a space-filling (Morton) curve, so that neighbours in space are neighbours in memory; Seed n draws and discards n random numbers. Needs the radius of isize only: the material mtyp may be defined after (Density re-computes the masses; the first Cycle asks for what is missing)."
     ),
     def!(
         "RSet",
@@ -701,6 +703,23 @@ fn wall_options(a: &mut Args, opts: &mut WallOptions) -> Result<(), ParseError> 
                     }
                 });
             }
+            WallKw::Cy => {
+                let point = a.vec3(["x", "y", "z"])?;
+                let t = a.peek();
+                let axis = a.vec3(["ax", "ay", "az"])?;
+                if axis.iter().all(|&x| x == 0.0) {
+                    return Err(ParseError::at(
+                        t.expect("consumed"),
+                        "a cylinder needs a non-zero axis (ax, ay, az)",
+                    ));
+                }
+                let radius = a.positive("r (radius)")?;
+                opts.geom = Some(WallGeom::Cylinder {
+                    point,
+                    axis,
+                    radius,
+                });
+            }
             WallKw::V => {
                 let v = a.vec3(["vx", "vy", "vz"])?;
                 let vr = if a.peek_is_number() {
@@ -731,12 +750,12 @@ fn b_dwall(a: &mut Args) -> Result<Command, ParseError> {
         return Err(match first {
             Some(t) => ParseError::at(
                 t,
-                "DWAll needs the geometry first: P a b c d, SP a b c d or OB a b c d",
+                "DWAll needs the geometry first: P a b c d, SP a b c d, OB a b c d or CYlinder x y z ax ay az r",
             ),
             None => ParseError {
                 start: a.line_end,
                 end: a.line_end + 1,
-                message: "DWAll needs a geometry: P a b c d, SP a b c d or OB a b c d".into(),
+                message: "DWAll needs a geometry: P a b c d, SP a b c d, OB a b c d or CYlinder x y z ax ay az r".into(),
             },
         });
     }
@@ -986,8 +1005,9 @@ fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
     enum D {
         N,
         U,
+        T,
     }
-    const DISTS: &[Keyword<D>] = &[kw("NORmal", D::N), kw("UNIform", D::U)];
+    const DISTS: &[Keyword<D>] = &[kw("NORmal", D::N), kw("UNIform", D::U), kw("TABle", D::T)];
     let r = a.positive("r")?;
     let size = a.index("isize")?;
     let dist = match a.try_keyword(DISTS)? {
@@ -1014,6 +1034,32 @@ fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
                 ));
             }
             SizeDist::Uniform { min, max }
+        }
+        Some(D::T) => {
+            let (mut radius, mut freq) = (Vec::new(), Vec::new());
+            while a.peek_is_number() {
+                radius.push(a.positive("rk")?);
+                freq.push(a.non_negative("fk")?);
+            }
+            if radius.is_empty() {
+                return Err(match a.peek() {
+                    Some(t) => ParseError::at(t, "TABle needs pairs of numbers: r1 f1 r2 f2 ..."),
+                    None => ParseError {
+                        start: a.line_end,
+                        end: a.line_end + 1,
+                        message: "TABle needs pairs of numbers: r1 f1 r2 f2 ...".into(),
+                    },
+                });
+            }
+            if !freq.iter().any(|&f| f > 0.0) || !freq.iter().sum::<f64>().is_finite() {
+                return Err(ParseError {
+                    start: a.line_end,
+                    end: a.line_end + 1,
+                    message: "the frequencies of TABle must be finite with at least one above 0"
+                        .into(),
+                });
+            }
+            SizeDist::Table { radius, freq }
         }
     };
     Ok(Command::Radius { r, size, dist })
@@ -1051,6 +1097,10 @@ fn b_rgenerate(a: &mut Args) -> Result<Command, ParseError> {
         size: a.index("isize")?,
         material: material(a)?,
         nagg: a.int_in("naggm", 0, 2)? as usize,
+        walls: {
+            const WALLS: &[Keyword<()>] = &[kw("WAlls", ())];
+            a.try_keyword(WALLS)?.is_some()
+        },
     })
 }
 

@@ -130,6 +130,14 @@ fn geom_text(g: &WallGeom) -> String {
             "sphere obstacle centre ({}, {}, {}) radius {}",
             centre[0], centre[1], centre[2], radius
         ),
+        WallGeom::Cylinder {
+            point,
+            axis,
+            radius,
+        } => format!(
+            "cylinder (particles inside) axis through ({}, {}, {}) along ({}, {}, {}) radius {}",
+            point[0], point[1], point[2], axis[0], axis[1], axis[2], radius
+        ),
     }
 }
 

@@ -403,6 +403,30 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
     assert_eq!(pic.rings[0].radius, 0.1);
     assert!(pic.rings[0].fill.is_some(), "obstacles are shaded");
     assert!(pic.bounds.vmax > 0.8);
+    // A die along z, seen from the side (XZ): its two sides x = 0.5 ± 0.3, the particles
+    // between them; from the top (XY) a circle.
+    s.walls.clear();
+    s.walls.push(wall(WallGeom::Cylinder {
+        point: [0.5, 0.5, 0.0],
+        axis: [0.0, 0.0, 1.0],
+        radius: 0.3,
+    }));
+    let pic = picture(&s, &[PlotItem::Wall]).expect("picture");
+    let sides: Vec<f64> = pic
+        .segments
+        .iter()
+        .filter(|g| g.tag == Tag::Wall(0) && g.mark == Mark::Plain)
+        .map(|g| g.a[0])
+        .collect();
+    assert_eq!(sides.len(), 2, "{sides:?}");
+    assert!(sides.iter().any(|&u| close(u, 0.2)) && sides.iter().any(|&u| close(u, 0.8)));
+    s.settings.view = View::Xy;
+    let pic = picture(&s, &[PlotItem::Wall]).expect("picture");
+    assert_eq!(pic.rings.len(), 1);
+    assert_eq!(
+        (pic.rings[0].centre, pic.rings[0].radius),
+        ([0.5, 0.5], 0.3)
+    );
 }
 
 #[test]

@@ -8,7 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 /// Radius distribution of a size type: every generated particle draws its radius.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum SizeDist {
     /// All particles have radius r.
     #[default]
@@ -17,15 +17,35 @@ pub enum SizeDist {
     Normal { sd: f64 },
     /// Uniform in [rmin, rmax] (Olsson's size ranges).
     Uniform { min: f64, max: f64 },
+    /// A discrete distribution given by a number-frequency table (Pasha 2013, Table 5.1):
+    /// radius `radius[k]` is drawn with probability `freq[k] / Σ freq` (the frequencies as
+    /// typed, in any unit: per cent, counts).
+    Table { radius: Vec<f64>, freq: Vec<f64> },
 }
 
-/// Geometry of a wall: a plane `a x + b y + c z = d`, a spherical container (particles inside)
-/// or a spherical obstacle/indenter (particles outside).
+/// Geometry of a wall: a plane `a x + b y + c z = d`, a spherical container (particles inside),
+/// a spherical obstacle/indenter (particles outside) or a cylindrical die (particles inside).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum WallGeom {
-    Plane { normal: [f64; 3], d: f64 },
-    Sphere { centre: [f64; 3], radius: f64 },
-    Obstacle { centre: [f64; 3], radius: f64 },
+    Plane {
+        normal: [f64; 3],
+        d: f64,
+    },
+    Sphere {
+        centre: [f64; 3],
+        radius: f64,
+    },
+    Obstacle {
+        centre: [f64; 3],
+        radius: f64,
+    },
+    /// An infinitely long circular cylinder, particles inside (a die): its axis passes
+    /// through `point` along the unit vector `axis` (made unit by `DWAll`).
+    Cylinder {
+        point: [f64; 3],
+        axis: [f64; 3],
+        radius: f64,
+    },
 }
 
 /// Servo control of a wall: target force, maximum speed and gain (`SE F vmax g`).

@@ -10,7 +10,9 @@ use super::generate::{
     CreateIndex, OverlapIndex, first_overlap, inside, lattice_ranges, lattice_sites,
     max_lattice_sites, morton_order, sphere_mass,
 };
-use super::scene::{LatticeRun, MAX_MATERIALS, Material, Region, Scene, Vec3};
+use super::model::WallGeom;
+use super::scene::{LatticeRun, MAX_MATERIALS, Material, Region, Scene, Vec3, Wall};
+use super::walls::WallShape;
 
 /// `AGGlomerate`: the spherical region of agglomerate `nagg` (1 or 2).
 pub fn define_region(
@@ -171,13 +173,15 @@ pub fn lattice(
 }
 
 /// `RGEnerate`: `n` particles at random places without overlap, numbered along a Morton
-/// curve.
+/// curve; with `walls`, only where the whole particle lies on the particles' side of every
+/// wall (inside a die), the draws confined to the walls' bounding box ([`walls_box`]).
 pub fn random(
     scene: &mut Scene,
     n: usize,
     size: usize,
     material: usize,
     nagg: usize,
+    walls: bool,
 ) -> Result<String, String> {
     let r = radius_for(scene, size)?;
     let rho = generation_density(scene, material)?;
@@ -196,6 +200,30 @@ pub fn random(
         ),
         None => (Vec3::zeros(), Vec3::from(scene.size)),
     };
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    let (lo, hi) = if walls {
+        let (lo, hi) = walls_box(&scene.walls, lo, hi);
+        if (0..3).any(|k| !(lo[k] < hi[k])) {
+            return Err(format!(
+                "RGEnerate WAlls: the walls leave no room in the {}: the box between them is ({:e}, {:e}, {:e}) to ({:e}, {:e}, {:e})",
+                if region.is_some() {
+                    "region's bounding box"
+                } else {
+                    "work-space"
+                },
+                lo.x,
+                lo.y,
+                lo.z,
+                hi.x,
+                hi.y,
+                hi.z
+            ));
+        }
+        (lo, hi)
+    } else {
+        (lo, hi)
+    };
+    let clear_of_walls = |x: &Vec3, r: f64| !walls || shapes.iter().all(|s| s.gap(x, r).0 >= 0.0);
     ensure_material(scene, material);
     let limit = 1000 * n + 10_000;
     let (start, first_id) = (scene.particles.len(), scene.next_id);
@@ -221,7 +249,10 @@ pub fn random(
         } else {
             x
         };
-        if !inside(scene, region.as_ref(), &x, r) || idx.overlaps(scene, &x, r).is_some() {
+        if !inside(scene, region.as_ref(), &x, r)
+            || !clear_of_walls(&x, r)
+            || idx.overlaps(scene, &x, r).is_some()
+        {
             continue;
         }
         add(
@@ -243,15 +274,79 @@ pub fn random(
         *id = first_id + k as u32;
     }
     scene.contacts.mark_stale();
-    if made < n {
-        Ok(format!(
+    let mut text = if made < n {
+        format!(
             "RGEnerate: only {made} of {n} particles placed: the try limit ({limit} tries) was reached"
-        ))
+        )
     } else {
-        Ok(format!(
-            "RGEnerate: {made} particles placed in {tries} tries (limit {limit})"
-        ))
+        format!("RGEnerate: {made} particles placed in {tries} tries (limit {limit})")
+    };
+    // Without WAlls, particles placed behind or across a wall (outside a die) are named.
+    if !walls && !shapes.is_empty() {
+        let p = &scene.particles;
+        let mut behind = 0;
+        let mut across = 0;
+        for i in start..p.len() {
+            let worst = shapes
+                .iter()
+                .map(|s| s.gap(&p.pos[i], p.radius[i]).0 / p.radius[i])
+                .fold(f64::INFINITY, f64::min);
+            if worst < -1.0 {
+                behind += 1;
+            } else if worst < 0.0 {
+                across += 1;
+            }
+        }
+        if behind + across > 0 {
+            text.push_str(&format!(
+                "\nwarning: RGEnerate placed {behind} particle(s) with the centre behind a wall (outside a die or container, inside an indenter) and {across} across a wall's surface; RGEnerate ... WAlls places them only on the particles' side of every wall"
+            ));
+        }
     }
+    Ok(text)
+}
+
+/// The box `lo`–`hi` narrowed to what the walls leave free: a spherical container's
+/// bounding box, the cross-section of a cylinder whose axis is parallel to a coordinate
+/// axis, the half-space of a plane whose normal is along one (other walls leave it as it is:
+/// the draws outside them are rejected one by one).
+pub fn walls_box(walls: &[Wall], mut lo: Vec3, mut hi: Vec3) -> (Vec3, Vec3) {
+    for w in walls {
+        match w.geom {
+            WallGeom::Sphere { centre, radius } => {
+                for k in 0..3 {
+                    lo[k] = lo[k].max(centre[k] - radius);
+                    hi[k] = hi[k].min(centre[k] + radius);
+                }
+            }
+            WallGeom::Cylinder {
+                point,
+                axis,
+                radius,
+            } => {
+                let along: Vec<usize> = (0..3).filter(|&k| axis[k] != 0.0).collect();
+                if along.len() == 1 {
+                    for k in (0..3).filter(|&k| k != along[0]) {
+                        lo[k] = lo[k].max(point[k] - radius);
+                        hi[k] = hi[k].min(point[k] + radius);
+                    }
+                }
+            }
+            WallGeom::Plane { normal, d } => {
+                let along: Vec<usize> = (0..3).filter(|&k| normal[k] != 0.0).collect();
+                if let [k] = along[..] {
+                    let at = d / normal[k];
+                    if normal[k] > 0.0 {
+                        lo[k] = lo[k].max(at);
+                    } else {
+                        hi[k] = hi[k].min(at);
+                    }
+                }
+            }
+            WallGeom::Obstacle { .. } => {}
+        }
+    }
+    (lo, hi)
 }
 
 /// `MOve`: displaces agglomerate `nagg` (its particles and its region) by `d`.

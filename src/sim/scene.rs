@@ -517,31 +517,46 @@ impl Scene {
     pub fn draw_radius(&mut self, size: usize) -> Option<f64> {
         use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
-        Some(
-            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
-                SizeDist::Fixed => r,
-                SizeDist::Normal { sd } => loop {
-                    let z = self.rng.normal();
-                    if z.abs() <= 3.0 {
-                        break r + sd * z;
-                    }
-                },
-                SizeDist::Uniform { min, max } => min + (max - min) * self.rng.uniform(),
+        Some(match self.size_dist.get(size - 1) {
+            None | Some(SizeDist::Fixed) => r,
+            Some(&SizeDist::Normal { sd }) => loop {
+                let z = self.rng.normal();
+                if z.abs() <= 3.0 {
+                    break r + sd * z;
+                }
             },
-        )
+            Some(&SizeDist::Uniform { min, max }) => min + (max - min) * self.rng.uniform(),
+            Some(SizeDist::Table { radius, freq }) => {
+                // Inverse of the cumulative frequencies: the first entry whose running sum
+                // exceeds u Σf (one uniform number per particle). (A table read from a
+                // damaged checkpoint, empty or of unequal lengths, gives the nominal r.)
+                let pairs = || radius.iter().zip(freq);
+                let u = self.rng.uniform() * pairs().map(|(_, f)| f).sum::<f64>();
+                let mut acc = 0.0;
+                // (u Σf rounded up to Σf: the last entry drawn at all.)
+                let mut pick = pairs().rfind(|(_, f)| **f > 0.0).map(|(r, _)| *r);
+                for (rk, f) in pairs() {
+                    acc += f;
+                    if u < acc {
+                        pick = Some(*rk);
+                        break;
+                    }
+                }
+                pick.unwrap_or(r)
+            }
+        })
     }
 
     /// Largest radius a size type can produce.
     pub fn max_radius_of(&self, size: usize) -> Option<f64> {
         use crate::sim::model::SizeDist;
         let r = self.radius_of(size)?;
-        Some(
-            match self.size_dist.get(size - 1).copied().unwrap_or_default() {
-                SizeDist::Fixed => r,
-                SizeDist::Normal { sd } => r + 3.0 * sd,
-                SizeDist::Uniform { max, .. } => max,
-            },
-        )
+        Some(match self.size_dist.get(size - 1) {
+            None | Some(SizeDist::Fixed) => r,
+            Some(&SizeDist::Normal { sd }) => r + 3.0 * sd,
+            Some(&SizeDist::Uniform { max, .. }) => max,
+            Some(SizeDist::Table { radius, .. }) => radius.iter().copied().fold(0.0, f64::max),
+        })
     }
 
     /// Largest particle radius present (0 if none).

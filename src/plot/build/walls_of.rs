@@ -1,4 +1,5 @@
-//! Walls in a picture: plane walls as lines clipped to the view, spheres as rings.
+//! Walls in a picture: plane walls as lines clipped to the view, spheres as rings, a
+//! cylinder as a ring (seen along its axis) or its two sides (axis in the view's plane).
 
 use super::*;
 
@@ -71,6 +72,47 @@ pub(super) fn walls_of(
                     tag: Tag::Wall(k),
                 });
                 pic.bounds.add(c, radius);
+            }
+            WallGeom::Cylinder {
+                point,
+                axis,
+                radius,
+            } => {
+                let c = proj.project(&Vec3::from(point));
+                let a = Vec3::from(axis);
+                let len = a.norm();
+                if !(len > 0.0 && len.is_finite() && radius.is_finite()) {
+                    continue;
+                }
+                let (ar, au) = (axis[proj.right] / len, axis[proj.up] / len);
+                let h = ar.hypot(au);
+                if h < 1e-9 {
+                    // Seen along its axis: a circle.
+                    pic.rings.push(Ring {
+                        centre: c,
+                        radius,
+                        colour: colour::BLACK,
+                        fill: None,
+                        tag: Tag::Wall(k),
+                    });
+                    pic.bounds.add(c, radius);
+                } else if h > 1.0 - 1e-9 {
+                    // The axis in the view's plane: its two sides, hatched outside.
+                    let m = [-au / h, ar / h];
+                    let mc = m[0] * c[0] + m[1] * c[1];
+                    for (sign, n) in [(1.0, m), (-1.0, [-m[0], -m[1]])] {
+                        planes.push(PlaneLine {
+                            wall: k,
+                            n,
+                            d: sign * mc - radius,
+                        });
+                    }
+                } else {
+                    pic.notes.push(format!(
+                        "wall {}: cylinder oblique to the view, not drawn",
+                        k + 1
+                    ));
+                }
             }
         }
     }

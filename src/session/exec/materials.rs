@@ -15,7 +15,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 scene.size_dist.resize(*size, Default::default());
             }
             scene.sizes[size - 1] = *r;
-            scene.size_dist[size - 1] = *dist;
+            scene.size_dist[size - 1] = dist.clone();
             // Particles of a fixed size type change radius (and mass).
             let p = &mut scene.particles;
             for i in 0..p.len() {

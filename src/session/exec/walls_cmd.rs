@@ -11,10 +11,11 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                     scene.nwall
                 ));
             }
-            let geom = opts.geom.expect("DWAll parser requires a geometry");
+            let geom = unit_axis(opts.geom.expect("DWAll parser requires a geometry"));
             check_geom(&geom)?;
             let material = opts.material.unwrap_or(1);
             existing_material(scene, material)?;
+            let overlap = particles_against(scene, &geom, scene.walls.len() + 1)?;
             let (vel, vr) = opts.vel.unwrap_or(([0.0; 3], 0.0));
             scene.walls.push(Wall {
                 geom,
@@ -29,7 +30,10 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             });
             scene.contacts.mark_stale();
             let opened = open_crossed_axes(scene);
-            Ok(format!("wall {} defined{opened}", scene.walls.len()))
+            Ok(format!(
+                "wall {} defined{opened}{overlap}",
+                scene.walls.len()
+            ))
         }
         Command::Awall { n, opts } => {
             if *n == 0 || *n > scene.walls.len() {
@@ -41,11 +45,16 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             if let Some(m) = opts.material {
                 existing_material(scene, m)?;
             }
-            if let Some(g) = &opts.geom {
+            let geom = opts.geom.map(unit_axis);
+            if let Some(g) = &geom {
                 check_geom(g)?;
             }
+            let overlap = match &geom {
+                Some(g) => particles_against(scene, g, *n)?,
+                None => String::new(),
+            };
             let w = &mut scene.walls[n - 1];
-            if let Some(g) = opts.geom {
+            if let Some(g) = geom {
                 w.geom = g;
             }
             if let Some((v, vr)) = opts.vel {
@@ -60,7 +69,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             }
             scene.contacts.mark_stale();
             let opened = open_crossed_axes(scene);
-            Ok(opened.trim_start_matches("; ").to_string())
+            Ok(format!("{}{overlap}", opened.trim_start_matches("; ")))
         }
         other => Err(not_here(other)),
     }
@@ -80,10 +89,82 @@ fn open_crossed_axes(scene: &mut Scene) -> String {
 }
 
 fn check_geom(g: &WallGeom) -> Result<(), String> {
-    if let WallGeom::Plane { normal, .. } = g
-        && normal.iter().all(|&x| x == 0.0)
-    {
-        return Err("a plane wall needs a non-zero normal (a, b, c)".into());
+    match *g {
+        WallGeom::Plane { normal, .. } if normal.iter().all(|&x| x == 0.0) => {
+            Err("a plane wall needs a non-zero normal (a, b, c)".into())
+        }
+        WallGeom::Cylinder { axis, .. } if !axis.iter().all(|x| x.is_finite()) => {
+            Err("a cylinder needs a finite, non-zero axis (ax, ay, az)".into())
+        }
+        WallGeom::Cylinder { radius, .. } if !(radius > 0.0 && radius.is_finite()) => {
+            Err(format!("a cylinder needs a positive radius (r = {radius})"))
+        }
+        _ => Ok(()),
     }
-    Ok(())
+}
+
+/// A cylinder's axis made a unit vector (the parser refused a zero one); other walls as
+/// they are.
+fn unit_axis(g: WallGeom) -> WallGeom {
+    match g {
+        WallGeom::Cylinder {
+            point,
+            axis,
+            radius,
+        } => {
+            let a = Vec3::from(axis);
+            let a = a / a.norm();
+            WallGeom::Cylinder {
+                point,
+                axis: [a.x, a.y, a.z],
+                radius,
+            }
+        }
+        g => g,
+    }
+}
+
+/// The particles a new wall geometry (wall number `number`) would hold on its wrong side:
+/// a particle's centre behind the surface (outside a die or container, inside an indenter)
+/// is an error with `SET TUNnel STOP` (the first step would stop on it); particles cut by the
+/// surface give a warning (returned as "\nwarning: ..." or "").
+fn particles_against(scene: &Scene, geom: &WallGeom, number: usize) -> Result<String, String> {
+    let shape = walls::WallShape::of(geom);
+    let p = &scene.particles;
+    let mut behind = None;
+    let mut nbehind = 0;
+    let mut cut = 0;
+    let mut deepest = 0.0f64;
+    for i in 0..p.len() {
+        let (gap, _) = shape.gap(&p.pos[i], p.radius[i]);
+        if gap < -p.radius[i] {
+            nbehind += 1;
+            behind.get_or_insert(i);
+        } else if gap < -0.05 * p.radius[i] {
+            cut += 1;
+            deepest = deepest.max(-gap / p.radius[i]);
+        }
+    }
+    let tunnel_stop = scene.settings.tunnel == crate::sim::scene::TunnelAction::Stop;
+    if let Some(i) = behind
+        && tunnel_stop
+    {
+        return Err(format!(
+            "wall {number} would leave {nbehind} particle(s) with the centre behind its surface (outside a die or container, inside an indenter), the first particle {} at ({:e}, {:e}, {:e}): move or resize the wall (an indenter starts above the bed), or SET TUNnel DELETE to have them deleted at the next Cycle",
+            p.id[i], p.pos[i].x, p.pos[i].y, p.pos[i].z
+        ));
+    }
+    let mut out = String::new();
+    if nbehind > 0 {
+        out.push_str(&format!(
+            "\nwarning: wall {number} leaves {nbehind} particle(s) with the centre behind its surface: the next Cycle deletes them (SET TUNnel DELETE)"
+        ));
+    }
+    if cut > 0 {
+        out.push_str(&format!(
+            "\nwarning: wall {number} cuts {cut} particle(s), the deepest by {:.3} of its radius: they will be pushed out at the next Cycle (an indenter starts above the bed)",
+            deepest
+        ));
+    }
+    Ok(out)
 }

@@ -180,24 +180,73 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
     out
 }
 
+/// A servo of wall `w` that cannot reach its target force: it cannot move (vmax or g is 0)
+/// while the force differs, or it asks for a pull (F < 0) from particles that cannot pull
+/// (no adhesion between the wall's material and any particle's, no liquid bridges): the wall
+/// would back away at vmax for ever.
+fn unreachable_target(scene: &Scene, w: usize) -> Option<String> {
+    let wall = &scene.walls[w];
+    let s = wall.servo?;
+    if (s.vmax == 0.0 || s.gain == 0.0) && s.force != wall.normal_force {
+        return Some(format!(
+            "servo of wall {} cannot move (vmax = {}, g = {}): its target force {} N will not be reached (the force is {:e} N now)",
+            w + 1,
+            s.vmax,
+            s.gain,
+            s.force,
+            wall.normal_force
+        ));
+    }
+    if s.force < 0.0 {
+        let gw = scene
+            .materials
+            .get(wall.material - 1)
+            .map_or(0.0, |m| m.gamma);
+        let p = &scene.particles;
+        // Liquid bridges pull on walls too (`LIQuid`).
+        let wet = scene.liquid.is_some_and(|l| l.pvol > 0.0 && l.gamma > 0.0);
+        let sticky = wet
+            || (0..scene.materials.len()).any(|m| {
+                scene.materials[m].gamma * gw > 0.0
+                    && p.material.iter().any(|&k| k as usize == m + 1)
+            });
+        if !sticky {
+            return Some(format!(
+                "servo of wall {} targets a pull ({} N < 0) but no particle adheres to its material {} (COHesion) and there is no liquid (LIQuid): the target cannot be reached, the wall will back away at vmax = {} m/s",
+                w + 1,
+                s.force,
+                wall.material,
+                s.vmax
+            ));
+        }
+    }
+    None
+}
+
 /// Servo walls whose gain makes them hunt: through the contacts' stiffness over a step, or
 /// through the contacts' dashpots at once.
 fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
     let mut out = Vec::new();
     for (w, wall) in scene.walls.iter().enumerate() {
         if let Some(s) = wall.servo {
+            out.extend(unreachable_target(scene, w));
             // Loop gain of the servo per step: g × (stiffness of the wall contacts) × Δt,
             // with a contact stiffness 2E*a at an overlap of 1e-3 R for every particle near
             // the wall; above 1 the wall overshoots every step.
             let m = &scene.materials[wall.material - 1];
             let r = scene.max_radius();
             let k = 2.0 * m.young / (2.0 * (1.0 - m.poisson * m.poisson)) * (r * 1e-3 * r).sqrt();
+            // The wall's contacts: those of the candidate list, or, if more, the particles of
+            // the layer nearest to the wall (within a largest diameter of the nearest one),
+            // which a wall still away from the bed (or just moved by AWAll, its candidates
+            // not yet found) will press.
             let n = scene
                 .contacts
                 .wall_pairs
                 .iter()
                 .filter(|c| c.wall as usize == w)
                 .count()
+                .max(nearest_layer(scene, w))
                 .max(1) as f64;
             let loop_gain = s.gain * k * n * model.dt;
             if loop_gain > 1.0 {
@@ -217,8 +266,12 @@ fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
             if let Some(i) = (0..p.len()).max_by(|&a, &b| p.radius[a].total_cmp(&p.radius[b])) {
                 let pc = model.pair(p.material[i] as usize, wall.material);
                 let (mi, ri) = (p.mass[i], p.radius[i]);
-                let c =
-                    pc.dash * (mi * mi * ri * 1e-3 * ri).sqrt().sqrt() + scene.damping_pw.beta * k;
+                // The dashpot grows as the overlap^{1/4}: at the overlap of the target force
+                // shared by the n contacts (Hertz against a plane), at least 1e-3 R.
+                let f = s.force.abs() / n;
+                let hertz = (3.0 * f / (4.0 * pc.e_star * ri.sqrt())).powf(2.0 / 3.0);
+                let delta = hertz.max(1e-3 * ri);
+                let c = pc.dash * (mi * mi * ri * delta).sqrt().sqrt() + scene.damping_pw.beta * k;
                 let dash_gain = s.gain * n * c;
                 if dash_gain > 1.0 {
                     out.push(format!(
@@ -232,6 +285,20 @@ fn servo_warnings(scene: &Scene, model: &Model) -> Vec<String> {
         }
     }
     out
+}
+
+/// The particles of the layer nearest to wall `w`: those whose gap is within the largest
+/// particle diameter of the smallest gap.
+fn nearest_layer(scene: &Scene, w: usize) -> usize {
+    let p = &scene.particles;
+    let shape = WallShape::of(&scene.walls[w].geom);
+    let gaps: Vec<f64> = (0..p.len())
+        .map(|i| shape.gap(&p.pos[i], p.radius[i]).0)
+        .filter(|g| g.is_finite())
+        .collect();
+    let least = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+    let reach = least + 2.0 * scene.max_radius();
+    gaps.iter().filter(|&&g| g <= reach).count()
 }
 
 /// Particles whose centre lies behind a wall's surface (gap < −R: behind a plane, outside a

@@ -152,6 +152,8 @@ pub(super) fn wall_kin<'m>(
         WallGeom::Plane { .. } => f64::INFINITY,
         WallGeom::Sphere { radius, .. } => -radius,
         WallGeom::Obstacle { radius, .. } => radius,
+        // (The bridge volume of a wall contact is the particle's: r2 only marks a wall.)
+        WallGeom::Cylinder { .. } => f64::INFINITY,
     };
     let k = Kin {
         n,
@@ -168,7 +170,7 @@ pub(super) fn wall_kin<'m>(
 /// The walls' measured forces and the work they put in; then their motion (servo,
 /// advance). Returns the work of the walls on the particles in this step.
 pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
-    // The walls' measured forces: a plane's normal force, a sphere's radial one.
+    // The walls' measured forces: a plane's normal force, a sphere's or cylinder's radial one.
     let mut radial = vec![0.0; scene.walls.len()];
     for w in scene.walls.iter_mut() {
         let f = Vec3::from(w.force);
@@ -177,7 +179,7 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
             _ => 0.0,
         };
     }
-    let round = |w: &Wall| matches!(w.geom, WallGeom::Sphere { .. } | WallGeom::Obstacle { .. });
+    let round = |w: &Wall| !matches!(w.geom, WallGeom::Plane { .. });
     let wall_pairs: &[WallPair] = if scene.walls.iter().any(round) {
         &scene.contacts.wall_pairs
     } else {
@@ -185,7 +187,7 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
     };
     for c in wall_pairs {
         let w = &mut scene.walls[c.wall as usize];
-        if let WallGeom::Sphere { .. } | WallGeom::Obstacle { .. } = w.geom {
+        if round(w) {
             let fn_ = c.s.normal_force
                 + c.s.damp_force
                 + c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
@@ -208,7 +210,7 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
         // Work done by a moving wall on the particles: −(force on wall)·v_w Δt.
         wall_work -= Vec3::from(w.force).dot(&vel) * dt;
         let sign = match w.geom {
-            WallGeom::Sphere { .. } => 1.0,
+            WallGeom::Sphere { .. } | WallGeom::Cylinder { .. } => 1.0,
             WallGeom::Obstacle { .. } => -1.0,
             WallGeom::Plane { .. } => 0.0,
         };

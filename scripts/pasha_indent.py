@@ -1,0 +1,315 @@
+#!/usr/bin/env python3
+"""Ball indentation of a cohesive powder bed (Pasha 2013, ch. 5; issue 36; doc/indentation.md).
+
+Feeds scripts/pasha_indent.tru (the set-up: die, floor, piston, materials of Tables 5.2-5.3,
+sizes of Table 5.1 generated inside the die) to `trubal --json -` and drives the procedure
+of ch. 5 through the same pipe, reading the JSON of each PRint:
+  1. settle under gravity (until the kinetic energy is below 1e-4 of m g d_p of the bed);
+  2. consolidate: the piston, brought to the bed's top, comes down at rate x bed height
+     (constant strain rate) until its force reaches sigma_pre x die area; then a servo of
+     small gain holds it until the force stays within 2 % of the target;
+  3. unload: the servo's target goes to 0 at the same top speed; then the piston is lifted
+     out of the way;
+  4. indent: an obstacle sphere of diameter d (material 3: glass without adhesion) moves
+     down at rate x bed height; h = 0 at its first contact; the vertical force on it F and
+     the hardness H = F / (pi (d h - h^2)) (Pasha (2.7)-(2.9)) are recorded until h = hmax r.
+Writes doc/data/pasha_indent<tag>.csv (h, h/d, h/r, F, H) and doc/img/pasha_indent<tag>.png
+(H against h/d), and prints a JSON summary (bed, consolidation, hardness plateau, energy
+ledger).
+
+The scaled-down case (the default): Pasha's geometry in mm (39 mm die, the bed to about
+13 mm, d = 16 mm), the particles `--scale` times larger (2: 16000 / 2^3 = 2000 particles of
+1.2-2.8 mm), the moduli divided by `--soften` (1000: 55 MPa particles), the work of
+adhesion scaled with the particle size (Gamma = 0.5 J/m^2 x scale: the cohesive stress
+f_c / d_p^2 stays Pasha's), and the piston and indenter at 10 x Pasha's strain rate (10 1/s:
+gamma* = 10 sqrt(d_p/g) = 0.14 for d_p = 2 mm, still quasi-static by Tardos's 0.15).
+
+usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [--sigma PA]
+                               [--hmax H/R] [--seed K] [--tag T] [--frac F]
+       scripts/pasha_indent.py --compare TAG...   (H against h/d of the runs TAG ("" = the
+                               default run) in doc/img/pasha_indent_compare.png)
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import run_table  # noqa: E402
+from lun_shear import option as arg  # noqa: E402
+
+# Pasha 2013 Table 5.1: diameter (mm), number frequency (%).
+TABLE_5_1 = [(0.59, 0.33), (0.72, 3.84), (0.81, 11.24), (0.90, 21.00), (1.00, 27.75),
+             (1.10, 20.85), (1.19, 10.95), (1.28, 3.74), (1.41, 0.29)]
+DIE, BED, N_PASHA = 39e-3, 13e-3, 16000
+G = 9.81
+
+
+class Trubal:
+    """A trubal session on a pipe: commands in, the JSON lines of PRint out."""
+
+    def __init__(self, sets, log, work):
+        args = [run_table.trubal_binary(), "--json", "-"]
+        for k, v in sets.items():
+            args += ["--set", f"{k}={v}"]
+        self.p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                  stderr=log, text=True, bufsize=1, cwd=work)
+
+    def send(self, text):
+        self.p.stdin.write(text if text.endswith("\n") else text + "\n")
+        self.p.stdin.flush()
+
+    def print(self, item):
+        """PRint item: its JSON object (other lines are skipped)."""
+        self.send(f"print {item}")
+        while True:
+            line = self.p.stdout.readline()
+            if not line:
+                raise RuntimeError(f"trubal ended before `print {item}` answered (see the log)")
+            if line.startswith("{"):
+                o = json.loads(line)
+                if o.get("print") == item:
+                    return o
+
+    def cycle(self, n):
+        self.send(f"cycle {int(n)}")
+
+    def close(self):
+        self.send("stop")
+        self.p.stdin.close()
+        self.p.wait()
+
+
+def say(text):
+    print(text, file=sys.stderr, flush=True)
+
+
+def compare(tags):
+    """One chart of H against h/d from doc/data/pasha_indent<tag>.csv and .json."""
+    series = []
+    for tag in tags:
+        base = os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}")
+        with open(base + ".json") as fh:
+            o = json.load(fh)
+        with open(base + ".csv") as fh:
+            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
+        label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
+        # From a penetration of one particle radius on (Pasha plots from one diameter).
+        dp = o["d"] / o["d_over_dp"]
+        series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
+    xs = [p[0] for _, s in series for p in s]
+    run_table.chart(
+        os.path.join(ROOT, "doc", "img", "pasha_indent_compare.png"),
+        "BALL INDENTATION HARDNESS, SCALED CASES (SIGMA PRE 10 KPA)",
+        series,
+        "PENETRATION H/D",
+        "HARDNESS (KPA)",
+        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)])],
+        cap=False,
+    )
+
+
+def main():
+    argv = sys.argv[1:]
+    if argv and argv[0] == "--compare":
+        compare([t.strip("'\"") for t in argv[1:]])
+        return
+    scale = arg(argv, "--scale", 2.0)
+    soften = arg(argv, "--soften", 1000.0)
+    d_ind = arg(argv, "--d", 16.0) * 1e-3
+    rate = arg(argv, "--rate", 10.0)
+    sigma = arg(argv, "--sigma", 1e4)
+    hmax = arg(argv, "--hmax", 0.6)
+    seed = arg(argv, "--seed", 0)
+    tag = arg(argv, "--tag", "")
+    frac = arg(argv, "--frac", 0.2)
+    np_ = int(round(N_PASHA / scale ** 3))
+    diam = [(d * 1e-3 * scale, f) for d, f in TABLE_5_1]
+    d_mean = sum(d * f for d, f in diam) / sum(f for _, f in diam)
+    d3 = sum(d ** 3 * f for d, f in diam) / sum(f for _, f in diam)
+    rdie = DIE / 2
+    # Generation region: the bed's volume at solids fraction 0.25 (random sequential placement
+    # jams near 0.38; at 0.3 a few per cent of the particles found no place).
+    vsolid = np_ * math.pi / 6 * d3
+    hgen = vsolid / 0.25 / (math.pi * rdie ** 2)
+    side = DIE + 2e-3
+    gamma_w = 0.5 * scale  # Pasha's Gamma = 0.5 J/m^2, scaled with d_p
+    sets = {
+        "side": side, "zmax": hgen + d_ind + 0.02, "c": side / 2, "rdie": rdie, "hgen": hgen,
+        "np": np_, "nball": np_ + 10,
+        "rnom": d_mean / 2, "rtab": " ".join(f"{d / 2:.6e} {f}" for d, f in diam),
+        "E": 55e9 / soften, "Ew": 182e9 / soften, "gamma": gamma_w / 2, "frac": frac,
+        "seed": seed,
+    }
+    work = os.path.join(ROOT, "target", "pasha_indent")
+    os.makedirs(work, exist_ok=True)
+    log = open(os.path.join(work, f"run{tag}.log"), "w")
+    t0 = time.time()
+    tr = Trubal(sets, log, work)
+    with open(os.path.join(HERE, "pasha_indent.tru")) as fh:
+        tr.send(fh.read())
+    tr.cycle(1)
+    info = tr.print("info")
+    dt = info["dt"] or 0.0
+    out = {"particles": info["balls"], "scale": scale, "soften": soften, "d": d_ind,
+           "d_over_dp": d_ind / d_mean, "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
+
+    # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed.
+    mass = np_ * 2456 * math.pi / 6 * d3
+    chunk = 5000
+    settle = 0
+    while True:
+        tr.cycle(chunk)
+        settle += chunk
+        e = tr.print("energy")
+        kin = e["kinetic"]
+        if (settle * dt > math.sqrt(2 * hgen / G) and kin < 1e-4 * mass * G * d_mean) or settle > 400000:
+            break
+    balls = tr.print("balls")["balls"]
+    tops = sorted(b["pos"][2] + b["radius"] for b in balls)
+    h_bed = sum(tops[-len(tops) // 20:]) / (len(tops) // 20)
+    say(f"settled: {settle} cycles, {time.time() - t0:.0f} s")
+    out.update({"settle_cycles": settle, "bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
+                "solids_fraction": vsolid / (math.pi * rdie ** 2 * h_bed)})
+
+    # 2. Consolidate: the piston just above the bed comes down at rate x h until its force
+    # reaches sigma x area; then a servo holds it there until the force stays within 2 %.
+    area = math.pi * rdie ** 2
+    f_target = sigma * area
+    v = rate * h_bed
+    tr.send(f"awall 3 p 0 0 -1 {-(tops[-1] + 0.2 * d_mean)!r} v 0 0 {-v!r}")
+    consolidation = []
+    n = 0
+    f = 0.0
+    while n < 200000 and f < f_target:
+        tr.cycle(100)
+        n += 100
+        f = tr.print("walls")["walls"][2]["normal_force"]
+        consolidation.append((n, f))
+    out["cycles_to_target"] = n
+    say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g})")
+    # The servo's gain: a fifth of the gain that would take the whole target for full speed
+    # (a larger one makes the wall hunt through the dashpots of its contacts).
+    gain = v / (5 * f_target)
+    tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
+    within = 0
+    chunk = 499
+    m = 0
+    while m < 60000:
+        tr.cycle(chunk)
+        m += chunk
+        f = tr.print("walls")["walls"][2]["normal_force"]
+        consolidation.append((n + m, f))
+        if m % 4990 == 0:
+            say(f"  holding: {m} cycles, piston force {f:.4g} N of {f_target:.4g}")
+        within = within + 1 if abs(f / f_target - 1) < 0.02 else 0
+        if within >= 6:
+            break
+    n += m
+    piston = tr.print("walls")["walls"][2]
+    z_piston = -piston["geometry"]["Plane"]["d"] / abs(piston["geometry"]["Plane"]["normal"][2])
+    out.update({"consolidation_cycles": n, "piston_force": consolidation[-1][1],
+                "piston_error": consolidation[-1][1] / f_target - 1,
+                "piston_within_2pc_records": within,
+                "consolidated_height": z_piston})
+    with open(os.path.join(ROOT, "doc", "data", f"pasha_consolidation{tag}.csv"), "w", newline="") as fh:
+        wr = csv.writer(fh)
+        wr.writerow(["cycle", "piston_force", "target"])
+        wr.writerows([(c, f, f_target) for c, f in consolidation])
+
+    say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
+    # 3. Unload at the same top speed; then lift the piston out of the way.
+    tr.send(f"awall 3 se 0 {v!r} {gain!r}")
+    n = 0
+    chunk = 500
+    while n < 40000:
+        tr.cycle(chunk)
+        n += chunk
+        if tr.print("walls")["walls"][2]["normal_force"] < 1e-2 * f_target:
+            break
+    tr.cycle(2000)
+    balls = tr.print("balls")["balls"]
+    c = side / 2
+    tops = [b["pos"][2] + b["radius"] for b in balls]
+    z_top = max(tops)
+    tr.send(f"awall 3 p 0 0 -1 {-(z_top + d_ind + 4e-3)!r}")
+    out["unloaded_height"] = z_top
+    # The unloaded bed, for scripts/bench/indenter_cost.py (target/pasha_indent/).
+    tr.send(f"save unloaded{tag}.sav")
+
+    say(f"unloaded: bed top {z_top:.4g} m, {time.time() - t0:.0f} s")
+    # 4. Indent at constant speed from just above the highest particle under the indenter.
+    under = [b["pos"][2] + b["radius"] for b in balls
+             if math.hypot(b["pos"][0] - c, b["pos"][1] - c) < d_ind / 2]
+    z0 = max(under) + 0.2 * d_mean + d_ind / 2
+    tr.send(f"dwall ob {c!r} {c!r} {z0!r} {d_ind / 2!r} v 0 0 {-v!r} m 3")
+    travel = hmax * d_ind / 2 + 0.2 * d_mean
+    steps = travel / v / dt
+    chunk = max(1, int(steps / 250))
+    rows = []
+    zc_first = None
+    n = 0
+    while n < 3 * steps:
+        tr.cycle(chunk)
+        n += chunk
+        w = tr.print("walls")["walls"][3]
+        zc = w["geometry"]["Obstacle"]["centre"][2]
+        f = w["force"][2]
+        if zc_first is None and f > 0:
+            zc_first = zc
+        if zc_first is None:
+            continue
+        h = zc_first - zc
+        area_h = math.pi * (d_ind * h - h * h)
+        rows.append({"h": h, "h_over_d": h / d_ind, "h_over_r": 2 * h / d_ind, "force": f,
+                     "hardness": f / area_h if area_h > 0 else 0.0})
+        if len(rows) % 25 == 0:
+            say(f"  indenting: h/r {2 * h / d_ind:.3f}, F {f:.4g} N, {time.time() - t0:.0f} s")
+        if h >= hmax * d_ind / 2:
+            break
+    energy = tr.print("energy")
+    tr.close()
+    log.close()
+    data = os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.csv")
+    with open(data, "w", newline="") as fh:
+        wr = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        wr.writeheader()
+        wr.writerows(rows)
+    plateau = [r["hardness"] for r in rows if 0.35 <= r["h_over_r"] <= hmax]
+    mean = sum(plateau) / max(1, len(plateau))
+    sd = math.sqrt(sum((x - mean) ** 2 for x in plateau) / max(1, len(plateau)))
+    out.update({
+        "indent_records": len(rows), "hardness_plateau_kpa": mean / 1e3, "hardness_sd_kpa": sd / 1e3,
+        "h_over_sigma_pre": mean / sigma,
+        "energy_residual": energy["residual"], "energy_input": energy["input"],
+        "wall_work": energy["inputs"]["walls"], "seconds": time.time() - t0,
+    })
+    run_table.chart(
+        os.path.join(ROOT, "doc", "img", f"pasha_indent{tag}.png"),
+        f"BALL INDENTATION, D = {d_ind * 1e3:.0f} MM ({d_ind / d_mean:.0f} DP), {out['particles']} PARTICLES",
+        [("H", [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= d_mean / 2])],
+        "PENETRATION H/D",
+        "HARDNESS (KPA)",
+        refs=[("PASHA ~8 KPA", [(r["h_over_d"], 8.0) for r in rows])],
+        cap=False,
+    )
+    run_table.chart(
+        os.path.join(ROOT, "doc", "img", f"pasha_indent_force{tag}.png"),
+        f"INDENTER FORCE, D = {d_ind * 1e3:.0f} MM, {out['particles']} PARTICLES",
+        [("F", [(r["h"] * 1e3, r["force"]) for r in rows])],
+        "PENETRATION H (MM)",
+        "FORCE ON THE INDENTER (N)",
+        cap=False,
+    )
+    with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.json"), "w") as fh:
+        json.dump(out, fh, indent=1)
+    print(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()
