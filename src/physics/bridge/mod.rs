@@ -30,8 +30,8 @@
 pub mod fit;
 pub mod laplace;
 mod numerics;
-pub mod rupture;
 pub mod rabinovich;
+pub mod rupture;
 pub mod toroidal;
 pub mod viscous;
 
