@@ -323,4 +323,50 @@ mod tests {
         let bad = Bridge::new(11e-6, 11e-6, 1e-19, G, 1.6);
         assert!(validate(m, &bad).unwrap_err().contains("[0, 90)"));
     }
+
+    /// doc/bridge.md's table: Rabinovich against the exact Laplace–Young bridge (same
+    /// volume, γ, θ) for Olsson's liquid contents (each particle gives 16 % of its liquid,
+    /// θ = 5°): an 11–11 µm pair, an 11–44 µm pair and an 11 µm sphere at a wall; force at
+    /// S = 0 (Laplace–Young at contact; Rabinovich's cap (59)/(60)) and at ¼, ½, ¾ of
+    /// Willett's S_c, and the two rupture distances. Prints the table
+    /// (`cargo test --profile ci --lib rabinovich_vs_laplace -- --nocapture`).
+    #[test]
+    fn rabinovich_vs_laplace_table() {
+        use super::super::{Bridge, BridgeModel, model_rupture_distance, static_force};
+        let t = deg(5.0);
+        let vp = |r: f64| 4.0 / 3.0 * PI * r * r * r;
+        let mut worst: f64 = 0.0;
+        println!("| pair | liquid | S_c Willett / Laplace (µm) | F(0) | F(S_c/4) | F(S_c/2) | F(3S_c/4) |");
+        println!("|---|---|---|---|---|---|---|");
+        for (name, r1, r2) in [
+            ("11–11 µm", 11e-6, 11e-6),
+            ("11–44 µm", 11e-6, 44e-6),
+            ("11 µm–wall", 11e-6, f64::INFINITY),
+        ] {
+            for frac in [1e-4, 1e-3, 1e-2] {
+                let v2 = if r2.is_finite() { vp(r2) } else { 0.0 };
+                let b = Bridge::new(r1, r2, 0.16 * frac * (vp(r1) + v2), G, t);
+                let sw = model_rupture_distance(BridgeModel::Rabinovich, &b);
+                let sl = model_rupture_distance(BridgeModel::Laplace, &b);
+                let mut row = format!(
+                    "| {name} | {} % | {:.3} / {:.3} |",
+                    frac * 100.0,
+                    sw * 1e6,
+                    sl * 1e6
+                );
+                for x in [0.0, 0.25, 0.5, 0.75] {
+                    let fr = static_force(BridgeModel::Rabinovich, &b, x * sw);
+                    let fl = static_force(BridgeModel::Laplace, &b, x * sw);
+                    let e = fr / fl - 1.0;
+                    if x > 0.0 && x * sw < sl {
+                        worst = worst.max(e.abs());
+                    }
+                    row += &format!(" {:.3} ({:+.1} %) |", fr * 1e6, 100.0 * e);
+                }
+                println!("{row}");
+            }
+        }
+        println!("worst {worst}");
+        assert!(worst < 0.45, "{worst}");
+    }
 }
