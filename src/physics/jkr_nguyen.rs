@@ -2,7 +2,7 @@
 //! Nguyen et al. (2014) that Olsson (2017) used for his dry agglomerates (§3.3.1.1):
 //! "contacts are broken once a finite separation distance is achieved" and van der Waals
 //! forces are "non-ranged". Olsson states nothing more; what follows is what the
-//! LIGGGHTS-PUBLIC source does (read to understand, doc/bridge.md "Olsson's dry model"),
+//! LIGGGHTS-PUBLIC source does (read to understand; doc/validation.md, "Olsson's dry contact law"),
 //! expressed with the relations of [`super::jkr`] (the same JKR curve, `γ` per surface).
 //!
 //! * **One curve, no loop.** The normal force is a function of the overlap alone: the

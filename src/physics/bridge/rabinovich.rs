@@ -336,7 +336,9 @@ mod tests {
         let t = deg(5.0);
         let vp = |r: f64| 4.0 / 3.0 * PI * r * r * r;
         let mut worst: f64 = 0.0;
-        println!("| pair | liquid | S_c Willett / Laplace (µm) | F(0) | F(S_c/4) | F(S_c/2) | F(3S_c/4) |");
+        println!(
+            "| pair | liquid | S_c Willett / Laplace (µm) | F(0) | F(S_c/4) | F(S_c/2) | F(3S_c/4) |"
+        );
         println!("|---|---|---|---|---|---|---|");
         for (name, r1, r2) in [
             ("11–11 µm", 11e-6, 11e-6),
