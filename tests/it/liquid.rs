@@ -403,3 +403,73 @@ fn rabinovich_validity_warnings() {
     let o = text(&format!("{base}liquid 1 0.073 95 0.001\nstop\n"));
     assert!(o.contains("[0, 90)"), "{o}");
 }
+
+/// Olsson's wet model at a wall: an 11 µm sphere touching a plane, a bridge of 0.1 % of its
+/// volume, pulled off at 1 cm/s: the cap 4πRγ cos θ (59) in contact, Rabinovich's
+/// sphere–plane force (33) with (34), (35) apart, rupture at Willett's (52) with
+/// `R2/R1 = 0` and the harmonic-mean radius 2R; the books close.
+#[test]
+fn rabinovich_wall_bridge_pulled_off() {
+    let r = 11e-6;
+    let v = 0.001 * 4.0 / 3.0 * PI * r * r * r;
+    let (g, t) = (0.073, 5f64.to_radians());
+    let f33 = |h: f64| {
+        let d = -h + (h * h + v / (PI * r)).sqrt();
+        let a = (2.0 * d / r).sqrt();
+        4.0 * PI * r * g * t.cos() / (1.0 + h / d) + 2.0 * PI * r * g * a.sin() * (t + a).sin()
+    };
+    let vs = v / (2.0 * r).powi(3);
+    let s_c = 2.0 * r * (1.0 + t / 4.0) * (vs.cbrt() - 0.4 * vs.powf(2.0 / 3.0));
+    let mut sc = scene(&format!(
+        "start 1e-3 1e-3 1e-3 100 10 2\nset open all\nset bridge rabinovich\nrad {r} 1\n\
+         ymd 0.3e9 1\npra 0.3 1\ndensity 2500 1\ndwall p 0 0 1 4e-4\n\
+         create 5e-4 5e-4 {} 0 0 0 0 0 0 1 1\nliquid 0.1 {g} 5 0.001\n",
+        4e-4 + r
+    ));
+    step(&mut sc);
+    let b = sc.contacts.wall_pairs[0]
+        .s
+        .bridge
+        .as_ref()
+        .expect("bridge on contact");
+    let cap = 4.0 * PI * r * g * t.cos();
+    assert!(rel(b.f_static, cap) < 1e-12, "{} vs cap {cap}", b.f_static);
+    assert!(rel(b.s_c, s_c) < 1e-9, "S_c {} vs Willett {s_c}", b.s_c);
+    sc.particles.fixed = vec![0b111111];
+    let speed = 0.01;
+    set_velocity(&mut sc, 0, Vec3::new(0.0, 0.0, speed));
+    let mut trace = Vec::new();
+    let mut ruptured = false;
+    for _ in 0..200_000 {
+        step(&mut sc);
+        match sc
+            .contacts
+            .wall_pairs
+            .first()
+            .and_then(|c| c.s.bridge.as_ref())
+        {
+            Some(b) => trace.push((b.gap, b.f_static)),
+            None => {
+                ruptured = true;
+                break;
+            }
+        }
+    }
+    assert!(ruptured, "no rupture, last {:?}, S_c {s_c}", trace.last());
+    let gap = sc.particles.pos[0].z - r - 4e-4;
+    let dx = speed * sc.time / sc.cycle as f64;
+    assert!(
+        gap > s_c && gap <= s_c + 2.01 * dx,
+        "rupture at {gap} vs {s_c}"
+    );
+    for x in [0.1, 0.5, 0.9] {
+        let (h, f) = *trace
+            .iter()
+            .min_by(|a, b| (a.0 - x * s_c).abs().total_cmp(&(b.0 - x * s_c).abs()))
+            .unwrap();
+        assert!(rel(f, f33(h)) < 1e-9, "S/Sc {x}: F {f} vs (33) {}", f33(h));
+    }
+    assert!(sc.ledger.rupture > 0.0 && sc.ledger.viscous > 0.0);
+    let res = energy::residual(&sc);
+    assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+}
