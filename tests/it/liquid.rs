@@ -387,7 +387,8 @@ fn rabinovich_bridge_pulled_apart() {
 
 /// Rabinovich's validity range: a liquid content beyond the pendular regime and a size
 /// ratio beyond the one Rabinovich validated get warnings that name the range (the
-/// command still applies, as for the other models); θ ≥ 90° is refused.
+/// command still applies, as for the other models), from `LIQuid` and from `SET BRIdge`
+/// with liquid in place; θ ≥ 90° is refused.
 #[test]
 fn rabinovich_validity_warnings() {
     let text = |lines: &str| {
@@ -402,6 +403,12 @@ fn rabinovich_validity_warnings() {
     assert!(o.contains("(1.44-1.84)"), "{o}");
     let o = text(&format!("{base}liquid 1 0.073 95 0.001\nstop\n"));
     assert!(o.contains("[0, 90)"), "{o}");
+    // Choosing the model after the liquid checks the liquid in place the same way.
+    let o = text(&format!(
+        "{}liquid 1 0.073 5 0.001\nset bridge rabinovich\nstop\n",
+        base.replace("set bridge rabinovich\n", "")
+    ));
+    assert!(o.contains("(1.44-1.84)"), "{o}");
 }
 
 /// Olsson's wet model at a wall: an 11 µm sphere touching a plane, a bridge of 0.1 % of its
