@@ -109,6 +109,16 @@ def olsson_runs():
     return runs
 
 
+def olsson_regime_runs():
+    """Olsson's regime map (Fig. 4:7): velocity x liquid content, wet runs with his
+    Rabinovich bridges and viscous cut-off (scripts/olsson_regime.tru)."""
+    runs = []
+    for liquid in ["dry", "0.01", "0.1", "1"]:
+        for v in ["0.5", "1", "1.5", "2", "2.5", "3", "4", "5.2"]:
+            runs.append({"liquid": liquid, "v": v})
+    return runs
+
+
 def olsson_long_runs():
     return [{"liquid": "dry", "v": v, "n": "17200"} for v in ["1", "1.5", "2", "3"]]
 
@@ -200,6 +210,23 @@ TABLES = {
         "derive": "olsson",
         "runs": olsson_runs(),
         "cap_refs": False,  # Olsson's dry fragmentation (to 69.5 %) is far above ours
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+    # The regime map with Olsson's wet model (~600 us: dry 4 x 4300 x 35 ns, wet
+    # 4 x 125,000 x 1.2 ns with his S_min = R*/1000).
+    "olsson_regime": {
+        "title": "OLSSON REGIME MAP (RABINOVICH BRIDGES): FRAGMENTATION % VS V",
+        "script": "olsson_regime.tru",
+        "work": "olsson",
+        "prepare": [
+            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
+        ],
+        "derive": "olsson_regime",
+        "runs": olsson_regime_runs(),
+        "cap_refs": False,
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
     # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
@@ -367,7 +394,7 @@ def derive(kind, exe, work, run, cache):
                 "smin": run.get("smin", "default"),
             }
         )
-    elif kind == "olsson":
+    elif kind in ("olsson", "olsson_regime"):
         state = "olsson_dry.sav" if run["liquid"] == "dry" else f"olsson_{run['liquid']}.sav"
         key = ("wall", state)
         if key not in cache:
@@ -375,6 +402,9 @@ def derive(kind, exe, work, run, cache):
         # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
         n = run.get("n", "4300" if run["liquid"] == "dry" else "12500")
         sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n}
+        if kind == "olsson_regime":
+            sets["n"] = run.get("n", "4300" if run["liquid"] == "dry" else "125000")
+            sets["smin"] = run.get("smin", "default")
     return sets
 
 
@@ -634,6 +664,7 @@ REFERENCES = {
 }
 REFERENCES["lian6_small"] = REFERENCES["lian6"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
+REFERENCES["olsson_regime"] = REFERENCES["olsson"]
 
 
 def fit_thresholds(series, lo=0.02, hi=0.95):

@@ -169,6 +169,7 @@ const BRIDGES: &[Keyword<BridgeChoice>] = &[
     kw("FIT", BridgeChoice::Fit),
     kw("TORoidal", BridgeChoice::Toroidal),
     kw("LAPlace", BridgeChoice::Laplace),
+    kw("RABinovich", BridgeChoice::Rabinovich),
 ];
 const TANGENTIALS: &[Keyword<TangentialChoice>] = &[
     kw("MD", TangentialChoice::Md),
@@ -561,7 +562,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving)."
     ),
     def!(
         "STArt",

@@ -4,6 +4,7 @@ pub mod bridge;
 pub mod dashpot;
 pub mod hertz;
 pub mod jkr;
+pub mod jkr_nguyen;
 pub mod restitution;
 pub mod tangential;
 pub mod walton;

@@ -120,7 +120,26 @@ pub fn bridge_model(b: BridgeChoice) -> BridgeModel {
         BridgeChoice::Fit => BridgeModel::Fit,
         BridgeChoice::Toroidal => BridgeModel::Toroidal,
         BridgeChoice::Laplace => BridgeModel::Laplace,
+        BridgeChoice::Rabinovich => BridgeModel::Rabinovich,
     }
+}
+
+/// The default minimum gap of a bridge's viscous forces as a fraction of R*: Lian's R*/100
+/// (doc/spec/DECISIONS.md), Olsson's 0.1 % for his Rabinovich model (§3.3.2).
+#[inline]
+pub fn smin_ratio(b: BridgeChoice) -> f64 {
+    if b == BridgeChoice::Rabinovich {
+        bridge::rabinovich::OLSSON_SMIN_RATIO
+    } else {
+        0.01
+    }
+}
+
+/// The tangential viscous force of bridges acts: `SET GOLdman ON`, or Olsson's model, which
+/// has Nase's tangential force (56) (the same Goldman form).
+#[inline]
+pub fn tangential_viscous(goldman: bool, b: BridgeChoice) -> bool {
+    goldman || b == BridgeChoice::Rabinovich
 }
 
 /// Energy stored in the normal direction of a touching contact: Hertz strain energy
@@ -492,7 +511,7 @@ fn bridge_now<const LIQ: bool>(
                         liq.eta,
                         k.r_star,
                         sgap,
-                        laws.smin.unwrap_or(0.01 * k.r_star),
+                        laws.smin.unwrap_or(smin_ratio(laws.bridge) * k.r_star),
                     );
                 }
             }
@@ -526,13 +545,13 @@ fn bridge_forces<const LIQ: bool>(
     // Goldman's tangential viscous force (4.76), opposing the relative
     // tangential motion; its moment (4.77) is not applied (doc/bridge.md).
     let v_t = k.v_rel - k.n * v_n;
-    let vt = if laws.goldman && liq.eta > 0.0 {
+    let vt = if tangential_viscous(laws.goldman, laws.bridge) && liq.eta > 0.0 {
         v_t.norm()
     } else {
         0.0
     };
     let ft = if vt > 0.0 {
-        let smin = laws.smin.unwrap_or(0.01 * k.r_star);
+        let smin = laws.smin.unwrap_or(smin_ratio(laws.bridge) * k.r_star);
         let (t, _) = bridge::viscous_tangential(liq.eta, k.r_star, vt, sgap, smin);
         v_t * (t / vt)
     } else {

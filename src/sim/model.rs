@@ -61,6 +61,9 @@ pub enum BridgeChoice {
     Fit,
     Toroidal,
     Laplace,
+    /// Olsson (2017): Rabinovich force, Willett rupture, Nase viscous forces
+    /// (`physics::bridge::rabinovich`); appended last (checkpoint format).
+    Rabinovich,
 }
 
 /// The tangential law (`SET TANgential`); new variants go at the end (checkpoint format).

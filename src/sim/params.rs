@@ -125,7 +125,8 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     check_materials(scene, &used)?;
     let mut table = vec![PairConst::default(); nmat * nmat];
     let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
-        || (scene.settings.goldman && scene.liquid.is_some_and(|l| l.eta > 0.0));
+        || (super::interact::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
+            && scene.liquid.is_some_and(|l| l.eta > 0.0));
     let mut adhesion = false;
     for a in 0..nmat {
         for b in 0..nmat {
@@ -177,14 +178,17 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         && !p.is_empty()
     {
         // The strongest dashpot: the largest R*²/S_min, i.e. the largest pair (R*/100
-        // by default) or a wall contact (R* = R).
+        // by default, R*/1000 for Olsson's model) or a wall contact (R* = R).
         let rmax = scene.max_radius();
         let rstar = if scene.walls.is_empty() {
             0.5 * rmax
         } else {
             rmax
         };
-        let smin = scene.settings.smin.unwrap_or(rstar / 100.0);
+        let smin = scene
+            .settings
+            .smin
+            .unwrap_or(rstar * super::interact::smin_ratio(scene.settings.bridge));
         let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
         let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
         dt = dt.min(mmin / (14.0 * c));

@@ -10,6 +10,9 @@
 //!   φ1 from an exact solve of the toroidal volume equation (4.55).
 //! * [`BridgeModel::Laplace`] — the exact Laplace–Young meniscus at constant
 //!   volume (Lian 1994 §4.2), whose fold is the rupture distance.
+//! * [`BridgeModel::Rabinovich`] — Olsson (2017): Rabinovich (2005) closed-form
+//!   force with the harmonic-mean radius, capped in contact, Willett rupture
+//!   distance ([`rabinovich`]).
 //!
 //! Conventions: gap `S = |x_B − x_A| − R_A − R_B` (m), `S < 0` (overlap)
 //! counts as contact; the static force is returned as an attractive magnitude
@@ -27,6 +30,7 @@
 pub mod fit;
 pub mod laplace;
 mod numerics;
+pub mod rabinovich;
 pub mod rupture;
 pub mod toroidal;
 pub mod viscous;
@@ -54,6 +58,9 @@ pub enum BridgeModel {
     Toroidal,
     /// Exact Laplace–Young solution at constant volume (reference).
     Laplace,
+    /// Olsson (2017): Rabinovich (2005) (33)/(43) with the harmonic-mean radius (45),
+    /// capped at (59)/(60) in contact; Willett (2000) rupture distance (52).
+    Rabinovich,
 }
 
 /// A liquid bridge: two radii (m; `r2 = f64::INFINITY` for a plane wall),
@@ -218,6 +225,7 @@ pub fn model_rupture_distance(model: BridgeModel, b: &Bridge) -> f64 {
             Some(br) => br.rupture_star() * n.a,
             None => rupture_star_default(&n) * n.a,
         },
+        BridgeModel::Rabinovich => rupture::willett_star(n.v, n.theta, n.k) * n.a,
         _ => rupture_star_default(&n) * n.a,
     }
 }
@@ -269,6 +277,9 @@ pub fn static_force(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
     if !(b.gamma > 0.0) || !b.gamma.is_finite() || s.is_nan() {
         return 0.0;
     }
+    if model == BridgeModel::Rabinovich {
+        return BridgeCoeffs::new(model, b).force(s);
+    }
     let x = s * (1.0 / n.a);
     if model == BridgeModel::Laplace
         && let Some(br) = laplace_cache(&n)
@@ -294,6 +305,9 @@ pub fn static_force(model: BridgeModel, b: &Bridge, s: f64) -> f64 {
 /// invalid bridge.
 pub fn half_filling_angles(model: BridgeModel, b: &Bridge, s: f64) -> (f64, f64) {
     let Some(n) = b.norm() else { return (0.0, 0.0) };
+    if model == BridgeModel::Rabinovich {
+        return BridgeCoeffs::new(model, b).half_filling_angles(s);
+    }
     let x = (s * (1.0 / n.a)).max(0.0);
     let sorted = || -> Option<(f64, f64)> {
         if model == BridgeModel::Laplace
@@ -368,7 +382,7 @@ pub fn validate(model: BridgeModel, b: &Bridge) -> Result<Vec<String>, String> {
     if b.gamma == 0.0 {
         w.push("surface tension is 0: no static bridge force".to_string());
     }
-    if b.theta > 40f64.to_radians() + 1e-12 {
+    if b.theta > 40f64.to_radians() + 1e-12 && model != BridgeModel::Rabinovich {
         w.push(format!(
             "contact angle {:.1} deg is outside Lian's studied range 0-40 deg",
             b.theta.to_degrees()
@@ -431,6 +445,7 @@ pub fn validate(model: BridgeModel, b: &Bridge) -> Result<Vec<String>, String> {
                 }
             }
         }
+        BridgeModel::Rabinovich => w.extend(rabinovich_warnings(b, &n)),
         BridgeModel::Laplace => {
             if laplace_cache(&n).is_none() {
                 return Err(format!(
@@ -451,6 +466,49 @@ pub fn validate(model: BridgeModel, b: &Bridge) -> Result<Vec<String>, String> {
         w.push("radius ratio > 1e4: consider a plane wall (r2 = infinity)".into());
     }
     Ok(w)
+}
+
+/// The validity range of Olsson's Rabinovich model (doc/bridge.md): liquid content (the
+/// bridge volume as a percentage of the mean volume of its spheres, the particle's at a
+/// wall) in the pendular regime, which Olsson bounds at about 10 % (he simulated
+/// 0.01–1 %); the harmonic-mean radius (45), which Rabinovich validated for size ratios
+/// 1.44–1.84; bridge radii above ~5 nm (Fisher & Israelachvili, Olsson §2.2.2.4).
+fn rabinovich_warnings(b: &Bridge, n: &Norm) -> Vec<String> {
+    let mut w = Vec::new();
+    let vol = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    let mean = if n.is_wall() {
+        vol(n.a)
+    } else {
+        0.5 * (vol(n.a) + vol(n.a * n.k))
+    };
+    let pct = 100.0 * b.volume / mean;
+    if pct > 10.0 {
+        w.push(format!(
+            "liquid content {pct:.3} % of the particle volume is beyond the pendular regime \
+             the Rabinovich model is valid in (Olsson 2017: funicular above about 10 %; he \
+             simulated 0.01-1 %)"
+        ));
+    }
+    if n.k.is_finite() && n.k > 1.84 + 1e-9 {
+        w.push(format!(
+            "radius ratio {:.2} is beyond the size ratios Rabinovich (2005) validated the \
+             harmonic-mean radius for (1.44-1.84)",
+            n.k
+        ));
+    }
+    let r = if n.is_wall() {
+        n.a
+    } else {
+        rabinovich::harmonic_radius(n.a, n.a * n.k)
+    };
+    let neck = r * rabinovich::Rabinovich::new(n.a, n.a * n.k, b.volume, b.theta).alpha(0.0);
+    if neck < 5e-9 {
+        w.push(format!(
+            "bridge radius {neck:.2e} m at contact is below the ~5 nm continuum limit of the \
+             Rabinovich model (Olsson 2017 §2.2.2.4)"
+        ));
+    }
+    w
 }
 
 /// Per-bridge precomputed data, built once when a bridge forms, so that the
@@ -484,6 +542,8 @@ enum Kind {
     FitWall,
     Toroidal(ToroidalTable),
     Laplace(Arc<Branch>),
+    /// Olsson's Rabinovich bridge in units of the smaller radius.
+    Rabinovich(rabinovich::Rabinovich),
 }
 
 #[derive(Clone, Copy, serde::Serialize, serde::Deserialize)]
@@ -561,6 +621,14 @@ impl BridgeCoeffs {
                 Some(t) => mk(Kind::Toroidal(t), sc),
                 None => null(n),
             },
+            BridgeModel::Rabinovich => {
+                let r2 = if n.is_wall() { f64::INFINITY } else { n.k };
+                let r = rabinovich::Rabinovich::new(1.0, r2, n.v, n.theta);
+                mk(
+                    Kind::Rabinovich(r),
+                    rupture::willett_star(n.v, n.theta, n.k),
+                )
+            }
             BridgeModel::Laplace => match laplace_cache(&n) {
                 Some(br) => {
                     let sc = br.rupture_star();
@@ -612,6 +680,10 @@ impl BridgeCoeffs {
                 let (p1, p2) = br.half_filling_angles_sorted(x);
                 Some((br.force_star(x), p1, p2))
             }
+            Kind::Rabinovich(r) => {
+                let a = r.alpha(x);
+                Some((r.force_per_gamma(x), a, if r.wall { 0.0 } else { a }))
+            }
         }
     }
 
@@ -636,6 +708,7 @@ impl BridgeCoeffs {
                 toroidal::gorge_force_star(n, t.cheb.eval(r), r * self.sc)
             }
             Kind::Laplace(br) => Some(br.force_star(x)),
+            Kind::Rabinovich(r) => Some(r.force_per_gamma(s * self.inv_a)),
         };
         match f {
             Some(f) => self.scale * f,

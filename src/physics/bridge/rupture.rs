@@ -89,7 +89,7 @@ pub fn half_rupture_distances(b: &Bridge) -> (f64, f64) {
 }
 
 /// Willett's rupture distance in units of the smaller radius, `k = R2/R1`.
-fn willett_star(v: f64, theta: f64, k: f64) -> f64 {
+pub(crate) fn willett_star(v: f64, theta: f64, k: f64) -> f64 {
     let (rh, rho) = if k.is_finite() {
         (2.0 * k / (1.0 + k), 1.0 / k)
     } else {

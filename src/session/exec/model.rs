@@ -93,10 +93,24 @@ fn liquid(
         theta: theta_deg.to_radians(),
         eta,
     };
-    // Check the bridges of the smallest and largest sizes in use (equal and unequal
-    // pairs; a unit sphere if there are no particles yet) against the chosen
-    // model's validity range.
-    let model = crate::sim::interact::bridge_model(scene.settings.bridge);
+    let warn =
+        liquid_warnings(scene, scene.settings.bridge, &l).map_err(|e| format!("LIQuid: {e}"))?;
+    scene.liquid = Some(l);
+    // Existing bridges take the new parameters (rupture distance recomputed).
+    crate::sim::liquid::reissue(scene);
+    scene.contacts.mark_stale();
+    Ok(warn)
+}
+
+/// Checks the bridges of the smallest and largest sizes in use (equal and unequal pairs; a
+/// unit sphere if there are no particles yet) against a bridge model's validity range:
+/// `Err` if the model cannot take them, else the warnings, one `warning: ` line each.
+fn liquid_warnings(
+    scene: &Scene,
+    choice: crate::sim::model::BridgeChoice,
+    l: &crate::sim::scene::Liquid,
+) -> Result<String, String> {
+    let model = crate::sim::interact::bridge_model(choice);
     let mut radii: Vec<f64> = scene.particles.radius.clone();
     radii.sort_by(f64::total_cmp);
     let (rmin, rmax) = (
@@ -108,23 +122,15 @@ fn liquid(
         let b = crate::physics::bridge::Bridge {
             r1,
             r2,
-            volume: crate::sim::liquid::bridge_volume(pvol, r1, r2),
-            gamma: gsurf,
+            volume: crate::sim::liquid::bridge_volume(l.pvol, r1, r2),
+            gamma: l.gamma,
             theta: l.theta,
         };
-        match crate::physics::bridge::validate(model, &b) {
-            Ok(w) => warn.extend(w),
-            Err(e) => return Err(format!("LIQuid: {e}")),
-        }
+        warn.extend(crate::physics::bridge::validate(model, &b)?);
     }
     let mut seen = std::collections::HashSet::new();
     warn.retain(|w| seen.insert(w.clone()));
-    let warn: String = warn.iter().map(|w| format!("warning: {w}\n")).collect();
-    scene.liquid = Some(l);
-    // Existing bridges take the new parameters (rupture distance recomputed).
-    crate::sim::liquid::reissue(scene);
-    scene.contacts.mark_stale();
-    Ok(warn)
+    Ok(warn.iter().map(|w| format!("warning: {w}\n")).collect())
 }
 
 /// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
@@ -147,6 +153,13 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
                 ));
             }
         }
+    }
+    // A new bridge model is checked against the liquid in place, as `LIQuid` checks it.
+    let mut warn = String::new();
+    if let Setting::Bridge(b) = s
+        && let Some(l) = scene.liquid
+    {
+        warn = liquid_warnings(scene, *b, &l).map_err(|e| format!("SET BRIdge: {e}"))?;
     }
     let st = &mut scene.settings;
     match s {
@@ -173,5 +186,5 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Tunnel(t) => st.tunnel = *t,
     }
     scene.contacts.mark_stale();
-    Ok(String::new())
+    Ok(warn)
 }

@@ -154,7 +154,15 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
                 scene
                     .settings
                     .smin
-                    .map_or("R*/100".to_string(), |s| format!("{s:.3e} m")),
+                    .map_or(
+                        if scene.settings.bridge == crate::sim::model::BridgeChoice::Rabinovich {
+                            "R*/1000"
+                        } else {
+                            "R*/100"
+                        }
+                        .to_string(),
+                        |s| format!("{s:.3e} m")
+                    ),
                 scene.damping_pp.beta.max(scene.damping_pw.beta)
             ));
         }

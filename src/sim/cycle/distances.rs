@@ -50,6 +50,11 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
             theta: l.theta,
         };
         need = need.max(crate::physics::bridge::rupture_distance(&b));
+        if scene.settings.bridge == crate::sim::model::BridgeChoice::Rabinovich {
+            // Willett's (52) is longer than Lian's (4.37) by the V*^{2/3} term.
+            let m = crate::physics::bridge::BridgeModel::Rabinovich;
+            need = need.max(crate::physics::bridge::model_rupture_distance(m, &b));
+        }
     }
     let auto = (0.35 * rmean).max(1.5 * need);
     let tol = scene.settings.tol.unwrap_or(auto).max(1.5 * need);
