@@ -54,6 +54,7 @@ fraction {fraction}
 set fragment {eps}
 dwall p 0 0 1 {wall:.8e} m 2
 velocity 0 0 -{v} 1
+plot save
 print energy
 cycle {n}
 print bonds clusters energy
