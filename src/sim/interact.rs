@@ -60,6 +60,8 @@ pub struct Laws<'a> {
     /// one approaching within half a step's travel gets its share of the dashpot
     /// (`physics::dashpot`): Δt times a bound of the relative speeds; 0 without a dashpot.
     pub margin: f64,
+    /// The normal laws of `SET NORmal` the pairs use (`PairConst::law`, `params::Model::laws`).
+    pub pair_laws: &'a [super::params::PairLaw],
 }
 
 impl Laws<'static> {
@@ -78,6 +80,7 @@ impl Laws<'static> {
             liquid_share: None,
             goldman: false,
             margin: 0.0,
+            pair_laws: &[],
         }
     }
 }
@@ -130,6 +133,12 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     if !s.touching {
         return 0.0;
     }
+    if let Some(e) = s.ext.as_deref()
+        && e.normal != super::contacts::NormalHistory::None
+    {
+        // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
+        return e.normal.stored();
+    }
     let gamma = s.gamma();
     if gamma > 0.0 {
         let j = Jkr {
@@ -141,6 +150,11 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     } else {
         hertz::energy(e_star, r_star, s.overlap)
     }
+}
+
+/// Ends a solid contact; the energy left in its tangential spring is lost (friction).
+pub(super) fn end_solid(s: &mut ContactState, acc: &mut Acc) {
+    reset_solid(s, acc);
 }
 
 /// Ends a solid contact; the energy left in its tangential spring is lost (friction).
@@ -161,7 +175,12 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
         // with a state that once touched for every touching one).
         let zero = |x: f64| x.to_bits() == 0;
-        if zero(e.a_s) && zero(e.gamma) && zero(e.released[0]) && zero(e.released[1]) {
+        if zero(e.a_s)
+            && zero(e.gamma)
+            && zero(e.released[0])
+            && zero(e.released[1])
+            && e.normal == super::contacts::NormalHistory::None
+        {
             s.ext = None;
         }
     }
@@ -183,7 +202,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     s: &mut ContactState,
     acc: &mut Acc,
 ) -> Out {
-    if !ADH && s.touching && s.gamma() > 0.0 {
+    if !ADH && s.touching && s.needs_adhesive_kernel() {
         return interact::<true, LIQ>(k, pc, laws, s, acc);
     }
     let alpha = -k.gap;
@@ -200,7 +219,14 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
     let was_touching = s.touching;
-    let (gamma, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+    // The laws of `SET NORmal` (sim::elastoplastic) or Hertz/JKR.
+    let (gamma, kn, pcrit, lin_shear) = if ADH && pc.law != 0 {
+        let o = super::elastoplastic::normal(k, pc, laws, s, acc, v_n);
+        (o.gamma, o.kn, o.pcrit, o.linear)
+    } else {
+        let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+        (g, kn, pcrit, None)
+    };
 
     // ---- liquid bridge: formation, rupture, capillary force ------------------------------
     // (Its viscous force is worked out with the other velocity-dependent forces below.)
@@ -217,7 +243,13 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     } else {
         0.0
     };
-    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
+    // The linear laws' dashpot β (Pasha 2013 (4.24)–(4.25)).
+    let lin_dash = if ADH && pc.law != 0 && lin_shear.is_some() {
+        super::elastoplastic::linear_damping(laws, pc, kn, k.m_star)
+    } else {
+        0.0
+    };
+    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0 || lin_dash > 0.0;
     let (mut fd, mut fv) = (0.0, 0.0);
     if viscous {
         // (While priming, Δt = 0, the step degenerates to the dashpot at α with v: the
@@ -240,13 +272,16 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             scale: k.m_star * k.m_star * k.r_star,
             steady: was_touching && alpha > 0.0,
             point: (k.m_star * a_h).sqrt(),
-            linear: rayleigh + bridge_c,
+            linear: rayleigh + bridge_c + lin_dash,
             inv_m,
             dt,
         });
         fd = 0.0 - coef * vn;
         if rayleigh > 0.0 {
             fd -= rayleigh * vn;
+        }
+        if lin_dash > 0.0 {
+            fd -= lin_dash * vn;
         }
         // The tension clamp of the restitution model: the dashpot never pulls a
         // non-adhesive contact (nor a pair that is only approaching).
@@ -277,7 +312,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         fn_b += fd;
     }
     // ---- tangential law ---------------------------------------------------------------
-    let mut ft_b = shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n));
+    let mut ft_b = shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n), lin_shear);
 
     // ---- liquid bridge: viscous forces and booking -------------------------------------
     if let Some((fn_bridge, ft)) =
@@ -303,11 +338,12 @@ fn shear(
     s: &mut ContactState,
     acc: &mut Acc,
     (p_old, pcrit, td_prev, v_n): (f64, f64, Vec3, f64),
+    lin_shear: Option<super::elastoplastic::LinearShear>,
 ) -> Vec3 {
     let dt = laws.dt;
     if s.touching {
         if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            return tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+            return tangential_step(k, pc, laws, s, (p_old, pcrit, lin_shear), acc);
         }
     } else if dt > 0.0 && td_prev != Vec3::zeros() {
         // The contact ended: book the second half of the last tangential dashpot force.
@@ -362,6 +398,7 @@ fn normal_law<const ADH: bool>(
             let e = s.ext_mut();
             e.gamma = gamma;
             e.a_s = j.a_s();
+            e.normal = super::contacts::NormalHistory::None;
             if dt == 0.0 {
                 // Snapped in while priming: its force has not acted yet (see below).
                 s.v_prev = f64::NEG_INFINITY;
@@ -411,6 +448,7 @@ fn normal_law<const ADH: bool>(
             s.touching = true;
             if let Some(e) = s.ext.as_deref_mut() {
                 e.gamma = 0.0;
+                e.normal = super::contacts::NormalHistory::None;
             }
         }
         // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.
@@ -558,8 +596,7 @@ fn tangential_step(
     pc: &PairConst,
     laws: &Laws,
     s: &mut ContactState,
-    p_old: f64,
-    pcrit: f64,
+    (p_old, pcrit, lin_shear): (f64, f64, Option<super::elastoplastic::LinearShear>),
     acc: &mut Acc,
 ) -> Vec3 {
     let dt = laws.dt;
@@ -572,6 +609,19 @@ fn tangential_step(
     let dd = v_t * dt;
     let p_new = s.normal_force;
     let kt0 = 8.0 * pc.g_star * s.a;
+    if let Some(ls) = lin_shear {
+        // Pasha's linear laws: their own spring F_t = k_t α_t (4.26) and limit (4.27)–(4.28).
+        let step = tangential::noslip_spring(s.tforce.into(), dd.into(), ls.k_t, 1.0, ls.limit);
+        acc.friction += step.work - (step.energy - s.tang_energy);
+        s.tang_energy = step.energy;
+        s.tforce = Vec3::from(step.force);
+        let ft = s.tforce;
+        acc.damping_contact += -0.5 * s.tdamp.dot(&v_t) * dt;
+        if dt > 0.0 {
+            s.tdamp = Vec3::zeros();
+        }
+        return ft;
+    }
     match laws.tangential {
         TangentialChoice::NoSlip => {
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).

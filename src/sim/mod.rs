@@ -5,6 +5,7 @@ pub mod cell;
 pub mod contact_time;
 pub mod contacts;
 pub mod cycle;
+pub mod elastoplastic;
 pub mod energy;
 pub mod generate;
 pub mod history;

@@ -19,6 +19,7 @@ mod golden;
 mod hard_cases;
 mod json_output;
 mod liquid;
+mod pasha_laws;
 mod plot;
 mod readme;
 mod restitution;

@@ -130,6 +130,19 @@ fn liquid(
 /// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
 /// crosses them).
 fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
+    if let Setting::Normal { pairs, law } = s {
+        let mats = match *pairs {
+            crate::sim::model::Pairs::All => vec![],
+            crate::sim::model::Pairs::With(m) => vec![m],
+            crate::sim::model::Pairs::Pair(m, n) => vec![m, n],
+        };
+        for m in mats {
+            super::existing_material(scene, m as usize)?;
+        }
+        scene.laws.set_normal(*pairs, *law);
+        scene.contacts.mark_stale();
+        return Ok(String::new());
+    }
     if let Setting::Boundary { axes, periodic } = s {
         let mut want = scene.settings.periodic;
         for k in 0..3 {
@@ -171,6 +184,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
+        Setting::Normal { .. } => {}
     }
     scene.contacts.mark_stale();
     Ok(String::new())

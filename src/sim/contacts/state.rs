@@ -114,6 +114,42 @@ pub struct ContactExt {
     /// Walton's law's turning point and history (`SET TANgential WALTON`; checkpoint
     /// format 4).
     pub walton: WaltonState,
+    /// The history of the elasto-plastic and modified-JKR normal laws (`SET NORmal`;
+    /// checkpoint format 5).
+    pub normal: NormalHistory,
+}
+
+/// The history a normal law other than Hertz/JKR keeps (`sim::model::NormalLaw`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum NormalHistory {
+    /// Hertz or JKR (the state above says all).
+    #[default]
+    None,
+    /// Modified JKR: the energy stored since the contact was made.
+    ModifiedJkr { stored: f64 },
+    /// Thornton–Ning: the unloading curve, and the energy stored on it.
+    ThorntonNing {
+        st: crate::physics::thornton_ning::TnState,
+        stored: f64,
+    },
+    /// Pasha's linear law (both versions): the largest overlap, and the energy stored on the
+    /// reversible branch.
+    Linear {
+        st: crate::physics::pasha_linear::LinState,
+        stored: f64,
+    },
+}
+
+impl NormalHistory {
+    /// The normal energy stored in the contact (booked as `strain_normal`).
+    pub fn stored(&self) -> f64 {
+        match *self {
+            NormalHistory::None => 0.0,
+            NormalHistory::ModifiedJkr { stored }
+            | NormalHistory::ThorntonNing { stored, .. }
+            | NormalHistory::Linear { stored, .. } => stored,
+        }
+    }
 }
 
 impl Default for ContactState {
@@ -157,5 +193,13 @@ impl ContactState {
     /// Surface energy of the contact (0: Hertz).
     pub fn gamma(&self) -> f64 {
         self.ext.as_ref().map_or(0.0, |e| e.gamma)
+    }
+    /// The contact follows a law of the adhesive kernel: JKR (a surface energy) or a law of
+    /// `SET NORmal` other than Hertz (a history).
+    #[inline(always)]
+    pub fn needs_adhesive_kernel(&self) -> bool {
+        self.ext
+            .as_ref()
+            .is_some_and(|e| e.gamma > 0.0 || e.normal != NormalHistory::None)
     }
 }
