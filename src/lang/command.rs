@@ -8,8 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// The model choices are the simulation's (`sim::model`); the language names them.
 pub use crate::sim::model::{
-    BridgeChoice, LiquidMode, Servo, SizeDist, TangentialChoice, View, WallGeom,
-    NormalLaw, Pairs,
+    BridgeChoice, LiquidMode, NormalLaw, Pairs, Servo, SizeDist, TangentialChoice, View, WallGeom,
 };
 
 /// Options of `DWAll`/`AWAll` after the geometry.
@@ -146,7 +145,10 @@ pub enum Setting {
     Tunnel(crate::sim::scene::TunnelAction),
     /// `SET NORmal law [parameters] [m1 [m2]]`: the normal contact law of the material pairs
     /// (doc/contact_laws.md).
-    Normal { pairs: Pairs, law: NormalLaw },
+    Normal {
+        pairs: Pairs,
+        law: NormalLaw,
+    },
 }
 
 /// One command of the language.

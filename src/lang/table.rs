@@ -1083,7 +1083,9 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
         if k_p > k_e {
             return Err(ParseError::at(
                 t.expect("consumed"),
-                format!("the plastic stiffness kp ({k_p}) must not exceed the elastic ke ({k_e}): unloading would return more work than loading took"),
+                format!(
+                    "the plastic stiffness kp ({k_p}) must not exceed the elastic ke ({k_e}): unloading would return more work than loading took"
+                ),
             ));
         }
         Ok((k_e, k_p))

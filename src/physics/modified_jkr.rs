@@ -64,7 +64,8 @@ mod tests {
         a * a / R_STAR - (2.0 * PI * BIG_GAMMA * a / E_STAR).sqrt()
     }
     fn force_of(a: f64) -> f64 {
-        4.0 * E_STAR * a.powi(3) / (3.0 * R_STAR) - (8.0 * PI * BIG_GAMMA * E_STAR * a.powi(3)).sqrt()
+        4.0 * E_STAR * a.powi(3) / (3.0 * R_STAR)
+            - (8.0 * PI * BIG_GAMMA * E_STAR * a.powi(3)).sqrt()
     }
 
     #[test]
@@ -88,7 +89,10 @@ mod tests {
             assert!(alpha > 0.0);
             let (f, a_got) = force(&law(), alpha, 0.0).unwrap();
             assert!((a_got - a).abs() < 1e-10 * a, "{a_got} {a}");
-            assert!((f - force_of(a)).abs() < 1e-9 * force_of(a).abs().max(1e-4), "{f}");
+            assert!(
+                (f - force_of(a)).abs() < 1e-9 * force_of(a).abs().max(1e-4),
+                "{f}"
+            );
         }
         // Far in compression the force tends to Hertz (3.14).
         let alpha = 1e-5;

@@ -82,7 +82,11 @@ pub enum Lin {
     /// on plastic loading, `k_e` otherwise, for the damping (4.25)), and the energy the
     /// contact returns when unloaded along its reversible branch to breakage,
     /// `∫_{α_fp}^{α} F dα'` (negative while adhesion dominates).
-    Contact { force: f64, k_n: f64, stored: f64 },
+    Contact {
+        force: f64,
+        k_n: f64,
+        stored: f64,
+    },
     Apart,
 }
 
@@ -107,7 +111,9 @@ impl Linear {
     pub fn virgin(&self, alpha: f64) -> (f64, f64) {
         let a0 = self.alpha_0();
         match self.version {
-            Version::Full { .. } if alpha < a0 => (self.k_e * alpha - 8.0 / 9.0 * self.f_ce, self.k_e),
+            Version::Full { .. } if alpha < a0 => {
+                (self.k_e * alpha - 8.0 / 9.0 * self.f_ce, self.k_e)
+            }
             _ => (self.k_p * (alpha - a0), self.k_p),
         }
     }
@@ -250,7 +256,10 @@ mod tests {
             k_e: KE,
             k_p: KP,
             f_ce: f_ce(),
-            version: Version::Simplified { k_cp: KCP, f_0p: F0P },
+            version: Version::Simplified {
+                k_cp: KCP,
+                f_0p: F0P,
+            },
         }
     }
     fn full() -> Linear {
@@ -328,7 +337,10 @@ mod tests {
         assert!(close(b.alpha_fp, 2.0 * acp - ap, 1e-12));
         assert_eq!(l.step(&mut st, b.alpha_fp - 1e-15, true), Lin::Apart);
         // Reloading from below: made again at α_fp (when it is positive) or at α = 0.
-        assert_eq!(l.step(&mut st, b.alpha_fp.max(0.0) - 1e-12, false), Lin::Apart);
+        assert_eq!(
+            l.step(&mut st, b.alpha_fp.max(0.0) - 1e-12, false),
+            Lin::Apart
+        );
         assert!(matches!(
             l.step(&mut st, b.alpha_fp.max(0.0) + 1e-12, false),
             Lin::Contact { .. }
@@ -350,8 +362,16 @@ mod tests {
         let b = l.branch(0.5 * a0);
         assert!(close(b.alpha_cp, -f_ce() / (9.0 * KE), 1e-12));
         assert!(close(b.alpha_fp, -5.0 * f_ce() / (9.0 * KE), 1e-12));
-        assert!(close(l.on_branch(&b, b.alpha_fp).unwrap(), -5.0 / 9.0 * f_ce(), 1e-12));
-        assert!(close(l.on_branch(&b, 0.0).unwrap(), -8.0 / 9.0 * f_ce(), 1e-12));
+        assert!(close(
+            l.on_branch(&b, b.alpha_fp).unwrap(),
+            -5.0 / 9.0 * f_ce(),
+            1e-12
+        ));
+        assert!(close(
+            l.on_branch(&b, 0.0).unwrap(),
+            -8.0 / 9.0 * f_ce(),
+            1e-12
+        ));
         // Plastic: F = k_p (α − α_0), α_p = α_max − k_p(α_max − α_0)/k_e.
         let am = 0.2e-6;
         let (f, k) = l.virgin(am);
@@ -372,10 +392,18 @@ mod tests {
         assert!(close(b.alpha_cp, acp, 1e-6));
         // (A1.5) and breakage at −5/9 f_cp.
         assert!(close(b.alpha_fp, 13.0 / 9.0 * acp - 4.0 / 9.0 * ap, 1e-6));
-        assert!(close(l.on_branch(&b, b.alpha_fp).unwrap(), -5.0 / 9.0 * fcp, 1e-6));
+        assert!(close(
+            l.on_branch(&b, b.alpha_fp).unwrap(),
+            -5.0 / 9.0 * fcp,
+            1e-6
+        ));
         // |W_ad| (4.9): the area from α_fp to α_p under the unloading curve.
         let w = 137.0 / 162.0 * KE * (acp - ap).powi(2);
-        assert!(close(-l.stored(&b, ap), w, 1e-9), "{} {w}", l.stored(&b, ap));
+        assert!(
+            close(-l.stored(&b, ap), w, 1e-9),
+            "{} {w}",
+            l.stored(&b, ap)
+        );
     }
 
     /// The simplified model's impact energetics (A3.6), (A3.9): the rebound speed the
@@ -410,11 +438,18 @@ mod tests {
         let b = l.branch(am);
         let fmax = KP * (am - a0);
         let vr2 = fmax / m * (am - b.alpha_p) - b.f_cp / m * (b.alpha_p - b.alpha_fp);
-        assert!(close(-w_out * 2.0 / m, vr2, 1e-4), "{} {vr2}", -w_out * 2.0 / m);
+        assert!(
+            close(-w_out * 2.0 / m, vr2, 1e-4),
+            "{} {vr2}",
+            -w_out * 2.0 / m
+        );
         // Γ = 0: e = (k_p / k_e)^{1/2}, independent of the speed.
         let wb = Linear {
             f_ce: 0.0,
-            version: Version::Simplified { k_cp: 0.0, f_0p: 0.0 },
+            version: Version::Simplified {
+                k_cp: 0.0,
+                f_0p: 0.0,
+            },
             ..l
         };
         let b = wb.branch(am);
@@ -449,11 +484,19 @@ mod tests {
             made: true,
         };
         let lim = l.friction_limit(0.3, 1e-5, 0.1e-6, &st);
-        assert!(close(lim, 0.3 * (1e-5 + KCP * 0.1e-6 + F0P - f_ce()), 1e-12));
+        assert!(close(
+            lim,
+            0.3 * (1e-5 + KCP * 0.1e-6 + F0P - f_ce()),
+            1e-12
+        ));
         assert_eq!(l.friction_limit(0.3, -1e-3, 0.0, &st), 0.0);
         let lf = full();
         let lim = lf.friction_limit(0.3, 1e-5, 0.1e-6, &st);
-        assert!(close(lim, 0.3 * (1e-5 + lf.branch(0.2e-6).f_cp - f_ce()), 1e-12));
+        assert!(close(
+            lim,
+            0.3 * (1e-5 + lf.branch(0.2e-6).f_cp - f_ce()),
+            1e-12
+        ));
         // (4.25) against the damped oscillator: ζ = β/(2√(m k)), e = exp(−πζ/√(1−ζ²)).
         let (m, k, e) = (2e-6, 1e6, 0.5);
         let z = damping(e, m, k) / (2.0 * (m * k).sqrt());

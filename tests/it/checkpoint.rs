@@ -43,6 +43,8 @@ create 0.0021000001 0.002 0.0011 -0.01 -0.05 0 0 0 0 1 1
 create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
 create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
 dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
+set normal pasha 1000 500 10 1e-7 1 1
+set normal tning 1e6 1 2
 plot save
 cycle 40
 set tangential walton
@@ -123,7 +125,23 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "sense": e.walton.sense, "reversed": e.walton.reversed,
             "stored": f(e.walton.stored),
         },
+        "normal": normal_facts(&e.normal),
     })
+}
+
+fn normal_facts(h: &trubal::sim::contacts::NormalHistory) -> Value {
+    use trubal::sim::contacts::NormalHistory as H;
+    match *h {
+        H::None => json!("none"),
+        H::ModifiedJkr { stored } => json!({ "mjkr": f(stored) }),
+        H::ThorntonNing { st, stored } => json!({ "tning": {
+            "a_y": f(st.a_y), "alpha_max": f(st.alpha_max), "r_p": f(st.r_p),
+            "alpha_p": f(st.alpha_p), "stored": f(stored),
+        }}),
+        H::Linear { st, stored } => json!({ "linear": {
+            "alpha_max": f(st.alpha_max), "made": st.made, "stored": f(stored),
+        }}),
+    }
 }
 
 /// Everything a checkpoint holds, field by field (not through serde, so that a future format
@@ -175,6 +193,7 @@ fn facts(sc: &Scene) -> Value {
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
+        "laws": format!("{:?}", sc.laws.normal),
         "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
         "zero_always": sc.zero_always,
         "damping_pp": fs(&[sc.damping_pp.alpha, sc.damping_pp.beta]),

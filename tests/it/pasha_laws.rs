@@ -26,7 +26,10 @@ fn impact(law: &str, v: f64) -> (f64, f64) {
     let run = trubal_json(&script, &[]);
     assert!(run.ok, "{}", run.stderr);
     let balls = &printed(&run, "balls")[0]["balls"];
-    let contacts = printed(&run, "contacts")[0]["contacts"].as_array().unwrap().len();
+    let contacts = printed(&run, "contacts")[0]["contacts"]
+        .as_array()
+        .unwrap()
+        .len();
     let en = &printed(&run, "energy")[0];
     let residual = en["residual"].as_f64().unwrap() / en["input"].as_f64().unwrap();
     let e = if contacts > 0 {
@@ -58,7 +61,10 @@ fn pasha_simplified_law_single_particle_impact() {
     for v in [1.4, 1.6, 2.0, 6.0, 25.0] {
         let (e, res) = impact(&law, v);
         let want = closed_form(v);
-        assert!((e - want).abs() < 0.005, "{v} m/s: e {e}, closed form {want}");
+        assert!(
+            (e - want).abs() < 0.005,
+            "{v} m/s: e {e}, closed form {want}"
+        );
         // (Once the contact has ended: while it lasts the kinetic energy of the half-step
         // velocities differs from the booked work by O(Δt).)
         if e > 0.0 {

@@ -57,7 +57,9 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
             }
             .alpha_s(),
             NormalLaw::PashaFull { k_e, .. } => {
-                (2.0 * fce + (13.0f64 / 9.0).powi(2) * 162.0 / 137.0 * std::f64::consts::PI * g * rmax) / k_e
+                (2.0 * fce
+                    + (13.0f64 / 9.0).powi(2) * 162.0 / 137.0 * std::f64::consts::PI * g * rmax)
+                    / k_e
             }
             NormalLaw::PashaSimplified { k_e, f_0p, .. } => (2.0 * f_0p + 2.0 * fce) / k_e,
             _ => 0.0,
