@@ -745,6 +745,7 @@ mod tests {
             gamma_base: gamma,
             zeta: 0.0,
             dash: 0.0,
+            law: 0,
         }
     }
 
