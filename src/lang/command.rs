@@ -149,6 +149,11 @@ pub enum Setting {
         pairs: Pairs,
         law: NormalLaw,
     },
+    /// `SET ROLling mu_r [m1 [m2]]`: the rolling friction coefficient of the material pairs.
+    Rolling {
+        pairs: Pairs,
+        mu_r: f64,
+    },
 }
 
 /// One command of the language.

@@ -138,6 +138,7 @@ enum SetKw {
     Goldman,
     Tunnel,
     Normal,
+    Rolling,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -158,6 +159,7 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("GOLdman", SetKw::Goldman),
     kw("TUNnel", SetKw::Tunnel),
     kw("NORmal", SetKw::Normal),
+    kw("ROLling", SetKw::Rolling),
 ];
 
 const TUNNELS: &[Keyword<crate::sim::scene::TunnelAction>] = &[
@@ -558,11 +560,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "GENoverlap",
             "FRAgment",
             "GOLdman",
-            "NORmal"
+            "NORmal",
+            "ROLling"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt], then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE; TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt], then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default)."
     ),
     def!(
         "STArt",
@@ -1124,8 +1127,16 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
             }
         }
     };
+    Ok(Setting::Normal {
+        pairs: material_pairs(a)?,
+        law,
+    })
+}
+
+/// `[m1 [m2]]`: all material pairs, the pairs with m1, or the pair m1-m2.
+fn material_pairs(a: &mut Args) -> Result<Pairs, ParseError> {
     let max = crate::sim::scene::MAX_MATERIALS as i64;
-    let pairs = if a.peek_is_number() {
+    Ok(if a.peek_is_number() {
         let m1 = a.int_in("m1", 1, max)? as u16;
         if a.peek_is_number() {
             Pairs::Pair(m1, a.int_in("m2", 1, max)? as u16)
@@ -1134,8 +1145,7 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
         }
     } else {
         Pairs::All
-    };
-    Ok(Setting::Normal { pairs, law })
+    })
 }
 
 fn b_set(a: &mut Args) -> Result<Command, ParseError> {
@@ -1171,6 +1181,10 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::Goldman => Setting::Goldman(a.keyword(ONOFF, "ON or OFF")?),
         SetKw::Tunnel => Setting::Tunnel(a.keyword(TUNNELS, "STOP or DELETE")?),
         SetKw::Normal => normal_law(a)?,
+        SetKw::Rolling => Setting::Rolling {
+            mu_r: a.non_negative("mur")?,
+            pairs: material_pairs(a)?,
+        },
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

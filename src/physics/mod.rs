@@ -7,6 +7,7 @@ pub mod jkr;
 pub mod modified_jkr;
 pub mod pasha_linear;
 pub mod restitution;
+pub mod rolling;
 pub mod tangential;
 pub mod thornton_ning;
 pub mod walton;

@@ -171,6 +171,13 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.tang = Default::default();
         e.walton = Default::default();
         e.tdelta = 0.0;
+        if e.roll_energy != 0.0 {
+            // The rolling spring's energy is lost with the contact (`sim::rolling`).
+            acc.friction += e.roll_energy;
+        }
+        e.roll = Vec3::zeros();
+        e.roll_energy = 0.0;
+        e.roll_damp = Vec3::zeros();
         // Nothing left that differs from the defaults `ext()` reads for a contact without
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
         // with a state that once touched for every touching one).

@@ -19,6 +19,7 @@ pub mod params;
 pub mod place;
 pub mod reference;
 pub mod rng;
+pub mod rolling;
 pub mod scene;
 pub mod search;
 pub mod stress;

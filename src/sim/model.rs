@@ -97,7 +97,7 @@ pub enum NormalLaw {
     },
 }
 
-/// Which material pairs a rule of `SET NORmal` applies to: all pairs, the
+/// Which material pairs a rule of `SET NORmal` or `SET ROLling` applies to: all pairs, the
 /// pairs involving one material, or one pair (unordered).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Pairs {
@@ -128,12 +128,14 @@ impl Pairs {
     }
 }
 
-/// The normal contact laws chosen per material pair (checkpoint format 5): the rules in the order
+/// The contact laws chosen per material pair (checkpoint format 5): the rules in the order
 /// given, the last that covers a pair deciding. A new rule drops the older ones it covers
 /// entirely, so the list stays short.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactLaws {
     pub normal: Vec<(Pairs, NormalLaw)>,
+    /// Rolling friction coefficients μ_r (`SET ROLling`, `physics::rolling`).
+    pub rolling: Vec<(Pairs, f64)>,
 }
 
 impl ContactLaws {
@@ -144,6 +146,20 @@ impl ContactLaws {
             .rev()
             .find(|(p, _)| p.covers(a, b))
             .map_or(NormalLaw::Hertz, |r| r.1)
+    }
+    /// The rolling friction coefficient of a pair of materials (1-based).
+    pub fn rolling_of(&self, a: usize, b: usize) -> f64 {
+        self.rolling
+            .iter()
+            .rev()
+            .find(|(p, _)| p.covers(a, b))
+            .map_or(0.0, |r| r.1)
+    }
+    pub fn set_rolling(&mut self, pairs: Pairs, mu_r: f64) {
+        self.rolling.retain(|(p, _)| !p.within(&pairs));
+        if !(pairs == Pairs::All && mu_r == 0.0) {
+            self.rolling.push((pairs, mu_r));
+        }
     }
     pub fn set_normal(&mut self, pairs: Pairs, law: NormalLaw) {
         self.normal.retain(|(p, _)| !p.within(&pairs));

@@ -73,6 +73,9 @@ pub struct Model {
     /// The normal laws of `SET NORmal` other than Hertz/JKR that pairs in use follow
     /// (`PairConst::law`); a scene with any goes through the adhesive kernel.
     pub laws: Vec<PairLaw>,
+    /// Rolling friction coefficient μ_r of every material pair (`SET ROLling`; None: no
+    /// pair has one, `sim::rolling` does nothing).
+    pub rolling: Option<Vec<f64>>,
     /// The step in use (with `FRAction AUTO` it follows the fastest contact, see
     /// `sim::contact_time`).
     pub dt: f64,
@@ -147,6 +150,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     // The stiffest linear law and whether every pair in use has one (the step, below).
     let mut k_lin: f64 = 0.0;
     let mut all_linear = true;
+    let mut rolling = vec![0.0; nmat * nmat];
     for a in 0..nmat {
         for b in 0..nmat {
             let (ma, mb) = (&scene.materials[a], &scene.materials[b]);
@@ -167,6 +171,8 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             rotation |= mu > 0.0;
             adhesion |= gamma > 0.0 || gamma_base > 0.0;
             let law = scene.laws.normal_of(a + 1, b + 1);
+            rolling[a * nmat + b] = scene.laws.rolling_of(a + 1, b + 1);
+            rotation |= rolling[a * nmat + b] > 0.0;
             let linear = match law {
                 NormalLaw::PashaFull { k_e, .. } | NormalLaw::PashaSimplified { k_e, .. } => {
                     k_lin = k_lin.max(k_e);
@@ -264,6 +270,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         rotation,
         adhesion,
         laws,
+        rolling: rolling.iter().any(|&m| m > 0.0).then_some(rolling),
         dt,
         dt_base: dt,
         fraction,

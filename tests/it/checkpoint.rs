@@ -43,9 +43,15 @@ create 0.0021000001 0.002 0.0011 -0.01 -0.05 0 0 0 0 1 1
 create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
 create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
 dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
-set normal pasha 1000 500 10 1e-7 1 1
 set normal tning 1e6 1 2
+set rolling 0.1 1
 plot save
+ymd 1e8 3
+pra 0.3 3
+density 2500 3
+friction 0.3 3
+set normal pasha 1000 500 10 1e-7 3 2
+create 0.003 0.003 0.00029999 0 0 -0.01 0 0 0 1 3
 cycle 40
 set tangential walton
 cycle 10";
@@ -126,6 +132,7 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "stored": f(e.walton.stored),
         },
         "normal": normal_facts(&e.normal),
+        "roll": v3(&e.roll), "roll_energy": f(e.roll_energy), "roll_damp": v3(&e.roll_damp),
     })
 }
 
@@ -193,7 +200,7 @@ fn facts(sc: &Scene) -> Value {
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
-        "laws": format!("{:?}", sc.laws.normal),
+        "laws": format!("{:?}", sc.laws),
         "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
         "zero_always": sc.zero_always,
         "damping_pp": fs(&[sc.damping_pp.alpha, sc.damping_pp.beta]),
@@ -397,7 +404,13 @@ fn fixtures_of_every_version_still_load() {
 fn the_whole_state_round_trips() {
     let sc = fixture_scene();
     // The fixture scene exercises every part of the state.
-    assert!(sc.particles.len() == 4 && sc.walls.len() == 1);
+    assert!(sc.particles.len() == 5 && sc.walls.len() == 1);
+    // Format 5: a Thornton–Ning wall contact, a linear one, a rolling spring.
+    use trubal::sim::contacts::NormalHistory;
+    let hist = |k: usize| sc.contacts.wall_pairs[k].s.ext().normal;
+    assert!(matches!(hist(0), NormalHistory::ThorntonNing { .. }));
+    assert!(matches!(hist(1), NormalHistory::Linear { .. }));
+    assert!(sc.contacts.wall_pairs[0].s.ext().roll.norm() > 0.0);
     assert!(sc.walls[0].servo.is_some());
     let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
@@ -751,7 +764,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         let infos = info_lines(&out);
         assert_eq!(infos.len(), 1, "{out}");
         assert_eq!(infos[0]["cycle"], 50);
-        assert_eq!(infos[0]["balls"], 4);
+        assert_eq!(infos[0]["balls"], 5);
 
         // After New: still no scene after the failure; STArt works.
         let (out, err) = trubal(

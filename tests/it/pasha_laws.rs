@@ -4,7 +4,8 @@
 //! simplified linear law against its closed form (A3.6), (A3.9) evaluated here: restitution,
 //! the minimum detachment speed (≈ 1.5 m/s; the thesis reads ≈ 1.6 m/s off its figure) and
 //! the asymptote (k_p/k_e)^{1/2} = 0.374 (thesis ≈ 0.38); Thornton–Ning's restitution falling
-//! at high speed; the energy ledger closing after each impact; bad `SET NORmal` input.
+//! at high speed; the energy ledger closing after each impact; rolling friction (`SET
+//! ROLling`) against Newton's laws for a rolling sphere; bad `SET NORmal`/`ROLling` input.
 
 use crate::common;
 use common::*;
@@ -106,6 +107,8 @@ fn bad_normal_law_input_is_refused() {
         ("set normal pasha 100 50 1", "f0p"),
         ("set normal hertz 9", "material type 9 is not defined"),
         ("set normal plastic", "normal law"),
+        ("set rolling -0.1", "mur"),
+        ("set rolling 0.1 1 7", "material type 7 is not defined"),
     ] {
         let run = trubal_json(
             &format!("start 1 1 1 10 10 2\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\n{line}\n"),
@@ -114,4 +117,54 @@ fn bad_normal_law_input_is_refused() {
         assert!(!run.ok || run.stderr.contains("error"), "{line}");
         assert!(run.stderr.contains(msg), "{line}: {}", run.stderr);
     }
+}
+
+/// `SET ROLling μ_r`: a sphere rolling on a plane under gravity decelerates at
+/// `a = M R/(I + mR²) = 5/7 μ_r g` (the rolling moment at its limit `μ_r R F_n`, `F_n = mg`,
+/// no slip: Newton's laws for a solid sphere), comes to rest, and stays there (the dashpot
+/// of the rolling spring damps the rocking); the ledger closes once it rests.
+#[test]
+fn rolling_friction_decelerates_a_rolling_sphere() {
+    let (v0, mu_r, g) = (0.1, 0.1, 9.81);
+    let script = |cycles: u64| {
+        format!(
+            "start 0.1 0.02 0.02 10 10 2\nset open all\nrad 1e-3 1\nymd 1e8 1\npra 0.3 1\n\
+             density 2500 1\nfriction 0.5 1\ndamping restitution 0.5\ngravity 0 0 -{g}\n\
+             dwall p 0 0 1 0.002 m 1\nset rolling {mu_r}\n\
+             create 0.01 0.01 0.002999875 {v0} 0 0 0 {} 0 1 1\ncycle {cycles}\n\
+             print info balls energy\n",
+            v0 / 1e-3
+        )
+    };
+    let run = trubal_json(&script(9000), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let t = printed(&run, "balls")[0]["time"].as_f64().unwrap();
+    let v = printed(&run, "balls")[0]["balls"][0]["vel"][0]
+        .as_f64()
+        .unwrap();
+    let want = v0 - 5.0 / 7.0 * mu_r * g * t;
+    assert!(
+        (v - want).abs() < 1e-3 * v0,
+        "v {v}, closed form {want} at t = {t}"
+    );
+    // Stops after v0/a = 0.143 s, and rests.
+    let run = trubal_json(&script(36_000), &[]);
+    let b = &printed(&run, "balls")[0]["balls"][0];
+    let (v, w) = (
+        b["vel"][0].as_f64().unwrap(),
+        b["spin"][1].as_f64().unwrap(),
+    );
+    assert!(v.abs() < 1e-9 && (w * 1e-3).abs() < 1e-9, "{v} {w}");
+    let en = &printed(&run, "energy")[0];
+    let res = en["residual"].as_f64().unwrap() / en["input"].as_f64().unwrap();
+    assert!(res.abs() < 1e-9, "{res}");
+    // Without rolling friction it rolls on at v0.
+    let run = trubal_json(
+        &script(9000).replace(&format!("set rolling {mu_r}"), "set rolling 0"),
+        &[],
+    );
+    let v = printed(&run, "balls")[0]["balls"][0]["vel"][0]
+        .as_f64()
+        .unwrap();
+    assert!((v - v0).abs() < 1e-9, "{v}");
 }

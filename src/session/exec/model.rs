@@ -130,7 +130,7 @@ fn liquid(
 /// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
 /// crosses them).
 fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
-    if let Setting::Normal { pairs, law } = s {
+    if let Setting::Normal { pairs, .. } | Setting::Rolling { pairs, .. } = s {
         let mats = match *pairs {
             crate::sim::model::Pairs::All => vec![],
             crate::sim::model::Pairs::With(m) => vec![m],
@@ -139,7 +139,11 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         for m in mats {
             super::existing_material(scene, m as usize)?;
         }
-        scene.laws.set_normal(*pairs, *law);
+        match s {
+            Setting::Normal { law, .. } => scene.laws.set_normal(*pairs, *law),
+            Setting::Rolling { mu_r, .. } => scene.laws.set_rolling(*pairs, *mu_r),
+            _ => {}
+        }
         scene.contacts.mark_stale();
         return Ok(String::new());
     }
@@ -184,7 +188,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
-        Setting::Normal { .. } => {}
+        Setting::Normal { .. } | Setting::Rolling { .. } => {}
     }
     scene.contacts.mark_stale();
     Ok(String::new())

@@ -4,7 +4,8 @@
 //! evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
 //! pair as isolated); versions 2 and 3 had no `walton` in the law-specific part (Walton's law
 //! did not exist), read as its default; versions 2 to 4 had no `normal` history there (the
-//! laws of `SET NORmal` did not exist), read as none.
+//! laws of `SET NORmal` did not exist), read as none, nor a rolling spring (`roll`, read as
+//! none).
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
@@ -63,6 +64,9 @@ impl From<V1> for super::ContactState {
             released: o.released,
             walton: WaltonState::default(),
             normal: NormalHistory::None,
+            roll: Vec3::zeros(),
+            roll_energy: 0.0,
+            roll_damp: Vec3::zeros(),
         };
         super::ContactState {
             touching: o.touching,
@@ -118,6 +122,9 @@ impl From<ExtV3> for ContactExt {
             released: o.released,
             walton: WaltonState::default(),
             normal: NormalHistory::None,
+            roll: Vec3::zeros(),
+            roll_energy: 0.0,
+            roll_damp: Vec3::zeros(),
         }
     }
 }
@@ -229,6 +236,9 @@ impl From<V4> for super::ContactState {
                     released: e.released,
                     walton: e.walton,
                     normal: NormalHistory::None,
+                    roll: Vec3::zeros(),
+                    roll_energy: 0.0,
+                    roll_damp: Vec3::zeros(),
                 })
             }),
             bridge: o.bridge,

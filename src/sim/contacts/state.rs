@@ -117,6 +117,12 @@ pub struct ContactExt {
     /// The history of the elasto-plastic and modified-JKR normal laws (`SET NORmal`;
     /// checkpoint format 5).
     pub normal: NormalHistory,
+    /// Rolling moment on A of the rolling spring (`SET ROLling`, `physics::rolling`;
+    /// checkpoint format 5) and the energy it stores.
+    pub roll: Vec3,
+    pub roll_energy: f64,
+    /// The rolling dashpot's moment on A of the last step.
+    pub roll_damp: Vec3,
 }
 
 /// The history a normal law other than Hertz/JKR keeps (`sim::model::NormalLaw`).

@@ -229,6 +229,11 @@ pub(super) fn finish_chunk(
             moment[i] += o.m;
         }
     }
+    if let Some(roll) = left.roll {
+        for (m, r) in moment.iter_mut().zip(&roll[lo..hi]) {
+            *m += r;
+        }
+    }
 }
 
 /// The deferred part of the force step without the update (after `prime`).
@@ -244,6 +249,7 @@ pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
             &contacts.step.out,
         )),
         walls: &contacts.step.wall_out.pieces,
+        roll: None,
     };
     let p = &mut scene.particles;
     let radius = &p.radius;
