@@ -10,8 +10,10 @@
 use super::contacts::{ContactState, NormalHistory};
 use super::interact::{Acc, Kin, Laws};
 use super::params::{PairConst, PairLaw};
+use super::scene::Vec3;
 use crate::physics::jkr::Jkr;
 use crate::physics::pasha_linear::{self, Lin, Linear, Version};
+use crate::physics::tangential;
 use crate::physics::thornton_ning::{ThorntonNing, Tn};
 use crate::physics::{modified_jkr, pasha_linear::LinState, thornton_ning::TnState};
 use crate::sim::model::NormalLaw;
@@ -78,6 +80,9 @@ fn linear_of(law: &NormalLaw, pc: &PairConst, r_star: f64) -> Option<(Linear, f6
 
 /// The normal force of a contact under the pair's law of `SET NORmal`; updates the state
 /// (`touching`, `normal_force`, `a`, `overlap`, the law's history) and books the loss.
+/// (Out of line: the Hertz and JKR kernels, into which it would otherwise be inlined, keep
+/// their code as it was.)
+#[inline(never)]
 pub fn normal(
     k: &Kin,
     pc: &PairConst,
@@ -199,7 +204,7 @@ pub fn normal(
         }
     }
     let u_new = history.stored();
-    if history != NormalHistory::None || s.ext.is_some() {
+    if !history.is_none() || s.ext.is_some() {
         s.ext_mut().normal = history;
     }
     if dt > 0.0 {
@@ -209,10 +214,35 @@ pub fn normal(
         acc.adhesion += work - (u_new - u_old);
     }
     if was_touching && !s.touching {
-        super::interact::end_solid(s, acc);
+        super::interact::reset_solid(s, acc);
     }
     s.overlap = alpha;
     out
+}
+
+/// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)
+/// with the limit (4.27)–(4.28) (`tangential::noslip_spring` with stiffness `k_t`), the
+/// friction booked as work minus the change of the stored energy; no tangential dashpot
+/// (the thesis gives none: the last step's Rayleigh force, if any, gets its second half).
+#[inline(never)]
+pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearShear) -> Vec3 {
+    let n = k.n;
+    // The last force rotated into the contact plane, as for the other laws.
+    s.tforce = Vec3::from(tangential::rotate_into_plane_lazy(
+        s.tforce.into(),
+        n.into(),
+    ));
+    let v_t = k.v_rel - n * k.v_rel.dot(&n);
+    let dd = v_t * dt;
+    let step = tangential::noslip_spring(s.tforce.into(), dd.into(), ls.k_t, 1.0, ls.limit);
+    acc.friction += step.work - (step.energy - s.tang_energy);
+    s.tang_energy = step.energy;
+    s.tforce = Vec3::from(step.force);
+    acc.damping_contact += -0.5 * s.tdamp.dot(&v_t) * dt;
+    if dt > 0.0 {
+        s.tdamp = Vec3::zeros();
+    }
+    s.tforce
 }
 
 /// The dashpot coefficient of a linear-law contact, Pasha 2013 (4.24)–(4.25), with the

@@ -134,7 +134,7 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
         return 0.0;
     }
     if let Some(e) = s.ext.as_deref()
-        && e.normal != super::contacts::NormalHistory::None
+        && !e.normal.is_none()
     {
         // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
         return e.normal.stored();
@@ -152,13 +152,9 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     }
 }
 
-/// Ends a solid contact; the energy left in its tangential spring is lost (friction).
-pub(super) fn end_solid(s: &mut ContactState, acc: &mut Acc) {
-    reset_solid(s, acc);
-}
-
-/// Ends a solid contact; the energy left in its tangential spring is lost (friction).
-fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
+/// Ends a solid contact; the energy left in its tangential and rolling springs is lost
+/// (friction).
+pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     acc.friction += s.tang_energy;
     s.touching = false;
     s.normal_force = 0.0;
@@ -186,7 +182,7 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
             && zero(e.gamma)
             && zero(e.released[0])
             && zero(e.released[1])
-            && e.normal == super::contacts::NormalHistory::None
+            && e.normal.is_none()
         {
             s.ext = None;
         }
@@ -245,18 +241,17 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
     let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
     let dashed = pc.zeta > 0.0 && (s.touching || approaching);
-    let rayleigh = if laws.beta > 0.0 && s.touching {
+    let mut rayleigh = if laws.beta > 0.0 && s.touching {
         laws.beta * kn
     } else {
         0.0
     };
-    // The linear laws' dashpot β (Pasha 2013 (4.24)–(4.25)).
-    let lin_dash = if ADH && pc.law != 0 && lin_shear.is_some() {
-        super::elastoplastic::linear_damping(laws, pc, kn, k.m_star)
-    } else {
-        0.0
-    };
-    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0 || lin_dash > 0.0;
+    if ADH && pc.law != 0 && lin_shear.is_some() {
+        // The linear laws' dashpot β (Pasha 2013 (4.24)–(4.25)), a linear coefficient like
+        // Rayleigh's β k_n (with which it is booked as contact damping).
+        rayleigh += super::elastoplastic::linear_damping(laws, pc, kn, k.m_star);
+    }
+    let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
     let (mut fd, mut fv) = (0.0, 0.0);
     if viscous {
         // (While priming, Δt = 0, the step degenerates to the dashpot at α with v: the
@@ -279,16 +274,13 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             scale: k.m_star * k.m_star * k.r_star,
             steady: was_touching && alpha > 0.0,
             point: (k.m_star * a_h).sqrt(),
-            linear: rayleigh + bridge_c + lin_dash,
+            linear: rayleigh + bridge_c,
             inv_m,
             dt,
         });
         fd = 0.0 - coef * vn;
         if rayleigh > 0.0 {
             fd -= rayleigh * vn;
-        }
-        if lin_dash > 0.0 {
-            fd -= lin_dash * vn;
         }
         // The tension clamp of the restitution model: the dashpot never pulls a
         // non-adhesive contact (nor a pair that is only approaching).
@@ -319,7 +311,11 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         fn_b += fd;
     }
     // ---- tangential law ---------------------------------------------------------------
-    let mut ft_b = shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n), lin_shear);
+    let mut ft_b = match lin_shear {
+        // Pasha's linear laws: their own spring and limit (sim::elastoplastic).
+        Some(ls) if ADH && laws.rotation => super::elastoplastic::shear(k, laws.dt, s, acc, ls),
+        _ => shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n)),
+    };
 
     // ---- liquid bridge: viscous forces and booking -------------------------------------
     if let Some((fn_bridge, ft)) =
@@ -345,12 +341,11 @@ fn shear(
     s: &mut ContactState,
     acc: &mut Acc,
     (p_old, pcrit, td_prev, v_n): (f64, f64, Vec3, f64),
-    lin_shear: Option<super::elastoplastic::LinearShear>,
 ) -> Vec3 {
     let dt = laws.dt;
     if s.touching {
         if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            return tangential_step(k, pc, laws, s, (p_old, pcrit, lin_shear), acc);
+            return tangential_step(k, pc, laws, s, p_old, pcrit, acc);
         }
     } else if dt > 0.0 && td_prev != Vec3::zeros() {
         // The contact ended: book the second half of the last tangential dashpot force.
@@ -603,7 +598,8 @@ fn tangential_step(
     pc: &PairConst,
     laws: &Laws,
     s: &mut ContactState,
-    (p_old, pcrit, lin_shear): (f64, f64, Option<super::elastoplastic::LinearShear>),
+    p_old: f64,
+    pcrit: f64,
     acc: &mut Acc,
 ) -> Vec3 {
     let dt = laws.dt;
@@ -616,19 +612,6 @@ fn tangential_step(
     let dd = v_t * dt;
     let p_new = s.normal_force;
     let kt0 = 8.0 * pc.g_star * s.a;
-    if let Some(ls) = lin_shear {
-        // Pasha's linear laws: their own spring F_t = k_t α_t (4.26) and limit (4.27)–(4.28).
-        let step = tangential::noslip_spring(s.tforce.into(), dd.into(), ls.k_t, 1.0, ls.limit);
-        acc.friction += step.work - (step.energy - s.tang_energy);
-        s.tang_energy = step.energy;
-        s.tforce = Vec3::from(step.force);
-        let ft = s.tforce;
-        acc.damping_contact += -0.5 * s.tdamp.dot(&v_t) * dt;
-        if dt > 0.0 {
-            s.tdamp = Vec3::zeros();
-        }
-        return ft;
-    }
     match laws.tangential {
         TangentialChoice::NoSlip => {
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).

@@ -147,6 +147,11 @@ pub enum NormalHistory {
 }
 
 impl NormalHistory {
+    /// Hertz or JKR: no history (a test of the variant only).
+    #[inline(always)]
+    pub fn is_none(&self) -> bool {
+        matches!(self, NormalHistory::None)
+    }
     /// The normal energy stored in the contact (booked as `strain_normal`).
     pub fn stored(&self) -> f64 {
         match *self {
@@ -206,6 +211,6 @@ impl ContactState {
     pub fn needs_adhesive_kernel(&self) -> bool {
         self.ext
             .as_ref()
-            .is_some_and(|e| e.gamma > 0.0 || e.normal != NormalHistory::None)
+            .is_some_and(|e| e.gamma > 0.0 || !e.normal.is_none())
     }
 }
