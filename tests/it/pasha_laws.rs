@@ -41,11 +41,16 @@ fn impact(law: &str, v: f64) -> (f64, f64) {
     (e, residual)
 }
 
-/// The simplified law's restitution from its branches (doc/contact_laws.md).
+/// The simplified law's restitution from its branches (doc/contact_laws.md), sphere on wall.
 fn closed_form(v: f64) -> f64 {
+    let m = 1350.0 * 4.0 / 3.0 * std::f64::consts::PI * R.powi(3);
+    closed_form_of(v, m, R)
+}
+
+/// The same for the effective mass `m` and radius `r_star`.
+fn closed_form_of(v: f64, m: f64, r_star: f64) -> f64 {
     let pi = std::f64::consts::PI;
-    let m = 1350.0 * 4.0 / 3.0 * pi * R.powi(3);
-    let f_ce = 1.5 * pi * R * 0.2;
+    let f_ce = 1.5 * pi * r_star * 0.2;
     let a0 = 8.0 / 9.0 * f_ce / KP;
     let amax = a0 + (a0 * a0 + m * v * v / KP).sqrt();
     let fmax = KP * (amax - a0);
@@ -77,6 +82,37 @@ fn pasha_simplified_law_single_particle_impact() {
     assert!(closed_form(1.6) > 0.1);
     let e25 = closed_form(25.0);
     assert!(e25 > 0.36 && e25 < (KP / KE).sqrt());
+}
+
+/// Two like spheres (m* = m/2, R* = R/2) meeting at 4 m/s: the particle–particle contact
+/// follows the same law.
+#[test]
+fn pasha_simplified_law_between_two_spheres() {
+    let v = 4.0;
+    let script = SCRIPT
+        .replace("$law", &format!("pasha {KE} {KP} {KCP} {F0P}"))
+        .replace("$frac", "0.05")
+        .replace("$n", "4000")
+        .replace("dwall p 0 0 1 5e-6 m 2\n", "")
+        .replace(
+            "create 1e-5 1e-5 7.451e-6 0 0 -$v 0 0 0 1 1",
+            &format!(
+                "create 1e-5 1e-5 5e-5 0 0 {} 0 0 0 1 1\ncreate 1e-5 1e-5 5.4901e-5 0 0 -{} 0 0 0 1 1",
+                v / 2.0,
+                v / 2.0
+            ),
+        );
+    let run = trubal_json(&script, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let balls = &printed(&run, "balls")[0]["balls"];
+    let vz = |k: usize| balls[k]["vel"][2].as_f64().unwrap();
+    let e = (vz(1) - vz(0)) / v;
+    let m = 1350.0 * 4.0 / 3.0 * std::f64::consts::PI * R.powi(3);
+    let want = closed_form_of(v, m / 2.0, R / 2.0);
+    assert!(
+        want > 0.2 && (e - want).abs() < 0.005,
+        "e {e}, closed form {want}"
+    );
 }
 
 #[test]
