@@ -35,9 +35,8 @@
 //! `SET TANgential WALTON` (a new last variant, which older files never hold), the periodic
 //! cell's deformation (`Scene::cell`, read as at rest from older files) and seven history
 //! columns (the stress, the temperature and the cell's strains, read as 0); version 5 adds
-//! the history of the normal laws of `SET NORmal` (`normal`) and the rolling spring of `SET
-//! ROLling` (`roll`, `roll_energy`, `roll_damp`) to the law-specific part of the contact
-//! state, and the scene's contact laws per material pair (`Scene::laws`, read as Hertz/JKR
+//! the state of the laws of `SET NORmal` and `SET ROLling` (`laws`: the normal law's
+//! history, the rolling spring) to the law-specific part of the contact state, and the scene's contact laws per material pair (`Scene::laws`, read as Hertz/JKR
 //! without rolling friction from older files). Versions 1 to 4
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and

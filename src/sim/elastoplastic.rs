@@ -97,7 +97,7 @@ pub fn normal(
     let was_touching = s.touching;
     let p_old = if was_touching { s.normal_force } else { 0.0 };
     let primed = s.v_prev == f64::NEG_INFINITY;
-    let u_old = s.ext().normal.stored();
+    let u_old = s.ext().laws().normal.stored();
     let gamma = pc.gamma;
     let mut out = NormalOut {
         gamma,
@@ -108,7 +108,7 @@ pub fn normal(
     // (force, contact radius, stored energy) while in contact.
     let now: Option<(f64, f64, f64)>;
     let history: NormalHistory;
-    let hist = s.ext().normal;
+    let hist = s.ext().laws().normal;
     match pl.law {
         NormalLaw::ModifiedJkr => {
             let j = Jkr {
@@ -204,8 +204,8 @@ pub fn normal(
         }
     }
     let u_new = history.stored();
-    if !history.is_none() || s.ext.is_some() {
-        s.ext_mut().normal = history;
+    if !history.is_none() || s.ext.as_ref().is_some_and(|e| e.laws.is_some()) {
+        s.ext_mut().laws_mut().normal = history;
     }
     if dt > 0.0 {
         let p_acted = if primed { 0.0 } else { p_old };

@@ -133,11 +133,11 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     if !s.touching {
         return 0.0;
     }
-    if let Some(e) = s.ext.as_deref()
-        && !e.normal.is_none()
+    if let Some(l) = s.ext.as_deref().and_then(|e| e.laws.as_deref())
+        && !l.normal.is_none()
     {
         // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
-        return e.normal.stored();
+        return l.normal.stored();
     }
     let gamma = s.gamma();
     if gamma > 0.0 {
@@ -167,13 +167,17 @@ pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.tang = Default::default();
         e.walton = Default::default();
         e.tdelta = 0.0;
-        if e.roll_energy != 0.0 {
-            // The rolling spring's energy is lost with the contact (`sim::rolling`).
-            acc.friction += e.roll_energy;
+        if let Some(l) = e.laws.as_deref_mut() {
+            // The rolling spring's energy is lost with the contact (`sim::rolling`); the
+            // history of the laws of `SET NORmal` stays.
+            acc.friction += l.roll_energy;
+            l.roll = Vec3::zeros();
+            l.roll_energy = 0.0;
+            l.roll_damp = Vec3::zeros();
+            if l.normal.is_none() {
+                e.laws = None;
+            }
         }
-        e.roll = Vec3::zeros();
-        e.roll_energy = 0.0;
-        e.roll_damp = Vec3::zeros();
         // Nothing left that differs from the defaults `ext()` reads for a contact without
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
         // with a state that once touched for every touching one).
@@ -182,7 +186,7 @@ pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
             && zero(e.gamma)
             && zero(e.released[0])
             && zero(e.released[1])
-            && e.normal.is_none()
+            && e.laws.is_none()
         {
             s.ext = None;
         }
@@ -400,7 +404,7 @@ fn normal_law<const ADH: bool>(
             let e = s.ext_mut();
             e.gamma = gamma;
             e.a_s = j.a_s();
-            e.normal = super::contacts::NormalHistory::None;
+            e.laws = None;
             if dt == 0.0 {
                 // Snapped in while priming: its force has not acted yet (see below).
                 s.v_prev = f64::NEG_INFINITY;
@@ -450,7 +454,7 @@ fn normal_law<const ADH: bool>(
             s.touching = true;
             if let Some(e) = s.ext.as_deref_mut() {
                 e.gamma = 0.0;
-                e.normal = super::contacts::NormalHistory::None;
+                e.laws = None;
             }
         }
         // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.

@@ -38,7 +38,7 @@ fn contact(
     let dtheta = wt * dt;
     let k_r = rolling::stiffness(k_n, mu_r, r_r);
     let cap = rolling::limit(mu_r, r_r, s.normal_force);
-    let e = s.ext_mut();
+    let e = s.ext_mut().laws_mut();
     let m_old = tangential::rotate_into_plane_lazy(e.roll.into(), n.into());
     let st = rolling::step(m_old, dtheta.into(), k_r, cap);
     loss[0] += st.work - (st.energy - e.roll_energy);

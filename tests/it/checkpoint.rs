@@ -131,8 +131,9 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "sense": e.walton.sense, "reversed": e.walton.reversed,
             "stored": f(e.walton.stored),
         },
-        "normal": normal_facts(&e.normal),
-        "roll": v3(&e.roll), "roll_energy": f(e.roll_energy), "roll_damp": v3(&e.roll_damp),
+        "normal": normal_facts(&e.laws().normal),
+        "roll": v3(&e.laws().roll), "roll_energy": f(e.laws().roll_energy),
+        "roll_damp": v3(&e.laws().roll_damp),
     })
 }
 
@@ -407,10 +408,10 @@ fn the_whole_state_round_trips() {
     assert!(sc.particles.len() == 5 && sc.walls.len() == 1);
     // Format 5: a Thornton–Ning wall contact, a linear one, a rolling spring.
     use trubal::sim::contacts::NormalHistory;
-    let hist = |k: usize| sc.contacts.wall_pairs[k].s.ext().normal;
+    let hist = |k: usize| sc.contacts.wall_pairs[k].s.ext().laws().normal;
     assert!(matches!(hist(0), NormalHistory::ThorntonNing { .. }));
     assert!(matches!(hist(1), NormalHistory::Linear { .. }));
-    assert!(sc.contacts.wall_pairs[0].s.ext().roll.norm() > 0.0);
+    assert!(sc.contacts.wall_pairs[0].s.ext().laws().roll.norm() > 0.0);
     assert!(sc.walls[0].servo.is_some());
     let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);

@@ -3,14 +3,14 @@
 //! written and never read); version 2 had no `v_prev` (the velocity-dependent forces were
 //! evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
 //! pair as isolated); versions 2 and 3 had no `walton` in the law-specific part (Walton's law
-//! did not exist), read as its default; versions 2 to 4 had no `normal` history there (the
+//! did not exist), read as its default; versions 2 to 4 had no `laws` state there (the
 //! laws of `SET NORmal` did not exist), read as none, nor a rolling spring (`roll`, read as
 //! none).
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
 
-use super::{BridgeState, ContactExt, NormalHistory, TangentialState, Vec3, WaltonState};
+use super::{BridgeState, ContactExt, TangentialState, Vec3, WaltonState};
 
 thread_local! {
     /// The format version being decoded (0: the current one).
@@ -63,10 +63,7 @@ impl From<V1> for super::ContactState {
             tang: o.tang,
             released: o.released,
             walton: WaltonState::default(),
-            normal: NormalHistory::None,
-            roll: Vec3::zeros(),
-            roll_energy: 0.0,
-            roll_damp: Vec3::zeros(),
+            laws: None,
         };
         super::ContactState {
             touching: o.touching,
@@ -121,10 +118,7 @@ impl From<ExtV3> for ContactExt {
             tang: o.tang,
             released: o.released,
             walton: WaltonState::default(),
-            normal: NormalHistory::None,
-            roll: Vec3::zeros(),
-            roll_energy: 0.0,
-            roll_damp: Vec3::zeros(),
+            laws: None,
         }
     }
 }
@@ -235,10 +229,7 @@ impl From<V4> for super::ContactState {
                     tang: e.tang,
                     released: e.released,
                     walton: e.walton,
-                    normal: NormalHistory::None,
-                    roll: Vec3::zeros(),
-                    roll_energy: 0.0,
-                    roll_damp: Vec3::zeros(),
+                    laws: None,
                 })
             }),
             bridge: o.bridge,

@@ -114,15 +114,34 @@ pub struct ContactExt {
     /// Walton's law's turning point and history (`SET TANgential WALTON`; checkpoint
     /// format 4).
     pub walton: WaltonState,
-    /// The history of the elasto-plastic and modified-JKR normal laws (`SET NORmal`;
-    /// checkpoint format 5).
+    /// The state of the laws of `SET NORmal` and `SET ROLling` (checkpoint format 5), behind
+    /// a pointer of its own: the contacts of the other laws keep their size.
+    pub laws: Option<Box<LawState>>,
+}
+
+/// The state of the laws of `SET NORmal` and `SET ROLling` in a contact.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LawState {
+    /// The history of the elasto-plastic and modified-JKR normal laws.
     pub normal: NormalHistory,
-    /// Rolling moment on A of the rolling spring (`SET ROLling`, `physics::rolling`;
-    /// checkpoint format 5) and the energy it stores.
+    /// Rolling moment on A of the rolling spring (`physics::rolling`) and its energy.
     pub roll: Vec3,
     pub roll_energy: f64,
     /// The rolling dashpot's moment on A of the last step.
     pub roll_damp: Vec3,
+}
+
+static DEFAULT_LAWS: std::sync::LazyLock<LawState> = std::sync::LazyLock::new(LawState::default);
+
+impl ContactExt {
+    /// The state of the laws of `SET NORmal`/`ROLling` (the defaults if there is none).
+    pub fn laws(&self) -> &LawState {
+        self.laws.as_deref().unwrap_or(&DEFAULT_LAWS)
+    }
+    /// The same, allocated (at its defaults) if there was none.
+    pub fn laws_mut(&mut self) -> &mut LawState {
+        self.laws.get_or_insert_with(Box::default)
+    }
 }
 
 /// The history a normal law other than Hertz/JKR keeps (`sim::model::NormalLaw`).
@@ -211,6 +230,6 @@ impl ContactState {
     pub fn needs_adhesive_kernel(&self) -> bool {
         self.ext
             .as_ref()
-            .is_some_and(|e| e.gamma > 0.0 || !e.normal.is_none())
+            .is_some_and(|e| e.gamma > 0.0 || e.laws.as_ref().is_some_and(|l| !l.normal.is_none()))
     }
 }
