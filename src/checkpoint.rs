@@ -34,9 +34,12 @@
 //! law state (`walton`) to the law-specific part of the contact state, the setting
 //! `SET TANgential WALTON` (a new last variant, which older files never hold), the periodic
 //! cell's deformation (`Scene::cell`, read as at rest from older files) and seven history
-//! columns (the stress, the temperature and the cell's strains, read as 0). Versions 1 to 3
+//! columns (the stress, the temperature and the cell's strains, read as 0); version 5 adds
+//! the state of the laws of `SET NORmal` and `SET ROLling` (`laws`: the normal law's
+//! history, the rolling spring) to the law-specific part of the contact state, and the scene's contact laws per material pair (`Scene::laws`, read as Hertz/JKR
+//! without rolling friction from older files). Versions 1 to 4
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
-//! `scene::old_cell` and
+//! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
 //! being decoded.
 
@@ -48,7 +51,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -207,10 +210,11 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         VERSION => decode_all::<Scene, R>(r, version),
-        // Versions 1 to 3 differ in the layout of the contact state (sim::contacts::old; for
-        // version 3 the law-specific part had no `walton`), the walls and settings of 1 and 2
+        // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
+        // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
+        // contact laws (scene::old_laws), the walls and settings of 1 and 2
         // (scene::old_walls, old_settings), and have no cell (scene::old_cell).
-        1..=3 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
+        1..=4 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
             .map(|mut s| {
                 // Their history rows have the first 10 columns: the stress, temperature and
                 // strain columns of format 4 read as 0.

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// The model choices are the simulation's (`sim::model`); the language names them.
 pub use crate::sim::model::{
-    BridgeChoice, LiquidMode, Servo, SizeDist, TangentialChoice, View, WallGeom,
+    BridgeChoice, LiquidMode, NormalLaw, Pairs, Servo, SizeDist, TangentialChoice, View, WallGeom,
 };
 
 /// Options of `DWAll`/`AWAll` after the geometry.
@@ -143,6 +143,17 @@ pub enum Setting {
     Fragment(Option<f64>),
     /// `SET TUNnel STOP|DELETE`: what a particle whose centre crossed a wall does.
     Tunnel(crate::sim::scene::TunnelAction),
+    /// `SET NORmal law [parameters] [m1 [m2]]`: the normal contact law of the material pairs
+    /// (doc/contact_laws.md).
+    Normal {
+        pairs: Pairs,
+        law: NormalLaw,
+    },
+    /// `SET ROLling mu_r [m1 [m2]]`: the rolling friction coefficient of the material pairs.
+    Rolling {
+        pairs: Pairs,
+        mu_r: f64,
+    },
 }
 
 /// One command of the language.

@@ -139,6 +139,8 @@ enum SetKw {
     Fragment,
     Goldman,
     Tunnel,
+    Normal,
+    Rolling,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -158,6 +160,8 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("FRAgment", SetKw::Fragment),
     kw("GOLdman", SetKw::Goldman),
     kw("TUNnel", SetKw::Tunnel),
+    kw("NORmal", SetKw::Normal),
+    kw("ROLling", SetKw::Rolling),
 ];
 
 const TUNNELS: &[Keyword<crate::sim::scene::TunnelAction>] = &[
@@ -558,11 +562,13 @@ pub const COMMANDS: &[CommandDef] = &[
             "HIStory",
             "GENoverlap",
             "FRAgment",
-            "GOLdman"
+            "GOLdman",
+            "NORmal",
+            "ROLling"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt], then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default)."
     ),
     def!(
         "STArt",
@@ -1113,6 +1119,86 @@ fn length_or_default(a: &mut Args, name: &str) -> Result<Option<f64>, ParseError
     }
 }
 
+/// `SET NORmal law [parameters] [KT kt] [m1 [m2]]`.
+fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
+    const LAWS: &[Keyword<u8>] = &[
+        kw("HERtz", 0),
+        kw("JKR", 0),
+        kw("MJKr", 1),
+        kw("TNIng", 2),
+        kw("PASha", 3),
+        kw("PFUll", 4),
+    ];
+    const KT: &[Keyword<()>] = &[kw("KT", ())];
+    let stiffnesses = |a: &mut Args| -> Result<(f64, f64), ParseError> {
+        let k_e = a.positive("ke")?;
+        let t = a.peek();
+        let k_p = a.positive("kp")?;
+        if k_p > k_e {
+            return Err(ParseError::at(
+                t.expect("consumed"),
+                format!(
+                    "the plastic stiffness kp ({k_p}) must not exceed the elastic ke ({k_e}): unloading would return more work than loading took"
+                ),
+            ));
+        }
+        Ok((k_e, k_p))
+    };
+    let tangential = |a: &mut Args, k_e: f64| -> Result<f64, ParseError> {
+        Ok(if a.try_keyword(KT)?.is_some() {
+            a.non_negative("kt")?
+        } else {
+            k_e
+        })
+    };
+    let law = match a.keyword(LAWS, "normal law (HERTZ, JKR, MJKR, TNING, PASHA or PFULL)")? {
+        0 => NormalLaw::Hertz,
+        1 => NormalLaw::ModifiedJkr,
+        2 => NormalLaw::ThorntonNing {
+            p_y: a.positive("py")?,
+        },
+        3 => {
+            let (k_e, k_p) = stiffnesses(a)?;
+            let k_cp = a.non_negative("kcp")?;
+            let f_0p = a.non_negative("f0p")?;
+            NormalLaw::PashaSimplified {
+                k_e,
+                k_p,
+                k_cp,
+                f_0p,
+                k_t: tangential(a, k_e)?,
+            }
+        }
+        _ => {
+            let (k_e, k_p) = stiffnesses(a)?;
+            NormalLaw::PashaFull {
+                k_e,
+                k_p,
+                k_t: tangential(a, k_e)?,
+            }
+        }
+    };
+    Ok(Setting::Normal {
+        pairs: material_pairs(a)?,
+        law,
+    })
+}
+
+/// `[m1 [m2]]`: all material pairs, the pairs with m1, or the pair m1-m2.
+fn material_pairs(a: &mut Args) -> Result<Pairs, ParseError> {
+    let max = crate::sim::scene::MAX_MATERIALS as i64;
+    Ok(if a.peek_is_number() {
+        let m1 = a.int_in("m1", 1, max)? as u16;
+        if a.peek_is_number() {
+            Pairs::Pair(m1, a.int_in("m2", 1, max)? as u16)
+        } else {
+            Pairs::With(m1)
+        }
+    } else {
+        Pairs::All
+    })
+}
+
 fn b_set(a: &mut Args) -> Result<Command, ParseError> {
     let s = match a.keyword(SET_NAMES, "setting")? {
         SetKw::Tol => Setting::Tol(length_or_default(a, "TOL")?),
@@ -1145,6 +1231,11 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
         SetKw::Fragment => Setting::Fragment(length_or_default(a, "eps")?),
         SetKw::Goldman => Setting::Goldman(a.keyword(ONOFF, "ON or OFF")?),
         SetKw::Tunnel => Setting::Tunnel(a.keyword(TUNNELS, "STOP or DELETE")?),
+        SetKw::Normal => normal_law(a)?,
+        SetKw::Rolling => Setting::Rolling {
+            mu_r: a.non_negative("mur")?,
+            pairs: material_pairs(a)?,
+        },
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

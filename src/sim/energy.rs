@@ -96,6 +96,10 @@ pub fn stored(scene: &Scene) -> Stored {
             let es = e_star(p.material[i] as usize, p.material[j] as usize);
             s.strain_normal += normal_strain(c.s, es, r_star);
             s.strain_tangential += c.s.tang_energy;
+            if let Some(l) = c.s.ext.as_deref().and_then(|e| e.laws.as_deref()) {
+                // The rolling spring (`sim::rolling`).
+                s.strain_tangential += l.roll_energy;
+            }
         }
         if let Some(b) = &c.s.bridge {
             s.bridge += b.work;
@@ -109,6 +113,9 @@ pub fn stored(scene: &Scene) -> Stored {
             let es = e_star(p.material[i] as usize, w.material);
             s.strain_normal += normal_strain(&c.s, es, r_star);
             s.strain_tangential += c.s.tang_energy;
+            if let Some(l) = c.s.ext.as_deref().and_then(|e| e.laws.as_deref()) {
+                s.strain_tangential += l.roll_energy;
+            }
         }
         if let Some(b) = &c.s.bridge {
             s.bridge += b.work;

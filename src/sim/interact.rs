@@ -60,6 +60,8 @@ pub struct Laws<'a> {
     /// one approaching within half a step's travel gets its share of the dashpot
     /// (`physics::dashpot`): Δt times a bound of the relative speeds; 0 without a dashpot.
     pub margin: f64,
+    /// The normal laws of `SET NORmal` the pairs use (`PairConst::law`, `params::Model::laws`).
+    pub pair_laws: &'a [super::params::PairLaw],
 }
 
 impl Laws<'static> {
@@ -78,6 +80,7 @@ impl Laws<'static> {
             liquid_share: None,
             goldman: false,
             margin: 0.0,
+            pair_laws: &[],
         }
     }
 }
@@ -149,6 +152,12 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     if !s.touching {
         return 0.0;
     }
+    if let Some(l) = s.ext.as_deref().and_then(|e| e.laws.as_deref())
+        && !l.normal.is_none()
+    {
+        // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
+        return l.normal.stored();
+    }
     let gamma = s.gamma();
     if gamma > 0.0 {
         let j = Jkr {
@@ -162,8 +171,9 @@ pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
     }
 }
 
-/// Ends a solid contact; the energy left in its tangential spring is lost (friction).
-fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
+/// Ends a solid contact; the energy left in its tangential and rolling springs is lost
+/// (friction).
+pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     acc.friction += s.tang_energy;
     s.touching = false;
     s.normal_force = 0.0;
@@ -176,11 +186,27 @@ fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.tang = Default::default();
         e.walton = Default::default();
         e.tdelta = 0.0;
+        if let Some(l) = e.laws.as_deref_mut() {
+            // The rolling spring's energy is lost with the contact (`sim::rolling`); the
+            // history of the laws of `SET NORmal` stays.
+            acc.friction += l.roll_energy;
+            l.roll = Vec3::zeros();
+            l.roll_energy = 0.0;
+            l.roll_damp = Vec3::zeros();
+            if l.normal.is_none() {
+                e.laws = None;
+            }
+        }
         // Nothing left that differs from the defaults `ext()` reads for a contact without
         // one (bit for bit): free it (a Mindlin–Deresiewicz bed keeps ~3 candidate pairs
         // with a state that once touched for every touching one).
         let zero = |x: f64| x.to_bits() == 0;
-        if zero(e.a_s) && zero(e.gamma) && zero(e.released[0]) && zero(e.released[1]) {
+        if zero(e.a_s)
+            && zero(e.gamma)
+            && zero(e.released[0])
+            && zero(e.released[1])
+            && e.laws.is_none()
+        {
             s.ext = None;
         }
     }
@@ -202,7 +228,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     s: &mut ContactState,
     acc: &mut Acc,
 ) -> Out {
-    if !ADH && s.touching && s.gamma() > 0.0 {
+    if !ADH && s.touching && s.needs_adhesive_kernel() {
         return interact::<true, LIQ>(k, pc, laws, s, acc);
     }
     let alpha = -k.gap;
@@ -219,7 +245,14 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     // ---- normal law -----------------------------------------------------------------
     let p_old = s.normal_force;
     let was_touching = s.touching;
-    let (gamma, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+    // The laws of `SET NORmal` (sim::elastoplastic) or Hertz/JKR.
+    let (gamma, kn, pcrit, lin_shear) = if ADH && pc.law != 0 {
+        let o = super::elastoplastic::normal(k, pc, laws, s, acc, v_n);
+        (o.gamma, o.kn, o.pcrit, o.linear)
+    } else {
+        let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+        (g, kn, pcrit, None)
+    };
 
     // ---- liquid bridge: formation, rupture, capillary force ------------------------------
     // (Its viscous force is worked out with the other velocity-dependent forces below.)
@@ -231,11 +264,16 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
     let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
     let dashed = pc.zeta > 0.0 && (s.touching || approaching);
-    let rayleigh = if laws.beta > 0.0 && s.touching {
+    let mut rayleigh = if laws.beta > 0.0 && s.touching {
         laws.beta * kn
     } else {
         0.0
     };
+    if ADH && pc.law != 0 && lin_shear.is_some() {
+        // The linear laws' dashpot β (Pasha 2013 (4.24)–(4.25)), a linear coefficient like
+        // Rayleigh's β k_n (with which it is booked as contact damping).
+        rayleigh += super::elastoplastic::linear_damping(laws, pc, kn, k.m_star);
+    }
     let viscous = dashed || rayleigh > 0.0 || bridge_c > 0.0;
     let (mut fd, mut fv) = (0.0, 0.0);
     if viscous {
@@ -296,7 +334,11 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         fn_b += fd;
     }
     // ---- tangential law ---------------------------------------------------------------
-    let mut ft_b = shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n));
+    let mut ft_b = match lin_shear {
+        // Pasha's linear laws: their own spring and limit (sim::elastoplastic).
+        Some(ls) if ADH && laws.rotation => super::elastoplastic::shear(k, laws.dt, s, acc, ls),
+        _ => shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n)),
+    };
 
     // ---- liquid bridge: viscous forces and booking -------------------------------------
     if let Some((fn_bridge, ft)) =
@@ -381,6 +423,7 @@ fn normal_law<const ADH: bool>(
             let e = s.ext_mut();
             e.gamma = gamma;
             e.a_s = j.a_s();
+            e.laws = None;
             if dt == 0.0 {
                 // Snapped in while priming: its force has not acted yet (see below).
                 s.v_prev = f64::NEG_INFINITY;
@@ -430,6 +473,7 @@ fn normal_law<const ADH: bool>(
             s.touching = true;
             if let Some(e) = s.ext.as_deref_mut() {
                 e.gamma = 0.0;
+                e.laws = None;
             }
         }
         // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.
@@ -714,6 +758,7 @@ mod tests {
             gamma_base: gamma,
             zeta: 0.0,
             dash: 0.0,
+            law: 0,
         }
     }
 

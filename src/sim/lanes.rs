@@ -351,6 +351,7 @@ mod tests {
                     gamma_base: 0.0,
                     zeta: 0.3 * r.uniform() + 1e-3,
                     dash: 0.0,
+                    law: 0,
                 };
                 let pc = PairConst {
                     dash: pc.zeta * (4.0 / 3.0 * pc.e_star).sqrt(),

@@ -93,3 +93,101 @@ pub enum View {
     /// Top view: x to the right, y up.
     Xy,
 }
+
+/// The normal contact law of a material pair (`SET NORmal`, doc/contact_laws.md). The
+/// parameters are those the law needs beyond the materials' constants (E, ν, the surface
+/// energy of `COHesion`: Pasha's interface energy is Γ = 2γ).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum NormalLaw {
+    /// Hertz, or JKR when the pair has a surface energy (Lian 1994; the default).
+    Hertz,
+    /// EDEM-style "modified JKR": JKR for α ≥ 0, broken at zero overlap (Pasha 2013 §5.1.1).
+    ModifiedJkr,
+    /// Thornton–Ning (1998) elastic–plastic adhesive law with limiting contact pressure
+    /// `p_y` (Pa) (Pasha 2013 (3.27)–(3.32), (3.55)–(3.59)).
+    ThorntonNing { p_y: f64 },
+    /// Pasha's linear elasto-plastic adhesive law, full version (Pasha 2013 §4.1):
+    /// stiffnesses `k_e`, `k_p` and tangential `k_t` (N/m).
+    PashaFull { k_e: f64, k_p: f64, k_t: f64 },
+    /// Pasha's simplified linear law (Pasha 2013 §4.1.5, Ch. 6): `k_e`, `k_p`, the
+    /// pull-off locus `k_cp` (N/m) and `f_0p` (N), tangential `k_t` (N/m).
+    PashaSimplified {
+        k_e: f64,
+        k_p: f64,
+        k_cp: f64,
+        f_0p: f64,
+        k_t: f64,
+    },
+}
+
+/// Which material pairs a rule of `SET NORmal` or `SET ROLling` applies to: all pairs, the
+/// pairs involving one material, or one pair (unordered).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Pairs {
+    All,
+    With(u16),
+    Pair(u16, u16),
+}
+
+impl Pairs {
+    /// The rule applies to the pair of materials (1-based) `a`, `b`.
+    pub fn covers(&self, a: usize, b: usize) -> bool {
+        match *self {
+            Pairs::All => true,
+            Pairs::With(m) => a == m as usize || b == m as usize,
+            Pairs::Pair(m, n) => {
+                (a, b) == (m as usize, n as usize) || (a, b) == (n as usize, m as usize)
+            }
+        }
+    }
+    /// Every pair this rule covers is covered by `other`.
+    pub fn within(&self, other: &Pairs) -> bool {
+        match (*self, *other) {
+            (_, Pairs::All) => true,
+            (Pairs::With(m), Pairs::With(n)) => m == n,
+            (Pairs::Pair(a, b), o) => o.covers(a as usize, b as usize),
+            _ => false,
+        }
+    }
+}
+
+/// The contact laws chosen per material pair (checkpoint format 5): the rules in the order
+/// given, the last that covers a pair deciding. A new rule drops the older ones it covers
+/// entirely, so the list stays short.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ContactLaws {
+    pub normal: Vec<(Pairs, NormalLaw)>,
+    /// Rolling friction coefficients μ_r (`SET ROLling`, `physics::rolling`).
+    pub rolling: Vec<(Pairs, f64)>,
+}
+
+impl ContactLaws {
+    /// The normal law of a pair of materials (1-based).
+    pub fn normal_of(&self, a: usize, b: usize) -> NormalLaw {
+        self.normal
+            .iter()
+            .rev()
+            .find(|(p, _)| p.covers(a, b))
+            .map_or(NormalLaw::Hertz, |r| r.1)
+    }
+    /// The rolling friction coefficient of a pair of materials (1-based).
+    pub fn rolling_of(&self, a: usize, b: usize) -> f64 {
+        self.rolling
+            .iter()
+            .rev()
+            .find(|(p, _)| p.covers(a, b))
+            .map_or(0.0, |r| r.1)
+    }
+    pub fn set_rolling(&mut self, pairs: Pairs, mu_r: f64) {
+        self.rolling.retain(|(p, _)| !p.within(&pairs));
+        if !(pairs == Pairs::All && mu_r == 0.0) {
+            self.rolling.push((pairs, mu_r));
+        }
+    }
+    pub fn set_normal(&mut self, pairs: Pairs, law: NormalLaw) {
+        self.normal.retain(|(p, _)| !p.within(&pairs));
+        if !(pairs == Pairs::All && law == NormalLaw::Hertz) {
+            self.normal.push((pairs, law));
+        }
+    }
+}

@@ -3,6 +3,7 @@
 
 use super::scene::Scene;
 use crate::physics::{hertz, restitution};
+use crate::sim::model::NormalLaw;
 
 /// Constants of a material pair (particle–particle or particle–wall).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -21,6 +22,18 @@ pub struct PairConst {
     /// ζ sqrt(4/3 E*): the dashpot's force is this times (m*² R* α)^{1/4} α'
     /// (`physics::dashpot`).
     pub dash: f64,
+    /// The pair's normal law of `SET NORmal`: 0 for Hertz/JKR, else 1 + its index in
+    /// [`Model::laws`] (`Laws::pair_laws`).
+    pub law: u16,
+}
+
+/// A normal law of `SET NORmal` other than Hertz/JKR, as a material pair uses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairLaw {
+    pub law: NormalLaw,
+    /// Restitution coefficient of the linear laws' dashpot (Pasha 2013 (4.24)–(4.25); 0:
+    /// none). The other laws keep the pair's Hertzian dashpot (`PairConst::zeta`).
+    pub restitution: f64,
 }
 
 /// All particles have the same radius, mass and material, bit for bit (a monodisperse bed,
@@ -57,6 +70,12 @@ pub struct Model {
     /// Some pair has friction or adhesion: tangential forces and rotations are needed.
     pub rotation: bool,
     pub adhesion: bool,
+    /// The normal laws of `SET NORmal` other than Hertz/JKR that pairs in use follow
+    /// (`PairConst::law`); a scene with any goes through the adhesive kernel.
+    pub laws: Vec<PairLaw>,
+    /// Rolling friction coefficient μ_r of every material pair (`SET ROLling`; None: no
+    /// pair has one, `sim::rolling` does nothing).
+    pub rolling: Option<Vec<f64>>,
     /// The step in use (with `FRAction AUTO` it follows the fastest contact, see
     /// `sim::contact_time`).
     pub dt: f64,
@@ -128,6 +147,11 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         || (super::interact::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
             && scene.liquid.is_some_and(|l| l.eta > 0.0));
     let mut adhesion = false;
+    let mut laws: Vec<PairLaw> = Vec::new();
+    // The stiffest linear law and whether every pair in use has one (the step, below).
+    let mut k_lin: f64 = 0.0;
+    let mut all_linear = true;
+    let mut rolling = vec![0.0; nmat * nmat];
     for a in 0..nmat {
         for b in 0..nmat {
             let (ma, mb) = (&scene.materials[a], &scene.materials[b]);
@@ -147,6 +171,34 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
             rotation |= mu > 0.0;
             adhesion |= gamma > 0.0 || gamma_base > 0.0;
+            let law = scene.laws.normal_of(a + 1, b + 1);
+            rolling[a * nmat + b] = scene.laws.rolling_of(a + 1, b + 1);
+            rotation |= rolling[a * nmat + b] > 0.0;
+            let linear = match law {
+                NormalLaw::PashaFull { k_e, .. } | NormalLaw::PashaSimplified { k_e, .. } => {
+                    k_lin = k_lin.max(k_e);
+                    true
+                }
+                _ => false,
+            };
+            all_linear &= linear;
+            let index = if law == NormalLaw::Hertz {
+                0
+            } else {
+                let l = PairLaw {
+                    law,
+                    restitution: if linear { e.unwrap_or(0.0) } else { 0.0 },
+                };
+                match laws.iter().position(|x| *x == l) {
+                    Some(k) => k + 1,
+                    None => {
+                        laws.push(l);
+                        laws.len()
+                    }
+                }
+            };
+            // The linear laws have their own dashpot (PairLaw::restitution).
+            let zeta = if linear { 0.0 } else { zeta };
             table[a * nmat + b] = PairConst {
                 e_star,
                 g_star,
@@ -155,6 +207,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
                 gamma_base,
                 zeta,
                 dash: zeta * (4.0 / 3.0 * e_star).sqrt(),
+                law: index as u16,
             };
         }
     }
@@ -169,8 +222,20 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     let fraction = scene
         .settings
         .fraction
-        .unwrap_or_else(|| super::scene::default_fraction(adhesion));
+        .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
     let mut dt = fraction * dt_r;
+    // The linear laws: FRAction × (m_min/k_max)^{1/2}, Pasha 2013 (4.29)–(4.31) (FRAction
+    // 0.2 is his rule); the Rayleigh step still bounds the Hertzian pairs of a mixed scene.
+    if k_lin > 0.0 {
+        let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
+        let dt_lin = fraction * (mmin / k_lin).sqrt();
+        dt = if all_linear { dt_lin } else { dt.min(dt_lin) };
+        if scene.settings.auto_step.is_some() {
+            return Err(
+                "FRAction AUTO follows Hertzian contacts; give a FRAction with the linear laws of SET NORmal PASHA/PFULL".into(),
+            );
+        }
+    }
     // Stability of the strongest viscous bridge dashpot (explicit update of a dashpot c on a
     // particle of mass m with up to 14 such neighbours: dt < 2 m / (14 c)); half of it.
     if let Some(l) = &scene.liquid
@@ -208,6 +273,8 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         table,
         rotation,
         adhesion,
+        laws,
+        rolling: rolling.iter().any(|&m| m > 0.0).then_some(rolling),
         dt,
         dt_base: dt,
         fraction,

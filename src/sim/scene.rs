@@ -407,6 +407,10 @@ pub struct Scene {
     /// before format 4 have none (read as at rest).
     #[serde(deserialize_with = "old_cell")]
     pub cell: super::cell::Cell,
+    /// The contact laws per material pair (`SET NORmal`, `SET ROLling`); checkpoints before
+    /// format 5 have none (Hertz/JKR everywhere, no rolling friction).
+    #[serde(deserialize_with = "old_laws")]
+    pub laws: crate::sim::model::ContactLaws,
     /// What a `Cycle` and the commands derive and keep between steps or commands, never
     /// saved (see [`Derived`]).
     #[serde(skip)]
@@ -497,6 +501,7 @@ impl Scene {
             reference: None,
             history: Default::default(),
             cell: Default::default(),
+            laws: Default::default(),
             derived: Derived::default(),
         }
     }
@@ -636,6 +641,17 @@ fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<super::cell::Cell
     match super::contacts::old::version() {
         1..=3 => Ok(Default::default()),
         _ => super::cell::Cell::deserialize(de),
+    }
+}
+
+/// Reads the contact laws in the layout of the checkpoint being decoded: formats 1–4 had
+/// none (the defaults, nothing read).
+fn old_laws<'de, D: serde::Deserializer<'de>>(
+    de: D,
+) -> Result<crate::sim::model::ContactLaws, D::Error> {
+    match super::contacts::old::version() {
+        1..=4 => Ok(Default::default()),
+        _ => crate::sim::model::ContactLaws::deserialize(de),
     }
 }
 

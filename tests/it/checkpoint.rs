@@ -43,7 +43,15 @@ create 0.0021000001 0.002 0.0011 -0.01 -0.05 0 0 0 0 1 1
 create 0.003 0.001 0.00028 0.02 0 -0.01 0 0 300 2 1
 create 0.001 0.003 0.0030 0 0 0 100 0 0 1 1
 dwall p 0 0 1 0.0002 m 2 se -1e-4 0.001 1e-2
+set normal tning 1e6 1 2
+set rolling 0.1 1
 plot save
+ymd 1e8 3
+pra 0.3 3
+density 2500 3
+friction 0.3 3
+set normal pasha 1000 500 10 1e-7 3 2
+create 0.003 0.003 0.00029999 0 0 -0.01 0 0 0 1 3
 cycle 40
 set tangential walton
 cycle 10";
@@ -123,7 +131,25 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
             "sense": e.walton.sense, "reversed": e.walton.reversed,
             "stored": f(e.walton.stored),
         },
+        "normal": normal_facts(&e.laws().normal),
+        "roll": v3(&e.laws().roll), "roll_energy": f(e.laws().roll_energy),
+        "roll_damp": v3(&e.laws().roll_damp),
     })
+}
+
+fn normal_facts(h: &trubal::sim::contacts::NormalHistory) -> Value {
+    use trubal::sim::contacts::NormalHistory as H;
+    match *h {
+        H::None => json!("none"),
+        H::ModifiedJkr { stored } => json!({ "mjkr": f(stored) }),
+        H::ThorntonNing { st, stored } => json!({ "tning": {
+            "a_y": f(st.a_y), "alpha_max": f(st.alpha_max), "r_p": f(st.r_p),
+            "alpha_p": f(st.alpha_p), "stored": f(stored),
+        }}),
+        H::Linear { st, stored } => json!({ "linear": {
+            "alpha_max": f(st.alpha_max), "made": st.made, "stored": f(stored),
+        }}),
+    }
 }
 
 /// Everything a checkpoint holds, field by field (not through serde, so that a future format
@@ -175,6 +201,7 @@ fn facts(sc: &Scene) -> Value {
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
+        "laws": format!("{:?}", sc.laws),
         "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
         "zero_always": sc.zero_always,
         "damping_pp": fs(&[sc.damping_pp.alpha, sc.damping_pp.beta]),
@@ -378,7 +405,13 @@ fn fixtures_of_every_version_still_load() {
 fn the_whole_state_round_trips() {
     let sc = fixture_scene();
     // The fixture scene exercises every part of the state.
-    assert!(sc.particles.len() == 4 && sc.walls.len() == 1);
+    assert!(sc.particles.len() == 5 && sc.walls.len() == 1);
+    // Format 5: a Thornton–Ning wall contact, a linear one, a rolling spring.
+    use trubal::sim::contacts::NormalHistory;
+    let hist = |k: usize| sc.contacts.wall_pairs[k].s.ext().laws().normal;
+    assert!(matches!(hist(0), NormalHistory::ThorntonNing { .. }));
+    assert!(matches!(hist(1), NormalHistory::Linear { .. }));
+    assert!(sc.contacts.wall_pairs[0].s.ext().laws().roll.norm() > 0.0);
     assert!(sc.walls[0].servo.is_some());
     let pair = &sc.contacts.pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
@@ -732,7 +765,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         let infos = info_lines(&out);
         assert_eq!(infos.len(), 1, "{out}");
         assert_eq!(infos[0]["cycle"], 50);
-        assert_eq!(infos[0]["balls"], 4);
+        assert_eq!(infos[0]["balls"], 5);
 
         // After New: still no scene after the failure; STArt works.
         let (out, err) = trubal(

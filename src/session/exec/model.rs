@@ -136,6 +136,23 @@ fn liquid_warnings(
 /// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
 /// crosses them).
 fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
+    if let Setting::Normal { pairs, .. } | Setting::Rolling { pairs, .. } = s {
+        let mats = match *pairs {
+            crate::sim::model::Pairs::All => vec![],
+            crate::sim::model::Pairs::With(m) => vec![m],
+            crate::sim::model::Pairs::Pair(m, n) => vec![m, n],
+        };
+        for m in mats {
+            super::existing_material(scene, m as usize)?;
+        }
+        match s {
+            Setting::Normal { law, .. } => scene.laws.set_normal(*pairs, *law),
+            Setting::Rolling { mu_r, .. } => scene.laws.set_rolling(*pairs, *mu_r),
+            _ => {}
+        }
+        scene.contacts.mark_stale();
+        return Ok(String::new());
+    }
     if let Setting::Boundary { axes, periodic } = s {
         let mut want = scene.settings.periodic;
         for k in 0..3 {
@@ -184,6 +201,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
+        Setting::Normal { .. } | Setting::Rolling { .. } => {}
     }
     scene.contacts.mark_stale();
     Ok(warn)

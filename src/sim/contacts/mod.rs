@@ -212,6 +212,9 @@ pub struct StepBuffers {
     /// How far beyond touching particle pairs and particle–wall pairs are evaluated in the
     /// current step (`interact::Laws::margin`; derived, set by `cycle::one_step`).
     pub margins: [f64; 2],
+    /// The rolling moments of the current step per particle (`sim::rolling`; empty
+    /// without rolling friction; derived, not saved).
+    pub roll: Vec<Vec3>,
     /// The largest displacement component of a particle since the last rebuild, as the last
     /// update left it (derived; `None`: not known, worked out from the displacements).
     pub max_disp: Option<f64>,

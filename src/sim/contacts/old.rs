@@ -3,7 +3,9 @@
 //! written and never read); version 2 had no `v_prev` (the velocity-dependent forces were
 //! evaluated with the lagging velocity), read as +∞ (no history: the first step treats the
 //! pair as isolated); versions 2 and 3 had no `walton` in the law-specific part (Walton's law
-//! did not exist), read as its default.
+//! did not exist), read as its default; versions 2 to 4 had no `laws` state there (the
+//! laws of `SET NORmal` did not exist), read as none, nor a rolling spring (`roll`, read as
+//! none).
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
@@ -61,6 +63,7 @@ impl From<V1> for super::ContactState {
             tang: o.tang,
             released: o.released,
             walton: WaltonState::default(),
+            laws: None,
         };
         super::ContactState {
             touching: o.touching,
@@ -115,6 +118,7 @@ impl From<ExtV3> for ContactExt {
             tang: o.tang,
             released: o.released,
             walton: WaltonState::default(),
+            laws: None,
         }
     }
 }
@@ -175,6 +179,64 @@ impl From<V2> for super::ContactState {
     }
 }
 
+/// The law-specific part of the contact state as format version 4 wrote it (frozen: never
+/// change).
+#[derive(Deserialize)]
+struct ExtV4 {
+    a_s: f64,
+    gamma: f64,
+    delta: Vec3,
+    tdelta: f64,
+    tang: TangentialState,
+    released: [f64; 2],
+    walton: WaltonState,
+}
+
+/// The contact state as format version 4 wrote it (frozen: never change).
+#[derive(Deserialize)]
+struct V4 {
+    touching: bool,
+    overlap: f64,
+    normal_force: f64,
+    damp_force: f64,
+    v_prev: f64,
+    tang_energy: f64,
+    a: f64,
+    tforce: Vec3,
+    tdamp: Vec3,
+    ext: Option<Box<ExtV4>>,
+    bridge: Option<Box<BridgeState>>,
+}
+
+impl From<V4> for super::ContactState {
+    fn from(o: V4) -> Self {
+        super::ContactState {
+            touching: o.touching,
+            overlap: o.overlap,
+            normal_force: o.normal_force,
+            damp_force: o.damp_force,
+            v_prev: o.v_prev,
+            tang_energy: o.tang_energy,
+            a: o.a,
+            tforce: o.tforce,
+            tdamp: o.tdamp,
+            ext: o.ext.map(|e| {
+                Box::new(ContactExt {
+                    a_s: e.a_s,
+                    gamma: e.gamma,
+                    delta: e.delta,
+                    tdelta: e.tdelta,
+                    tang: e.tang,
+                    released: e.released,
+                    walton: e.walton,
+                    laws: None,
+                })
+            }),
+            bridge: o.bridge,
+        }
+    }
+}
+
 /// Reads a contact state in the layout of the checkpoint being decoded.
 pub fn deserialize_state<'de, D: Deserializer<'de>>(
     de: D,
@@ -183,6 +245,7 @@ pub fn deserialize_state<'de, D: Deserializer<'de>>(
         1 => V1::deserialize(de).map(Into::into),
         2 => V2::deserialize(de).map(Into::into),
         3 => V3::deserialize(de).map(Into::into),
+        4 => V4::deserialize(de).map(Into::into),
         _ => super::ContactState::deserialize(de),
     }
 }

@@ -114,6 +114,72 @@ pub struct ContactExt {
     /// Walton's law's turning point and history (`SET TANgential WALTON`; checkpoint
     /// format 4).
     pub walton: WaltonState,
+    /// The state of the laws of `SET NORmal` and `SET ROLling` (checkpoint format 5), behind
+    /// a pointer of its own: the contacts of the other laws keep their size.
+    pub laws: Option<Box<LawState>>,
+}
+
+/// The state of the laws of `SET NORmal` and `SET ROLling` in a contact.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LawState {
+    /// The history of the elasto-plastic and modified-JKR normal laws.
+    pub normal: NormalHistory,
+    /// Rolling moment on A of the rolling spring (`physics::rolling`) and its energy.
+    pub roll: Vec3,
+    pub roll_energy: f64,
+    /// The rolling dashpot's moment on A of the last step.
+    pub roll_damp: Vec3,
+}
+
+static DEFAULT_LAWS: std::sync::LazyLock<LawState> = std::sync::LazyLock::new(LawState::default);
+
+impl ContactExt {
+    /// The state of the laws of `SET NORmal`/`ROLling` (the defaults if there is none).
+    pub fn laws(&self) -> &LawState {
+        self.laws.as_deref().unwrap_or(&DEFAULT_LAWS)
+    }
+    /// The same, allocated (at its defaults) if there was none.
+    pub fn laws_mut(&mut self) -> &mut LawState {
+        self.laws.get_or_insert_with(Box::default)
+    }
+}
+
+/// The history a normal law other than Hertz/JKR keeps (`sim::model::NormalLaw`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum NormalHistory {
+    /// Hertz or JKR (the state above says all).
+    #[default]
+    None,
+    /// Modified JKR: the energy stored since the contact was made.
+    ModifiedJkr { stored: f64 },
+    /// Thornton–Ning: the unloading curve, and the energy stored on it.
+    ThorntonNing {
+        st: crate::physics::thornton_ning::TnState,
+        stored: f64,
+    },
+    /// Pasha's linear law (both versions): the largest overlap, and the energy stored on the
+    /// reversible branch.
+    Linear {
+        st: crate::physics::pasha_linear::LinState,
+        stored: f64,
+    },
+}
+
+impl NormalHistory {
+    /// Hertz or JKR: no history (a test of the variant only).
+    #[inline(always)]
+    pub fn is_none(&self) -> bool {
+        matches!(self, NormalHistory::None)
+    }
+    /// The normal energy stored in the contact (booked as `strain_normal`).
+    pub fn stored(&self) -> f64 {
+        match *self {
+            NormalHistory::None => 0.0,
+            NormalHistory::ModifiedJkr { stored }
+            | NormalHistory::ThorntonNing { stored, .. }
+            | NormalHistory::Linear { stored, .. } => stored,
+        }
+    }
 }
 
 impl Default for ContactState {
@@ -157,5 +223,13 @@ impl ContactState {
     /// Surface energy of the contact (0: Hertz).
     pub fn gamma(&self) -> f64 {
         self.ext.as_ref().map_or(0.0, |e| e.gamma)
+    }
+    /// The contact follows a law of the adhesive kernel: JKR (a surface energy) or a law of
+    /// `SET NORmal` other than Hertz (a history).
+    #[inline(always)]
+    pub fn needs_adhesive_kernel(&self) -> bool {
+        self.ext
+            .as_ref()
+            .is_some_and(|e| e.gamma > 0.0 || e.laws.as_ref().is_some_and(|l| !l.normal.is_none()))
     }
 }

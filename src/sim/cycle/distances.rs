@@ -31,6 +31,41 @@ pub fn search_distances(scene: &Scene, model: &Model) -> (f64, f64) {
             }
         }
     }
+    // The laws of `SET NORmal`: a Thornton–Ning contact breaks at most |α_s| of its
+    // unloading curve beyond α_p ≥ 0 (R_p* < 10 R* taken as the bound), a linear one at
+    // α_fp ≥ −(2 f_0p + 2 f_ce)/k_e − (13/9)²(162/137)πΓR*/(2k_e) (the full model's lowest
+    // α_p − 13/9 f_cp/k_e); modified JKR at α = 0.
+    for pl in &model.laws {
+        let rmax = scene.max_radius();
+        let g = (0..model.table.len())
+            .filter(|&k| model.table[k].law as usize > 0)
+            .map(|k| model.table[k].gamma)
+            .fold(0.0, f64::max);
+        let e_star = model
+            .table
+            .iter()
+            .map(|p| p.e_star)
+            .filter(|&e| e > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        use crate::sim::model::NormalLaw;
+        let fce = 3.0 * std::f64::consts::PI * g * rmax;
+        let reach = match pl.law {
+            NormalLaw::ThorntonNing { .. } => -crate::physics::jkr::Jkr {
+                e_star,
+                r_star: 10.0 * rmax,
+                gamma: g,
+            }
+            .alpha_s(),
+            NormalLaw::PashaFull { k_e, .. } => {
+                (2.0 * fce
+                    + (13.0f64 / 9.0).powi(2) * 162.0 / 137.0 * std::f64::consts::PI * g * rmax)
+                    / k_e
+            }
+            NormalLaw::PashaSimplified { k_e, f_0p, .. } => (2.0 * f_0p + 2.0 * fce) / k_e,
+            _ => 0.0,
+        };
+        need = need.max(reach);
+    }
     if let Some(l) = &scene.liquid
         && l.pvol > 0.0
     {

@@ -28,7 +28,11 @@ pub(super) fn forces_or_fused(
     fuse: Option<(&Mover, bool)>,
 ) -> (Acc, Option<Vec<ChunkSums>>) {
     // The kernel for what the scene has: adhesion, liquid (see `interact`).
-    match (model.adhesion, scene.liquid.is_some()) {
+    // (The laws of `SET NORmal` other than Hertz/JKR go through the adhesive kernel.)
+    match (
+        model.adhesion || !model.laws.is_empty(),
+        scene.liquid.is_some(),
+    ) {
         (false, false) => forces_with::<false, false>(scene, model, dt, fuse),
         (false, true) => forces_with::<false, true>(scene, model, dt, fuse),
         (true, false) => forces_with::<true, false>(scene, model, dt, fuse),
@@ -56,6 +60,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
         liquid_share: (scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve)
             .then_some(crate::sim::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
+        pair_laws: &model.laws,
         // (Only in a step, with the margins of its particles: not while priming.)
         margin: if dt > 0.0
             && scene.derived.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP)
@@ -224,6 +229,11 @@ pub(super) fn finish_chunk(
             moment[i] += o.m;
         }
     }
+    if let Some(roll) = left.roll {
+        for (m, r) in moment.iter_mut().zip(&roll[lo..hi]) {
+            *m += r;
+        }
+    }
 }
 
 /// The deferred part of the force step without the update (after `prime`).
@@ -239,6 +249,7 @@ pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
             &contacts.step.out,
         )),
         walls: &contacts.step.wall_out.pieces,
+        roll: None,
     };
     let p = &mut scene.particles;
     let radius = &p.radius;

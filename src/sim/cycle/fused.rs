@@ -506,6 +506,7 @@ impl Region<'_> {
                 Left {
                     scatter: None,
                     walls: own,
+                    roll: None,
                 },
             );
         }
@@ -529,6 +530,7 @@ impl Region<'_> {
             let left = Left {
                 scatter: Some((self.inc, hot, out)),
                 walls: pieces,
+                roll: None,
             };
             loop {
                 let k = self.next_late.fetch_add(1, Ordering::Relaxed);

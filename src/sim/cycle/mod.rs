@@ -401,7 +401,9 @@ pub fn one_step(
     let conserve = scene.liquid.is_some()
         && scene.settings.liquid_mode == crate::sim::model::LiquidMode::Conserve;
     let cell = scene.cell.needs_stress() || scene.derived.servo.is_some();
-    if model.plan.threads > 1 && model.plan.one_region && !conserve && !cell {
+    // (Rolling friction is a pass between the force step and the update: two regions.)
+    let rolling = model.rolling.is_some();
+    if model.plan.threads > 1 && model.plan.one_region && !conserve && !cell && !rolling {
         // Both steps in one parallel region (`fused`): the same bits. (With more threads
         // than cores two regions are faster: a task that waits for another holds a core;
         // 3 threads on 2 cores took 6 × the time of two regions, 1.3 × without the wait.)
@@ -410,7 +412,12 @@ pub fn one_step(
         let wall_work = move_walls(scene, dt);
         return finish_move(scene, (xres, keep), acc, wall_work, &parts, dt);
     }
-    let acc = forces(scene, model, dt);
+    let mut acc = forces(scene, model, dt);
+    if rolling {
+        let [friction, damping] = crate::sim::rolling::moments(scene, model, dt);
+        acc.friction += friction;
+        acc.damping_contact += damping;
+    }
     if conserve {
         super::liquid::settle(scene);
     }

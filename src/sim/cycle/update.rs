@@ -24,6 +24,7 @@ pub(super) fn move_all(
             &contacts.step.out,
         )),
         walls: &contacts.step.wall_out.pieces,
+        roll: (!contacts.step.roll.is_empty()).then_some(&contacts.step.roll[..]),
     });
     let p = &mut scene.particles;
     let fixed_arrays = (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]);
@@ -111,6 +112,8 @@ pub(super) struct ChunkArrays<'a> {
 pub(super) struct Left<'a> {
     pub(super) scatter: Option<(&'a Incidence, &'a [HotPair], &'a [PairForce])>,
     pub(super) walls: &'a [WallPiece],
+    /// The rolling moments per particle (`sim::rolling`), if the scene has rolling friction.
+    pub(super) roll: Option<&'a [Vec3]>,
 }
 
 /// The constants of the particle update of a step, Lian (5.9)–(5.14).

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Single-particle impact benchmark of Pasha (2013) Ch. 4 (§4.1.5): runs scripts/pasha_single.tru
+for a range of impact speeds with Pasha's simplified linear law (Table 4.2) and with
+Thornton-Ning (Table 4.1), and prints the coefficient of restitution of each next to the
+closed form of the simplified law (Pasha (A3.6), (A3.9), integrated independently here).
+
+usage: scripts/pasha_single.py [--frac F]     (TRUBAL_BIN selects the binary)
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+R, RHO, BIG_GAMMA = 2.45e-6, 1350.0, 0.2
+KE, KP, KCP, F0P = 1500.0, 210.0, 20.0, 4.0e-6
+M = RHO * 4.0 / 3.0 * math.pi * R ** 3
+SPEEDS = [1.0, 1.4, 1.5, 1.6, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 15.0, 20.0, 25.0]
+LAWS = {
+    "pasha": f"pasha {KE} {KP} {KCP} {F0P}",
+    "tning": "tning 35.3e6",
+}
+
+
+def analytic(v):
+    """e of the simplified law: loading on k_p(a - a0), elastic unloading k_e, pull-off locus
+    f_cp = k_cp a_cp + f_0p, zero-force breakage (doc/contact_laws.md)."""
+    f_ce = 1.5 * math.pi * R * BIG_GAMMA
+    a0 = 8.0 / 9.0 * f_ce / KP
+    amax = a0 + math.sqrt(a0 * a0 + M * v * v / KP)  # (A3.6)
+    fmax = KP * (amax - a0)
+    ap = amax - fmax / KE
+    acp = (KE * ap - F0P) / (KE + KCP)
+    fcp = KCP * acp + F0P
+    afp = 2.0 * acp - ap
+    vr2 = (fmax * (amax - ap) - fcp * (ap - afp)) / M  # (A3.9)
+    return math.sqrt(vr2) / v if vr2 > 0 else 0.0
+
+
+def binary():
+    exe = os.environ.get("TRUBAL_BIN") or os.path.join(ROOT, "target", "release", "trubal")
+    if not os.path.exists(exe):
+        subprocess.run(["cargo", "build", "--release"], cwd=ROOT, check=True)
+    return exe
+
+
+def run(law, v, frac):
+    out = subprocess.run(
+        [binary(), os.path.join(HERE, "pasha_single.tru"), "--json", "--threads", "1",
+         "--set", f"v={v}", "--set", f"law={LAWS[law]}", "--set", f"frac={frac}",
+         "--set", "n=4000"],
+        capture_output=True, text=True, check=True).stdout
+    rows = [json.loads(l) for l in out.splitlines() if l.startswith("{")]
+    balls = next(r for r in rows if r.get("print") == "balls")["balls"]
+    contacts = next(r for r in rows if r.get("print") == "contacts")["contacts"]
+    if contacts:
+        return 0.0  # stuck
+    return balls[0]["vel"][2] / v
+
+
+def main():
+    frac = 0.05
+    if "--frac" in sys.argv:
+        frac = float(sys.argv[sys.argv.index("--frac") + 1])
+    print(f"{'v (m/s)':>8} {'e Pasha (run)':>14} {'e Pasha (closed)':>17} {'e T-N (run)':>12}")
+    for v in SPEEDS:
+        print(f"{v:8.2f} {run('pasha', v, frac):14.4f} {analytic(v):17.4f} {run('tning', v, frac):12.4f}")
+    print(f"asymptote (k_p/k_e)^1/2 = {math.sqrt(KP / KE):.4f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,258 @@
+//! One contact's normal force under the laws of `SET NORmal` other than Hertz/JKR (modified
+//! JKR, Thornton–Ning, Pasha's linear laws; the laws themselves are in `physics`), with
+//! their booking: the work the contact force did over the step, `−½(P_old + P_new) v_n Δt`
+//! (the form that is exact for the leap-frog update, as for the dashpot), minus the change
+//! of the energy the contact stores on its current reversible branch, is the energy lost to
+//! plasticity and adhesion hysteresis (`Acc::adhesion`, the ledger's "adhesion" term), so
+//! the ledger closes by construction; the stored energy is the law's
+//! (`ContactExt::normal`, booked as normal strain).
+
+use super::contacts::{ContactState, NormalHistory};
+use super::interact::{Acc, Kin, Laws};
+use super::params::{PairConst, PairLaw};
+use super::scene::Vec3;
+use crate::physics::jkr::Jkr;
+use crate::physics::pasha_linear::{self, Lin, Linear, Version};
+use crate::physics::tangential;
+use crate::physics::thornton_ning::{ThorntonNing, Tn};
+use crate::physics::{modified_jkr, pasha_linear::LinState, thornton_ning::TnState};
+use crate::sim::model::NormalLaw;
+
+/// What the normal law of one step gives the rest of the contact: the surface energy in use
+/// (per surface), the normal stiffness (Rayleigh's β k_n and the linear laws' dashpot), the
+/// pull-off force of the tangential laws' limit `P + 2P_c` (JKR-type laws), and, for the
+/// linear laws, their own friction limit (Pasha 2013 (4.27)–(4.28)) and tangential stiffness.
+pub struct NormalOut {
+    pub gamma: f64,
+    pub kn: f64,
+    pub pcrit: f64,
+    pub linear: Option<LinearShear>,
+}
+
+/// The tangential spring of a linear-law contact: stiffness and the limit of its force.
+#[derive(Clone, Copy)]
+pub struct LinearShear {
+    pub k_t: f64,
+    pub limit: f64,
+}
+
+/// The pair's law (a `PairConst::law` above 0).
+#[inline]
+pub fn pair_law<'a>(laws: &'a Laws, pc: &PairConst) -> &'a PairLaw {
+    &laws.pair_laws[pc.law as usize - 1]
+}
+
+/// The linear law of a pair, for a contact of effective radius `r_star`.
+fn linear_of(law: &NormalLaw, pc: &PairConst, r_star: f64) -> Option<(Linear, f64)> {
+    // f_ce = 3/2 πΓR* (4.1) with Γ = 2γ.
+    let f_ce = 3.0 * std::f64::consts::PI * pc.gamma * r_star;
+    match *law {
+        NormalLaw::PashaFull { k_e, k_p, k_t } => Some((
+            Linear {
+                k_e,
+                k_p,
+                f_ce,
+                version: Version::Full {
+                    r_star,
+                    big_gamma: 2.0 * pc.gamma,
+                },
+            },
+            k_t,
+        )),
+        NormalLaw::PashaSimplified {
+            k_e,
+            k_p,
+            k_cp,
+            f_0p,
+            k_t,
+        } => Some((
+            Linear {
+                k_e,
+                k_p,
+                f_ce,
+                version: Version::Simplified { k_cp, f_0p },
+            },
+            k_t,
+        )),
+        _ => None,
+    }
+}
+
+/// The normal force of a contact under the pair's law of `SET NORmal`; updates the state
+/// (`touching`, `normal_force`, `a`, `overlap`, the law's history) and books the loss.
+/// (Out of line: the Hertz and JKR kernels, into which it would otherwise be inlined, keep
+/// their code as it was.)
+#[inline(never)]
+pub fn normal(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    acc: &mut Acc,
+    v_n: f64,
+) -> NormalOut {
+    let alpha = -k.gap;
+    let dt = laws.dt;
+    let pl = pair_law(laws, pc);
+    let was_touching = s.touching;
+    let p_old = if was_touching { s.normal_force } else { 0.0 };
+    let primed = s.v_prev == f64::NEG_INFINITY;
+    let u_old = s.ext().laws().normal.stored();
+    let gamma = pc.gamma;
+    let mut out = NormalOut {
+        gamma,
+        kn: 0.0,
+        pcrit: 0.0,
+        linear: None,
+    };
+    // (force, contact radius, stored energy) while in contact.
+    let now: Option<(f64, f64, f64)>;
+    let history: NormalHistory;
+    let hist = s.ext().laws().normal;
+    match pl.law {
+        NormalLaw::ModifiedJkr => {
+            let j = Jkr {
+                e_star: pc.e_star,
+                r_star: k.r_star,
+                gamma,
+            };
+            now = modified_jkr::force(&j, alpha, s.a)
+                .map(|(f, a)| (f, a, modified_jkr::stored(&j, a)));
+            history = match now {
+                Some((_, _, stored)) => NormalHistory::ModifiedJkr { stored },
+                None => NormalHistory::None,
+            };
+            if let Some((_, a, _)) = now {
+                out.kn = j.stiffness_of_a(a).abs();
+                out.pcrit = j.pc();
+            }
+        }
+        NormalLaw::ThorntonNing { p_y } => {
+            let t = ThorntonNing {
+                e_star: pc.e_star,
+                r_star: k.r_star,
+                gamma,
+                p_y,
+            };
+            let mut st = match hist {
+                NormalHistory::ThorntonNing { st, .. } => st,
+                _ => TnState::default(),
+            };
+            let r = t.step(&mut st, alpha, was_touching, s.a);
+            now = match r {
+                Tn::Contact { force, a, stored } => Some((force, a, stored)),
+                Tn::Apart => None,
+            };
+            history = NormalHistory::ThorntonNing {
+                st,
+                stored: now.map_or(0.0, |x| x.2),
+            };
+            if let Some((_, a, _)) = now {
+                let j = Jkr {
+                    e_star: pc.e_star,
+                    r_star: st.r_p,
+                    gamma,
+                };
+                out.kn = j.stiffness_of_a(a).abs();
+                out.pcrit = t.f_cp(&st);
+            }
+        }
+        ref law => {
+            let (l, k_t) = linear_of(law, pc, k.r_star).expect("a linear law");
+            let mut st = match hist {
+                NormalHistory::Linear { st, .. } => st,
+                _ => LinState::default(),
+            };
+            let r = l.step(&mut st, alpha, was_touching);
+            let mut stored = 0.0;
+            now = match r {
+                Lin::Contact {
+                    force,
+                    k_n,
+                    stored: u,
+                } => {
+                    out.kn = k_n;
+                    stored = u;
+                    out.linear = Some(LinearShear {
+                        k_t,
+                        limit: l.friction_limit(pc.mu, force, alpha, &st),
+                    });
+                    Some((force, 0.0, u))
+                }
+                Lin::Apart => None,
+            };
+            history = NormalHistory::Linear { st, stored };
+        }
+    }
+    match now {
+        Some((f, a, _)) => {
+            if !was_touching && dt == 0.0 {
+                // Made while priming: its force acts from the next step on (see the JKR
+                // snap-in in `interact`).
+                s.v_prev = f64::NEG_INFINITY;
+            }
+            s.touching = true;
+            s.normal_force = f;
+            s.a = a;
+        }
+        None => {
+            if was_touching {
+                s.touching = false;
+                s.normal_force = 0.0;
+                s.a = 0.0;
+            }
+        }
+    }
+    let u_new = history.stored();
+    if !history.is_none() || s.ext.as_ref().is_some_and(|e| e.laws.is_some()) {
+        s.ext_mut().laws_mut().normal = history;
+    }
+    if dt > 0.0 {
+        let p_acted = if primed { 0.0 } else { p_old };
+        let p_new = if s.touching { s.normal_force } else { 0.0 };
+        let work = -0.5 * (p_acted + p_new) * v_n * dt;
+        acc.adhesion += work - (u_new - u_old);
+    }
+    if was_touching && !s.touching {
+        super::interact::reset_solid(s, acc);
+    }
+    s.overlap = alpha;
+    out
+}
+
+/// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)
+/// with the limit (4.27)–(4.28) (`tangential::noslip_spring` with stiffness `k_t`), the
+/// friction booked as work minus the change of the stored energy; no tangential dashpot
+/// (the thesis gives none: the last step's Rayleigh force, if any, gets its second half).
+#[inline(never)]
+pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearShear) -> Vec3 {
+    let n = k.n;
+    // The last force rotated into the contact plane, as for the other laws.
+    s.tforce = Vec3::from(tangential::rotate_into_plane_lazy(
+        s.tforce.into(),
+        n.into(),
+    ));
+    let v_t = k.v_rel - n * k.v_rel.dot(&n);
+    let dd = v_t * dt;
+    let step = tangential::noslip_spring(s.tforce.into(), dd.into(), ls.k_t, 1.0, ls.limit);
+    acc.friction += step.work - (step.energy - s.tang_energy);
+    s.tang_energy = step.energy;
+    s.tforce = Vec3::from(step.force);
+    acc.damping_contact += -0.5 * s.tdamp.dot(&v_t) * dt;
+    if dt > 0.0 {
+        s.tdamp = Vec3::zeros();
+    }
+    s.tforce
+}
+
+/// The dashpot coefficient of a linear-law contact, Pasha 2013 (4.24)–(4.25), with the
+/// stiffness of the branch in use; 0 without a restitution coefficient.
+#[inline]
+pub fn linear_damping(laws: &Laws, pc: &PairConst, kn: f64, m_star: f64) -> f64 {
+    let e = pair_law(laws, pc).restitution;
+    if e > 0.0 && e < 1.0 {
+        pasha_linear::damping(e, m_star, kn)
+    } else {
+        0.0
+    }
+}
