@@ -127,9 +127,10 @@ fn ext_v3(e: Option<Box<ExtV3>>) -> Option<Box<ContactExt>> {
     e.map(|e| Box::new((*e).into()))
 }
 
-/// The contact state as format version 3 wrote it (frozen: never change).
+/// The contact state as format versions 3 and 4 wrote it, with the law-specific part of
+/// each (`ExtV3`, `ExtV4`; frozen: never change).
 #[derive(Deserialize)]
-struct V3 {
+struct V3<E> {
     touching: bool,
     overlap: f64,
     normal_force: f64,
@@ -139,12 +140,14 @@ struct V3 {
     a: f64,
     tforce: Vec3,
     tdamp: Vec3,
-    ext: Option<Box<ExtV3>>,
+    ext: Option<Box<E>>,
     bridge: Option<Box<BridgeState>>,
 }
 
-impl From<V3> for super::ContactState {
-    fn from(o: V3) -> Self {
+type V4 = V3<ExtV4>;
+
+impl<E: Into<ContactExt>> From<V3<E>> for super::ContactState {
+    fn from(o: V3<E>) -> Self {
         super::ContactState {
             touching: o.touching,
             overlap: o.overlap,
@@ -155,7 +158,7 @@ impl From<V3> for super::ContactState {
             a: o.a,
             tforce: o.tforce,
             tdamp: o.tdamp,
-            ext: ext_v3(o.ext),
+            ext: o.ext.map(|e| Box::new((*e).into())),
             bridge: o.bridge,
         }
     }
@@ -192,47 +195,17 @@ struct ExtV4 {
     walton: WaltonState,
 }
 
-/// The contact state as format version 4 wrote it (frozen: never change).
-#[derive(Deserialize)]
-struct V4 {
-    touching: bool,
-    overlap: f64,
-    normal_force: f64,
-    damp_force: f64,
-    v_prev: f64,
-    tang_energy: f64,
-    a: f64,
-    tforce: Vec3,
-    tdamp: Vec3,
-    ext: Option<Box<ExtV4>>,
-    bridge: Option<Box<BridgeState>>,
-}
-
-impl From<V4> for super::ContactState {
-    fn from(o: V4) -> Self {
-        super::ContactState {
-            touching: o.touching,
-            overlap: o.overlap,
-            normal_force: o.normal_force,
-            damp_force: o.damp_force,
-            v_prev: o.v_prev,
-            tang_energy: o.tang_energy,
-            a: o.a,
-            tforce: o.tforce,
-            tdamp: o.tdamp,
-            ext: o.ext.map(|e| {
-                Box::new(ContactExt {
-                    a_s: e.a_s,
-                    gamma: e.gamma,
-                    delta: e.delta,
-                    tdelta: e.tdelta,
-                    tang: e.tang,
-                    released: e.released,
-                    walton: e.walton,
-                    laws: None,
-                })
-            }),
-            bridge: o.bridge,
+impl From<ExtV4> for ContactExt {
+    fn from(e: ExtV4) -> Self {
+        ContactExt {
+            a_s: e.a_s,
+            gamma: e.gamma,
+            delta: e.delta,
+            tdelta: e.tdelta,
+            tang: e.tang,
+            released: e.released,
+            walton: e.walton,
+            laws: None,
         }
     }
 }
@@ -244,7 +217,7 @@ pub fn deserialize_state<'de, D: Deserializer<'de>>(
     match version() {
         1 => V1::deserialize(de).map(Into::into),
         2 => V2::deserialize(de).map(Into::into),
-        3 => V3::deserialize(de).map(Into::into),
+        3 => V3::<ExtV3>::deserialize(de).map(Into::into),
         4 => V4::deserialize(de).map(Into::into),
         _ => super::ContactState::deserialize(de),
     }
