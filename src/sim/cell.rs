@@ -262,7 +262,7 @@ pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
         flipped |= old.abs() == edmax && *rate == -old;
     };
     // Rates some stress target (not the ring) sets this step.
-    let mut by_stress = [false; 3];
+    let mut by_stress = [false; 4];
     for &(t, target, axes) in &servo.targets {
         if t == StressTarget::Ring {
             continue;
@@ -297,7 +297,7 @@ pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
                 continue;
             }
             // In mode 1 a rate no stress target set this step starts from the Cycle's.
-            let from = if cell.mode == 0 || (k < 3 && by_stress[k]) {
+            let from = if cell.mode == 0 || by_stress[k] {
                 cell.rate[k]
             } else {
                 servo.base[k]
