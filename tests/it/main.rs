@@ -24,6 +24,7 @@ mod pasha_laws;
 mod plot;
 mod readme;
 mod restitution;
+mod sweep;
 mod terminal;
 mod threads;
 mod timestep_study;
