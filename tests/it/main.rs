@@ -24,6 +24,7 @@ mod pasha_laws;
 mod plot;
 mod readme;
 mod restitution;
+mod slurm;
 mod sweep;
 mod terminal;
 mod threads;
