@@ -320,21 +320,14 @@ impl Spec {
                 };
                 let name = name.trim().to_string();
                 let v = v.trim();
-                // A name of another kind, or of the same kind from the same place, is an error
-                // (found when the names are checked); the command line replaces a file's own.
+                // The command line replaces a sweep file's grid, set or let of the same name
+                // (`--set eta=0` narrows the file's `grid eta=...`); a name given twice
+                // otherwise is an error, found when the names are checked.
                 if replaces {
-                    let same = |o: &String| o != "command line";
-                    match key {
-                        "grid" => self
-                            .grids
-                            .retain(|g| !(g.value.0 == name && same(&g.origin))),
-                        "set" => self
-                            .sets
-                            .retain(|g| !(g.value.0 == name && same(&g.origin))),
-                        _ => self
-                            .lets
-                            .retain(|g| !(g.value.0 == name && same(&g.origin))),
-                    }
+                    let keep = |g: &String, o: &String| !(*g == name && o != "command line");
+                    self.grids.retain(|g| keep(&g.value.0, &g.origin));
+                    self.sets.retain(|g| keep(&g.value.0, &g.origin));
+                    self.lets.retain(|g| keep(&g.value.0, &g.origin));
                 }
                 match key {
                     "grid" => {
@@ -437,6 +430,8 @@ mod tests {
         s.apply("set", "n=6", "command line", None, true, &mut errors);
         assert_eq!(s.sets.len(), 1);
         assert_eq!(s.sets[0].value.1, "6");
+        s.apply("set", "v=1", "command line", None, true, &mut errors);
+        assert!(s.grids.is_empty());
         s.read_sweep_file(Path::new("b.sweep"), "gird v=1\njobs\n", &mut errors);
         assert_eq!(errors.len(), 2, "{errors:?}");
     }
