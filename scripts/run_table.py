@@ -1,19 +1,28 @@
 #!/usr/bin/env python3
-"""Run a table of thesis experiments with trubal, collect the measures, write CSV and PNG.
+"""Run a table of thesis experiments with `trubal sweep`, collect the measures, write CSV and PNG.
 
     python3 scripts/run_table.py TABLE [--jobs 2] [--work DIR] [--only key=value ...]
                                       [--force] [--list] [--plot-only]
 
 TRUBAL_BIN=/path/to/trubal selects another binary than target/release/trubal.
 
-TABLE is one of the names in TABLES below (`--list` shows them with their runs). Every run is
-`trubal SCRIPT --json --threads 1 --set k=v ...` in the work directory (default
-target/experiments/TABLE), where the prepared states (*.sav) also live; up to --jobs runs go at
-once (default 2: one per core). A run whose log already ends with its final printout is not run
-again (delete the log or give --force). The measures are read from the JSON printouts (the last
-PRint BONds / CLUsters / ENErgy; the first PRint ENErgy, taken right after `PLot SAve`, is the
-reference for the energy split of the impact) into doc/data/TABLE.csv, and a line chart of the
-table's main measure is drawn to doc/data/TABLE.png (a small PNG writer on zlib, no matplotlib).
+TABLE is one of the names in TABLES below (`--list` shows them with their runs). This script
+keeps what is particular to the thesis tables: the prepared states (made once in the work
+directory, default target/experiments/TABLE), the --set values derived from them (the wall
+height, the approach of two agglomerates), the measures derived from the printouts (energy
+shares of the impact, fragmentation, ...), Lian's and Olsson's curves and the threshold fits.
+The runs themselves are a `trubal sweep` of the table's command file with one row per run
+(WORK/sweep_SCRIPT/: runs/NAME/output.jsonl, the --json output, and status.json), --jobs at a
+time (default 2: one per core, one thread each); the sweep never runs a finished run again
+(--force deletes the selected runs and the prepared states first). Runs finished by earlier
+versions of this script (WORK/logs/NAME.log ending with the final printout) are read and not
+run again. The measures are read from the JSON printouts (the last PRint BONds / CLUsters /
+ENErgy; the first PRint ENErgy, taken right after `PLot SAve`, is the reference for the energy
+split of the impact) into doc/data/TABLE.csv, and a line chart of the table's main measure is
+drawn to doc/data/TABLE.png (a small PNG writer on zlib, no matplotlib).
+
+The same tables without Python: scripts/sweeps/*.sweep (`trubal sweep scripts/sweeps/lian6.sweep
+--out DIR`, doc/sweeps.md).
 
 Python 3 standard library only.
 """
@@ -24,6 +33,8 @@ import csv
 import json
 import math
 import os
+import re
+import shutil
 import struct
 import subprocess
 import sys
@@ -267,6 +278,65 @@ def complete(path):
     """A log is complete when its last line is the final PRint Info."""
     objs = json_lines(path)
     return bool(objs) and objs[-1].get("print") == "info"
+
+
+def script_names(script):
+    """The `$name`s a command file uses (outside comments)."""
+    names = set()
+    with open(os.path.join(SCRIPTS, script)) as f:
+        for line in f:
+            line = re.split(r"[;#]", line, maxsplit=1)[0]
+            names.update(a or b for a, b in re.findall(r"\$\{(\w+)\}|\$(\w+)", line))
+    return names
+
+
+def sweep_dir(work, script):
+    return os.path.join(work, "sweep_" + os.path.splitext(script)[0])
+
+
+def finished(work, script, run):
+    """(JSON objects, wall-clock seconds) of a finished run, or None: the sweep's run
+    directory, or the log of an earlier run_table.py."""
+    d = os.path.join(sweep_dir(work, script), "runs", run_name(run))
+    try:
+        with open(os.path.join(d, "status.json")) as f:
+            st = json.load(f)
+        if st.get("exit") == 0:
+            objs = json_lines(os.path.join(d, "output.jsonl"))
+            if objs and objs[-1].get("print") == "info":
+                return objs, st.get("wall_s", "")
+    except (OSError, ValueError):
+        pass
+    log = os.path.join(work, "logs", run_name(run) + ".log")
+    if complete(log):
+        wall = ""
+        with open(log) as f:
+            for line in f:
+                if line.startswith("# exit"):
+                    wall = float(line.split()[4])
+        return json_lines(log), wall
+    return None
+
+
+def run_sweep(exe, work, script, todo, jobs):
+    """Runs [(run, sets)] as one `trubal sweep` of the script: a rows file with a `run`
+    column (the names of run_name) and the --set values the script uses (a prepared state by
+    its absolute path)."""
+    used = script_names(script)
+    keys = [k for k in todo[0][1] if k in used]
+    for r, sets in todo:
+        if [k for k in sets if k in used] != keys:
+            sys.exit(f"run {run_name(r)}: other parameters than the first run ({keys})")
+    rows = sweep_dir(work, script) + ".rows.csv"
+    with open(rows, "w") as f:
+        f.write(",".join(["run"] + keys) + "\n")
+        for r, sets in todo:
+            vals = [os.path.join(work, sets[k]) if k == "state" else str(sets[k]) for k in keys]
+            f.write(",".join([run_name(r)] + vals) + "\n")
+    cmd = [exe, "sweep", os.path.join(SCRIPTS, script), "--rows", rows, "--out", sweep_dir(work, script),
+           "--jobs", str(jobs)]
+    print("$ " + " ".join(cmd), flush=True)
+    return subprocess.run(cmd).returncode
 
 
 def trubal(exe, script, sets, work, log):
@@ -726,20 +796,18 @@ def main():
             print(f"  {state}: exit {rc}, {dt:.0f} s", flush=True)
             if rc != 0:
                 sys.exit(f"preparation failed, see {log}")
+        if a.force:
+            for r in runs:
+                shutil.rmtree(os.path.join(sweep_dir(work, t["script"]), "runs", run_name(r)), ignore_errors=True)
+                log = os.path.join(work, "logs", run_name(r) + ".log")
+                if os.path.exists(log):
+                    os.remove(log)
         cache = {}
-        todo = []
-        for r in runs:
-            log = os.path.join(work, "logs", run_name(r) + ".log")
-            if complete(log) and not a.force:
-                continue
-            todo.append((r, derive(t.get("derive"), exe, work, r, cache), log))
+        todo = [(r, derive(t.get("derive"), exe, work, r, cache)) for r in runs
+                if finished(work, t["script"], r) is None]
         print(f"{a.table}: {len(todo)} runs to do of {len(runs)}, {a.jobs} at a time", flush=True)
-        with cf.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-            futs = {ex.submit(trubal, exe, t["script"], sets, work, log): (r, log) for r, sets, log in todo}
-            for f in cf.as_completed(futs):
-                r, log = futs[f]
-                rc, dt = f.result()
-                print(f"  {run_name(r)}: exit {rc}, {dt:.0f} s", flush=True)
+        if todo:
+            run_sweep(exe, work, t["script"], todo, a.jobs)
 
     # Collect.
     states = [st for _, _, st in t["prepare"] if os.path.exists(os.path.join(work, st))]
@@ -751,20 +819,14 @@ def main():
                 f.write(line + "\n")
     rows = []
     for r in runs:
-        log = os.path.join(work, "logs", run_name(r) + ".log")
-        objs = json_lines(log)
-        m = measures(objs, r) if complete(log) else None
+        got = finished(work, t["script"], r)
+        m = measures(got[0], r) if got else None
         if m is None:
             print(f"  (no result for {run_name(r)})")
             continue
-        wall = ""
-        with open(log) as f:
-            for line in f:
-                if line.startswith("# exit"):
-                    wall = float(line.split()[4])
         row = {k: v for k, v in r.items() if k not in ("state",)}
         row.update(m)
-        row["wall_s"] = wall
+        row["wall_s"] = got[1]
         rows.append(row)
     if not rows:
         return

@@ -9,3 +9,4 @@ pub mod physics;
 pub mod plot;
 pub mod session;
 pub mod sim;
+pub mod sweep;

@@ -13,10 +13,10 @@ use super::picture::{Arc, Chart, Layer, Mark, Picture, Rgb, Shade, Swatch, colou
 
 /// The bundled font (assets/DejaVuSans.ttf; licence in assets/DejaVu-LICENSE).
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
 /// Registers the bundled font once.
-fn font() -> Result<(), String> {
+pub(crate) fn font() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         plotters::style::register_font(FAMILY, FontStyle::Normal, FONT)

@@ -6,6 +6,7 @@ pub mod exec;
 pub mod input;
 pub mod interrupt;
 pub mod progress;
+pub mod vars;
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -110,67 +111,11 @@ impl Session {
         join(&self.dir, name)
     }
 
-    /// Replaces `$name` and `${name}` by the values given with `--set`.
-    fn substitute(&self, line: &str) -> Result<String, LineError> {
-        let mut out = String::new();
-        let b = line.as_bytes();
-        let mut i = 0;
-        while i < b.len() {
-            if b[i] == b';' || b[i] == b'#' {
-                // A comment: its `$` are words, not variables.
-                out.push_str(&line[i..]);
-                break;
-            }
-            if b[i] == b'$' {
-                let (name_start, braced) = if b.get(i + 1) == Some(&b'{') {
-                    (i + 2, true)
-                } else {
-                    (i + 1, false)
-                };
-                let mut j = name_start;
-                while j < b.len() && (b[j].is_ascii_alphanumeric() || b[j] == b'_') {
-                    j += 1;
-                }
-                let name = &line[name_start..j];
-                let end = if braced {
-                    if b.get(j) != Some(&b'}') {
-                        return Err(LineError {
-                            start: i,
-                            end: j,
-                            message: "unclosed `${`".into(),
-                        });
-                    }
-                    j + 1
-                } else {
-                    j
-                };
-                match self.vars.get(name) {
-                    Some(v) if !name.is_empty() => out.push_str(v),
-                    _ => {
-                        return Err(LineError {
-                            start: i,
-                            end,
-                            message: format!(
-                                "`${name}` has no value: give it on the command line with --set {name}=VALUE"
-                            ),
-                        });
-                    }
-                }
-                i = end;
-            } else {
-                let ch = line[i..].chars().next().expect("in bounds");
-                out.push(ch);
-                i += ch.len_utf8();
-            }
-        }
-        Ok(out)
-    }
-
     /// Runs one line. Errors are returned located; the state is unchanged by a failing command
     /// (earlier complete commands of the same line stay done).
     pub fn run_line(&mut self, raw: &str) -> Result<Flow, LineError> {
         let line = if raw.contains('$') {
-            self.substitute(raw)?
+            vars::substitute(raw, &self.vars)?
         } else {
             raw.to_string()
         };

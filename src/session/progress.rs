@@ -93,7 +93,7 @@ impl Drop for Progress {
 }
 
 /// A duration as people read it: 42 s, 3 min 5 s, 2 h 10 min.
-fn duration(secs: f64) -> String {
+pub fn duration(secs: f64) -> String {
     let s = secs.round() as u64;
     if s < 60 {
         format!("{s} s")

@@ -24,6 +24,8 @@ mod pasha_laws;
 mod plot;
 mod readme;
 mod restitution;
+mod slurm;
+mod sweep;
 mod terminal;
 mod threads;
 mod timestep_study;
