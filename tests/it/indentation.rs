@@ -36,7 +36,7 @@ fn a_sphere_on_the_die_wall_gets_hertz_with_the_equivalent_radius() {
     let r1 = r * rc / (rc - r);
     let r_e = (r1 * r).sqrt();
     let want = 4.0 / 3.0 * e_star() * r_e.sqrt() * delta.powf(1.5);
-    let w = &sc.walls[0];
+    let w = &sc.walls()[0];
     assert!(
         rel(w.normal_force, want) < 1e-9,
         "{} vs {want}",
@@ -63,7 +63,7 @@ fn a_sphere_under_the_indenter_gets_hertz_with_the_convex_radius() {
     step(&mut sc);
     let r_star = r * ro / (ro + r);
     let want = 4.0 / 3.0 * e_star() * r_star.sqrt() * delta.powf(1.5);
-    let w = &sc.walls[0];
+    let w = &sc.walls()[0];
     // The particle below pushes the indenter up.
     assert!(rel(w.force[2], want) < 1e-9, "{:?} vs {want}", w.force);
     assert!(rel(w.normal_force, want) < 1e-9);
@@ -89,7 +89,7 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     let mut forces = Vec::new();
     for _ in 0..70 {
         s.run_line("cycle 500").unwrap();
-        forces.push(s.scene.as_ref().unwrap().walls[2].normal_force);
+        forces.push(s.scene.as_ref().unwrap().walls()[2].normal_force);
     }
     // The last 5000 steps: every record within 2 % of σ A.
     for f in &forces[60..] {
@@ -98,9 +98,9 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     // Now the piston pushes at constant speed (the servo's target out of reach, its speed
     // at vmax) and an indenter comes down; every joule the walls put in is booked.
     let sc = s.scene.as_mut().unwrap();
-    let before = (energy::residual(sc), sc.ledger.input());
-    let top = (0..sc.particles.len())
-        .map(|i| sc.particles.pos[i].z + sc.particles.radius[i])
+    let before = (energy::residual(sc), sc.ledger().input());
+    let top = (0..sc.particles().len())
+        .map(|i| sc.particles().pos[i].z + sc.particles().radius[i])
         .fold(0.0, f64::max);
     let z_ind = top + 1.5e-3 + 1e-4;
     s.run_line(&format!(
@@ -109,10 +109,10 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     .unwrap();
     s.run_line("cycle 4000").unwrap();
     let sc = s.scene.as_ref().unwrap();
-    let input = sc.ledger.input() - before.1;
-    let walls = sc.ledger.walls;
+    let input = sc.ledger().input() - before.1;
+    let walls = sc.ledger().walls;
     let res = energy::residual(sc) - before.0;
-    assert!(sc.walls[3].force[2] > 0.0, "the indenter is in the bed");
+    assert!(sc.walls()[3].force[2] > 0.0, "the indenter is in the bed");
     assert!(walls > 0.0, "the walls did work: {walls}");
     assert!(
         res.abs() < 2e-3 * input.abs().max(walls),
@@ -144,11 +144,11 @@ fn table_sizes_come_out_in_the_table_frequencies() {
         "start 0.1 0.1 0.1 10 {n} 0\nrad 5e-4 1 table {}\nrge {n} 1 1 0\n",
         tab.join(" ")
     ));
-    assert_eq!(sc.particles.len(), n);
+    assert_eq!(sc.particles().len(), n);
     let total: f64 = table.iter().map(|t| t.1).sum();
     for (d, f) in table {
         let k = sc
-            .particles
+            .particles()
             .radius
             .iter()
             .filter(|&&r| r == d * 0.5e-3)
@@ -163,7 +163,7 @@ fn table_sizes_come_out_in_the_table_frequencies() {
     }
     // Every radius is one of the table's.
     assert!(
-        sc.particles
+        sc.particles()
             .radius
             .iter()
             .all(|r| table.iter().any(|t| t.0 * 0.5e-3 == *r))
@@ -224,8 +224,8 @@ fn bad_dies_indenters_tables_and_servos() {
         assert!(e.message.contains(want), "{line}: {}", e.message);
     }
     let sc = s.scene.as_ref().unwrap();
-    assert!(sc.walls.is_empty(), "{:?}", sc.walls);
-    assert_eq!(sc.sizes[1], 0.0, "{:?}", sc.sizes);
+    assert!(sc.walls().is_empty(), "{:?}", sc.walls());
+    assert_eq!(sc.sizes()[1], 0.0, "{:?}", sc.sizes());
     // A bed, then an indenter that starts inside it: refused (a particle's centre inside
     // the indenter), nothing changed; one that only cuts the top particles: a warning.
     s.run_line("create 0.01 0.01 0.0005 0 0 0 0 0 0 1 1")
@@ -241,7 +241,7 @@ fn bad_dies_indenters_tables_and_servos() {
         "{}",
         e.message
     );
-    assert!(s.scene.as_ref().unwrap().walls.is_empty());
+    assert!(s.scene.as_ref().unwrap().walls().is_empty());
     // The same die around particles outside it: refused.
     let e = s
         .run_line("dwall cylinder 0.0105 0.01 0 0 0 1 0.0004")
@@ -265,7 +265,7 @@ fn bad_dies_indenters_tables_and_servos() {
     ));
     let e = s.run_line("rge 10 1 1 0 walls").expect_err("no room");
     assert!(e.message.contains("leave no room"), "{}", e.message);
-    assert!(s.scene.as_ref().unwrap().particles.is_empty());
+    assert!(s.scene.as_ref().unwrap().particles().is_empty());
     // Servos that cannot reach their targets: warned about before the Cycle.
     let run = trubal_json(
         &format!(
