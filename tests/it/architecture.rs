@@ -143,9 +143,15 @@ fn no_function_is_longer_than_120_lines() {
             let l = lines[i];
             let t = l.trim_start();
             let indent = l.len() - t.len();
-            let is_fn = ["fn ", "pub fn ", "pub(crate) fn ", "pub(super) fn ", "const fn "]
-                .iter()
-                .any(|p| t.starts_with(p))
+            let is_fn = [
+                "fn ",
+                "pub fn ",
+                "pub(crate) fn ",
+                "pub(super) fn ",
+                "const fn ",
+            ]
+            .iter()
+            .any(|p| t.starts_with(p))
                 || (t.starts_with("pub(in ") && t.contains(") fn "));
             if is_fn && !t.ends_with(';') {
                 let close = format!("{}}}", " ".repeat(indent));
@@ -160,5 +166,9 @@ fn no_function_is_longer_than_120_lines() {
             i += 1;
         }
     }
-    assert!(long.is_empty(), "functions over 120 lines:\n{}", long.join("\n"));
+    assert!(
+        long.is_empty(),
+        "functions over 120 lines:\n{}",
+        long.join("\n")
+    );
 }
