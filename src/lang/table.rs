@@ -568,7 +568,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt], then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default)."
     ),
     def!(
         "STArt",
@@ -1128,6 +1128,7 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
         kw("TNIng", 2),
         kw("PASha", 3),
         kw("PFUll", 4),
+        kw("NGUyen", 5),
     ];
     const KT: &[Keyword<()>] = &[kw("KT", ())];
     let stiffnesses = |a: &mut Args| -> Result<(f64, f64), ParseError> {
@@ -1151,8 +1152,12 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
             k_e
         })
     };
-    let law = match a.keyword(LAWS, "normal law (HERTZ, JKR, MJKR, TNING, PASHA or PFULL)")? {
+    let law = match a.keyword(
+        LAWS,
+        "normal law (HERTZ, JKR, MJKR, TNING, PASHA, PFULL or NGUYEN)",
+    )? {
         0 => NormalLaw::Hertz,
+        5 => NormalLaw::Nguyen,
         1 => NormalLaw::ModifiedJkr,
         2 => NormalLaw::ThorntonNing {
             p_y: a.positive("py")?,

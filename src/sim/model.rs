@@ -118,6 +118,11 @@ pub enum NormalLaw {
         f_0p: f64,
         k_t: f64,
     },
+    /// The JKR contact as LIGGGHTS computes it (Nguyen et al. 2014), Olsson 2017's dry law
+    /// (`physics::jkr_nguyen`): the JKR curve from `α_s` on, approaching and separating, no
+    /// adhesion hysteresis; at a wall only while `α > 0`; Mindlin's tangential spring capped
+    /// at μ times the Hertz force. Appended last (checkpoint format).
+    Nguyen,
 }
 
 /// Which material pairs a rule of `SET NORmal` or `SET ROLling` applies to: all pairs, the

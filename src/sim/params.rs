@@ -73,6 +73,10 @@ pub struct Model {
     /// The normal laws of `SET NORmal` other than Hertz/JKR that pairs in use follow
     /// (`PairConst::law`); a scene with any goes through the adhesive kernel.
     pub laws: Vec<PairLaw>,
+    /// Particle pairs are evaluated while their centres are closer than this times the sum
+    /// of their radii in the adhesive and liquid kernels (`interact::Laws::reach`): 1 + 1e-6,
+    /// or enough for the largest gap across which a pair with LIGGGHTS' JKR attracts.
+    pub reach: f64,
     /// Rolling friction coefficient μ_r of every material pair (`SET ROLling`; None: no
     /// pair has one, `sim::rolling` does nothing).
     pub rolling: Option<Vec<f64>>,
@@ -125,6 +129,36 @@ fn check_materials(scene: &Scene, used: &[bool]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// [`Model::reach`]: `1 + 1e-6`, or with LIGGGHTS' JKR (`SET NORmal NGUYEN`) `1 + |α_s|/(2r)`
+/// with `α_s` (Lian (3.38)) at `R* = r`, `r` the smallest radius, the largest γ and the
+/// smallest E* of the pairs with that law: since `|α_s| ∝ R*^{1/3}` and `R* ≤ min(r_i, r_j)
+/// ≤ (r_i + r_j)/2`, every such pair with a gap below its `|α_s|` is within the reach.
+fn reach_of(scene: &Scene, table: &[PairConst], laws: &[PairLaw]) -> f64 {
+    let base: f64 = 1.0 + 1e-6;
+    let rmin = scene
+        .particles
+        .radius
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let mut reach = base;
+    for pc in table {
+        if pc.law == 0 || laws[pc.law as usize - 1].law != NormalLaw::Nguyen || !(rmin > 0.0) {
+            continue;
+        }
+        let j = crate::physics::jkr::Jkr {
+            e_star: pc.e_star,
+            r_star: rmin,
+            gamma: pc.gamma.max(pc.gamma_base),
+        };
+        let r = 1.0 + 1.001 * (-j.alpha_s()) / (2.0 * rmin);
+        if r.is_finite() {
+            reach = reach.max(r);
+        }
+    }
+    reach
 }
 
 /// Builds the pair table and the time step. Fails with a message when a material or size in
@@ -269,6 +303,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         dt = dt.min(lim);
     }
     Ok(Model {
+        reach: reach_of(scene, &table, &laws),
         nmat,
         table,
         rotation,

@@ -149,6 +149,7 @@ fn normal_facts(h: &trubal::sim::contacts::NormalHistory) -> Value {
         H::Linear { st, stored } => json!({ "linear": {
             "alpha_max": f(st.alpha_max), "made": st.made, "stored": f(stored),
         }}),
+        H::Nguyen { stored } => json!({ "nguyen": f(stored) }),
     }
 }
 

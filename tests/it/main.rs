@@ -20,6 +20,7 @@ mod hard_cases;
 mod indentation;
 mod json_output;
 mod liquid;
+mod nguyen_jkr;
 mod pasha_laws;
 mod plot;
 mod readme;
