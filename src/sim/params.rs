@@ -11,7 +11,7 @@ pub struct PairConst {
     /// E* (3.16) and G* (3.95).
     pub e_star: f64,
     pub g_star: f64,
-    /// Smaller of the two friction coefficients (TRUBAL rule).
+    /// Smaller of the two friction coefficients (TRUBAL rule), or the pair's own (`SET PAIr`).
     pub mu: f64,
     /// Surface energy sqrt(γ1 γ2) (doc/spec/DECISIONS.md).
     pub gamma: f64,
@@ -194,7 +194,9 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             }
             let e_star = hertz::e_star(ma.young, ma.poisson, mb.young, mb.poisson);
             let g_star = hertz::g_star(ma.shear(), ma.poisson, mb.shear(), mb.poisson);
-            let mu = ma.friction.min(mb.friction);
+            // TRUBAL's rule, unless `SET PAIr` gave the pair its own values.
+            let given = scene.laws.values_of(a + 1, b + 1);
+            let mu = given.friction.unwrap_or(ma.friction.min(mb.friction));
             let gamma = (ma.gamma * mb.gamma).sqrt();
             let gamma_base = (ma.gamma_base * mb.gamma_base).sqrt();
             // Restitution: the pair uses the smaller e set on either material.
@@ -202,6 +204,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
                 (Some(x), Some(y)) => Some(x.min(y)),
                 (x, y) => x.or(y),
             };
+            let e = given.restitution.or(e);
             let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
             rotation |= mu > 0.0;
             adhesion |= gamma > 0.0 || gamma_base > 0.0;

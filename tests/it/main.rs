@@ -21,6 +21,7 @@ mod indentation;
 mod json_output;
 mod liquid;
 mod nguyen_jkr;
+mod pair_values;
 mod pasha_laws;
 mod plot;
 mod readme;

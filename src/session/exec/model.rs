@@ -153,6 +153,13 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         scene.contacts.mark_stale();
         return Ok(String::new());
     }
+    if let Setting::Pair { m1, m2, values } = s {
+        super::existing_material(scene, *m1 as usize)?;
+        super::existing_material(scene, *m2 as usize)?;
+        scene.laws.set_pair_values(*m1, *m2, *values);
+        scene.contacts.mark_stale();
+        return Ok(String::new());
+    }
     if let Setting::Boundary { axes, periodic } = s {
         let mut want = scene.settings.periodic;
         for k in 0..3 {
@@ -201,7 +208,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
-        Setting::Normal { .. } | Setting::Rolling { .. } => {}
+        Setting::Normal { .. } | Setting::Rolling { .. } | Setting::Pair { .. } => {}
     }
     scene.contacts.mark_stale();
     Ok(warn)
