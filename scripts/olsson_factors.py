@@ -10,8 +10,9 @@ fragment radius. The fragmentation printed is Olsson's (4000 - the largest DBSCA
 particles lost through the open work-space included).
 
 usage: olsson_factors.py WORK [--only NAME,...] [--v 3,2] [--jobs N]
-  WORK holds olsson_dry.sav (scripts/olsson_prepare_dry.tru) and the variants' own states
-  (olsson_dry_nguyen.sav from the same file with `--set law=nguyen`, when that variant runs).
+  WORK holds olsson_dry.sav (scripts/olsson_prepare_dry.tru); the variants that need
+  olsson_dry_nguyen.sav (the same preparation with SET NORmal NGUYEN from the start) make it
+  first (WORK/prep_nguyen.tru, a few minutes).
   TRUBAL_BIN: the binary (default target/release/trubal). Writes WORK/factors.csv.
 """
 import argparse
@@ -38,15 +39,43 @@ VARIANTS = {
         70e-6,
     ),
     "no_damping": ("no restitution damping between particles", "olsson_dry.sav", ["damping restitution 1"], 4300, 70e-6),
-    "nguyen": ("JKR of Nguyen et al. (LIGGGHTS), same state", "olsson_dry.sav", ["set jkr nguyen"], 4300, 70e-6),
+    "nguyen": ("JKR of Nguyen et al. (LIGGGHTS), same state", "olsson_dry.sav", ["set normal nguyen"], 4300, 70e-6),
     "nguyen_prep": (
         "JKR of Nguyen et al., agglomerate prepared with it",
         "olsson_dry_nguyen.sav",
-        ["set jkr nguyen"],
+        ["set normal nguyen"],
         4300,
         70e-6,
     ),
+    "olsson_all": (
+        "all of Olsson's choices: Nguyen's JKR (prepared with it), wall friction 0.35 and restitution 0.3",
+        "olsson_dry_nguyen.sav",
+        ["set normal nguyen", "set pair 1 2 friction 0.35 restitution 0.3"],
+        4300,
+        70e-6,
+    ),
+    "olsson_all_long": (
+        "all of Olsson's choices, run 2.4 ms",
+        "olsson_dry_nguyen.sav",
+        ["set normal nguyen", "set pair 1 2 friction 0.35 restitution 0.3"],
+        17200,
+        70e-6,
+    ),
 }
+
+
+def prepare_nguyen(work):
+    """olsson_dry_nguyen.sav: olsson_prepare_dry.tru with SET NORmal NGUYEN from the start."""
+    if os.path.exists(os.path.join(work, "olsson_dry_nguyen.sav")):
+        return
+    text = open(os.path.join(ROOT, "scripts", "olsson_prepare_dry.tru")).read()
+    text = text.replace("\nagglomerate 1 ", "\nset normal nguyen\nagglomerate 1 ", 1)
+    assert "set normal nguyen" in text
+    path = os.path.join(work, "prep_nguyen.tru")
+    open(path, "w").write(text)
+    with open(os.path.join(work, "prep_nguyen.log"), "w") as fh:
+        subprocess.run([exe(), "--threads", "1", path, "--set", "state=olsson_dry_nguyen.sav"],
+                       cwd=work, stdout=fh, stderr=subprocess.STDOUT, check=True)
 
 IMPACT = """restart {state}
 {extra}
@@ -145,6 +174,8 @@ def main():
         if n not in VARIANTS:
             sys.exit(f"unknown variant {n}; known: {', '.join(VARIANTS)}")
     walls = {}
+    if any(VARIANTS[n][1] == "olsson_dry_nguyen.sav" for n in names):
+        prepare_nguyen(a.work)
     for n in names:
         st = VARIANTS[n][1]
         if st not in walls:

@@ -475,6 +475,8 @@ def derive(kind, exe, work, run, cache):
         if kind == "olsson_regime":
             sets["n"] = run.get("n", "4300" if run["liquid"] == "dry" else "125000")
             sets["smin"] = run.get("smin", "default")
+            sets["law"] = run.get("law", "hertz")
+            sets["pair"] = run.get("pair", "default")
     return sets
 
 

@@ -37,7 +37,10 @@
 //! columns (the stress, the temperature and the cell's strains, read as 0); version 5 adds
 //! the state of the laws of `SET NORmal` and `SET ROLling` (`laws`: the normal law's
 //! history, the rolling spring) to the law-specific part of the contact state, and the scene's contact laws per material pair (`Scene::laws`, read as Hertz/JKR
-//! without rolling friction from older files). Versions 1 to 4
+//! without rolling friction from older files); version 6 adds the friction and restitution
+//! of single material pairs (`SET PAIr`, `ContactLaws::pair_values`, read as none from
+//! older files), and may hold the new last variants `NormalLaw::Nguyen` (`SET NORmal
+//! NGUYEN`) and `NormalHistory::Nguyen`, which older files never hold. Versions 1 to 5
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -51,7 +54,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 5;
+pub const VERSION: u32 = 6;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -216,6 +219,8 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2
         // (scene::old_walls, old_settings), and have no cell (scene::old_cell).
+        // Version 5 differs in the contact laws only (no `pair_values`, scene::old_laws).
+        5 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         1..=4 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
             .map(|mut s| {
                 // Their history rows have the first 10 columns: the stress, temperature and

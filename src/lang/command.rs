@@ -154,6 +154,13 @@ pub enum Setting {
         pairs: Pairs,
         mu_r: f64,
     },
+    /// `SET PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault`: one material pair's own
+    /// friction and restitution (both `None`: back to the smaller of the two materials').
+    Pair {
+        m1: u16,
+        m2: u16,
+        values: crate::sim::model::PairValues,
+    },
 }
 
 /// One command of the language.

@@ -141,6 +141,7 @@ enum SetKw {
     Tunnel,
     Normal,
     Rolling,
+    Pair,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -162,6 +163,7 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("TUNnel", SetKw::Tunnel),
     kw("NORmal", SetKw::Normal),
     kw("ROLling", SetKw::Rolling),
+    kw("PAIr", SetKw::Pair),
 ];
 
 const TUNNELS: &[Keyword<crate::sim::scene::TunnelAction>] = &[
@@ -564,11 +566,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "FRAgment",
             "GOLdman",
             "NORmal",
-            "ROLling"
+            "ROLling",
+            "PAIr"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt], then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default)."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON (Walton's incremental Mindlin–Deresiewicz law of Shang 1998); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1])."
     ),
     def!(
         "STArt",
@@ -1128,6 +1131,7 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
         kw("TNIng", 2),
         kw("PASha", 3),
         kw("PFUll", 4),
+        kw("NGUyen", 5),
     ];
     const KT: &[Keyword<()>] = &[kw("KT", ())];
     let stiffnesses = |a: &mut Args| -> Result<(f64, f64), ParseError> {
@@ -1151,8 +1155,12 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
             k_e
         })
     };
-    let law = match a.keyword(LAWS, "normal law (HERTZ, JKR, MJKR, TNING, PASHA or PFULL)")? {
+    let law = match a.keyword(
+        LAWS,
+        "normal law (HERTZ, JKR, MJKR, TNING, PASHA, PFULL or NGUYEN)",
+    )? {
         0 => NormalLaw::Hertz,
+        5 => NormalLaw::Nguyen,
         1 => NormalLaw::ModifiedJkr,
         2 => NormalLaw::ThorntonNing {
             p_y: a.positive("py")?,
@@ -1182,6 +1190,66 @@ fn normal_law(a: &mut Args) -> Result<Setting, ParseError> {
         pairs: material_pairs(a)?,
         law,
     })
+}
+
+/// `SET PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault`.
+fn pair_values(a: &mut Args) -> Result<Setting, ParseError> {
+    #[derive(Clone, Copy)]
+    enum K {
+        Friction,
+        Restitution,
+        Default,
+    }
+    const KS: &[Keyword<K>] = &[
+        kw("FRIction", K::Friction),
+        kw("RESTitution", K::Restitution),
+        kw("DEFault", K::Default),
+    ];
+    let max = crate::sim::scene::MAX_MATERIALS as i64;
+    let m1 = a.int_in("m1", 1, max)? as u16;
+    let m2 = a.int_in("m2", 1, max)? as u16;
+    let mut values = crate::sim::model::PairValues::default();
+    let mut default = false;
+    let mut any = false;
+    while let Some(k) = a.try_keyword(KS)? {
+        any = true;
+        match k {
+            K::Friction => {
+                let t = a.peek();
+                let mu = a.non_negative("mu")?;
+                if !mu.is_finite() {
+                    return Err(ParseError::at(
+                        t.expect("consumed"),
+                        "the friction coefficient mu must be finite",
+                    ));
+                }
+                values.friction = Some(mu);
+            }
+            K::Restitution => {
+                let t = a.peek();
+                let e = a.real("e")?;
+                if !(e > 0.0 && e <= 1.0) {
+                    return Err(ParseError::at(
+                        t.expect("consumed"),
+                        format!("restitution e must be in (0, 1], got {e}"),
+                    ));
+                }
+                values.restitution = Some(e);
+            }
+            K::Default => default = true,
+        }
+    }
+    if !any {
+        a.keyword(KS, "FRIction, RESTitution or DEFault")?;
+    }
+    if default && values != crate::sim::model::PairValues::default() {
+        return Err(ParseError {
+            start: a.line_end,
+            end: a.line_end + 1,
+            message: "DEFault returns the pair to the smaller of the two materials' values: give it alone".into(),
+        });
+    }
+    Ok(Setting::Pair { m1, m2, values })
 }
 
 /// `[m1 [m2]]`: all material pairs, the pairs with m1, or the pair m1-m2.
@@ -1236,6 +1304,7 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
             mu_r: a.non_negative("mur")?,
             pairs: material_pairs(a)?,
         },
+        SetKw::Pair => pair_values(a)?,
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

@@ -50,6 +50,25 @@ impl NguyenJkr {
         self.jkr.force(alpha, f64::NAN).0
     }
 
+    /// The contact at overlap `alpha`: `(force, contact radius, stored energy)` above
+    /// [`NguyenJkr::alpha_break`], `None` at and below it. The radius solves (3.29) on the
+    /// stable branch (`a_guess` a warm start); the stored energy is the work done on the
+    /// contact from where its force vanishes, `U(a)` of [`Jkr::energy_of_a`] between
+    /// particles (`U(a_s) = 0`), `U(a) − U(a_0)` at a wall (zero at `α = 0`).
+    pub fn contact(&self, alpha: f64, a_guess: f64) -> Option<(f64, f64, f64)> {
+        if !(alpha > self.alpha_break()) {
+            return None;
+        }
+        let (f, a) = self.jkr.force(alpha, a_guess);
+        let u = self.jkr.energy_of_a(a);
+        let stored = if self.wall {
+            u - self.jkr.energy_of_a(self.jkr.a0())
+        } else {
+            u
+        };
+        Some((f, a, stored))
+    }
+
     /// Coulomb bound of the tangential force: `μ` times the Hertz force
     /// `4/3 E* sqrt(R*) α^{3/2}` (Lian (3.14)–(3.15)) for `α > 0`, 0 otherwise (the
     /// normal dashpot's share is the caller's).
@@ -184,6 +203,35 @@ mod tests {
             assert!((c.bond_energy() / want - 1.0).abs() < 1e-9);
             assert_eq!(c.loop_loss(), 0.0);
             assert!((c.jkr.peel_work() / wp - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// `contact`: the force of the curve, and a stored energy that is the integral of the
+    /// force from where it vanishes (trapezoid quadrature here), zero there; none below.
+    #[test]
+    fn contact_stores_the_work_along_the_curve() {
+        for wall in [false, true] {
+            let c = olsson(wall);
+            let lo = c.alpha_break();
+            let top = 3.0 * c.jkr.alpha_s().abs();
+            let n = 100_000;
+            let h = (top - lo) / n as f64;
+            let mut w = 0.0;
+            let mut a = f64::NAN;
+            for i in 0..n {
+                let (x0, x1) = (lo + h * i as f64, lo + h * (i + 1) as f64);
+                let f0 = c.force(x0 + if i == 0 { 1e-9 * h } else { 0.0 });
+                w += 0.5 * (f0 + c.force(x1)) * h;
+                if i % 10_000 == 9_999 {
+                    let (f, a1, stored) = c.contact(x1, a).unwrap();
+                    a = a1;
+                    assert!((f / c.force(x1) - 1.0).abs() < 1e-12);
+                    assert!((stored - w).abs() < 1e-5 * c.jkr.pc() * top, "{stored} {w}");
+                }
+            }
+            assert!(c.contact(lo, a).is_none());
+            let (_, _, s0) = c.contact(lo + 1e-12 * top, f64::NAN).unwrap();
+            assert!(s0.abs() < 1e-6 * c.jkr.pc() * top, "{s0}");
         }
     }
 

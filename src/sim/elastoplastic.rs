@@ -1,5 +1,6 @@
 //! One contact's normal force under the laws of `SET NORmal` other than Hertz/JKR (modified
-//! JKR, Thornton–Ning, Pasha's linear laws; the laws themselves are in `physics`), with
+//! JKR, Thornton–Ning, Pasha's linear laws, LIGGGHTS' JKR of Nguyen et al.; the laws
+//! themselves are in `physics`), with
 //! their booking: the work the contact force did over the step, `−½(P_old + P_new) v_n Δt`
 //! (the form that is exact for the leap-frog update, as for the dashpot), minus the change
 //! of the energy the contact stores on its current reversible branch, is the energy lost to
@@ -12,6 +13,7 @@ use super::interact::{Acc, Kin, Laws};
 use super::params::{PairConst, PairLaw};
 use super::scene::Vec3;
 use crate::physics::jkr::Jkr;
+use crate::physics::jkr_nguyen::NguyenJkr;
 use crate::physics::pasha_linear::{self, Lin, Linear, Version};
 use crate::physics::tangential;
 use crate::physics::thornton_ning::{ThorntonNing, Tn};
@@ -29,7 +31,8 @@ pub struct NormalOut {
     pub linear: Option<LinearShear>,
 }
 
-/// The tangential spring of a linear-law contact: stiffness and the limit of its force.
+/// The tangential spring of a linear-law or Nguyen-JKR contact: stiffness and the limit of
+/// its force.
 #[derive(Clone, Copy)]
 pub struct LinearShear {
     pub k_t: f64,
@@ -111,6 +114,7 @@ pub fn normal(
         NormalLaw::ThorntonNing { p_y } => {
             thornton_ning_step(k, pc, p_y, (alpha, was_touching, s.a), hist, &mut out)
         }
+        NormalLaw::Nguyen => nguyen_step(k, pc, laws.wall, alpha, s.a, &mut out),
         ref law => linear_step(k, pc, law, (alpha, was_touching), hist, &mut out),
     };
     match now {
@@ -220,6 +224,44 @@ fn thornton_ning_step(
         };
         out.kn = j.stiffness_of_a(a).abs();
         out.pcrit = t.f_cp(&st);
+    }
+    (now, history)
+}
+
+/// LIGGGHTS' JKR (Nguyen et al. 2014; `physics::jkr_nguyen`): the JKR curve above α_s (at a
+/// wall, `wall`, above 0), approaching and separating alike; the energy on the curve, zero
+/// where the force vanishes (`Jkr::energy_of_a`: U(a_s) = 0; at a wall U(a) − U(a_0), as
+/// the modified JKR). Its own tangential spring: Mindlin's 8G*sqrt(R*α) capped at μ F_Hertz(α),
+/// none in the neck (α ≤ 0).
+#[inline(always)]
+fn nguyen_step(
+    k: &Kin,
+    pc: &PairConst,
+    wall: bool,
+    alpha: f64,
+    a_old: f64,
+    out: &mut NormalOut,
+) -> LawStep {
+    let law = NguyenJkr {
+        jkr: Jkr {
+            e_star: pc.e_star,
+            r_star: k.r_star,
+            gamma: out.gamma,
+        },
+        wall,
+    };
+    let now = law.contact(alpha, a_old);
+    let history = match now {
+        Some((_, _, stored)) => NormalHistory::Nguyen { stored },
+        None => NormalHistory::None,
+    };
+    if let Some((_, a, _)) = now {
+        out.kn = law.jkr.stiffness_of_a(a).abs();
+        out.pcrit = law.jkr.pc();
+        out.linear = Some(LinearShear {
+            k_t: law.tangential_stiffness(pc.g_star, alpha),
+            limit: law.friction_bound(pc.mu, alpha),
+        });
     }
     (now, history)
 }

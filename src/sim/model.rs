@@ -118,6 +118,11 @@ pub enum NormalLaw {
         f_0p: f64,
         k_t: f64,
     },
+    /// The JKR contact as LIGGGHTS computes it (Nguyen et al. 2014), Olsson 2017's dry law
+    /// (`physics::jkr_nguyen`): the JKR curve from `α_s` on, approaching and separating, no
+    /// adhesion hysteresis; at a wall only while `α > 0`; Mindlin's tangential spring capped
+    /// at μ times the Hertz force. Appended last (checkpoint format).
+    Nguyen,
 }
 
 /// Which material pairs a rule of `SET NORmal` or `SET ROLling` applies to: all pairs, the
@@ -151,14 +156,25 @@ impl Pairs {
     }
 }
 
-/// The contact laws chosen per material pair (checkpoint format 5): the rules in the order
-/// given, the last that covers a pair deciding. A new rule drops the older ones it covers
-/// entirely, so the list stays short.
+/// The friction and restitution of one material pair given with `SET PAIr`, instead of
+/// TRUBAL's rule (the smaller of the two materials' values); `None`: the rule.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PairValues {
+    pub friction: Option<f64>,
+    pub restitution: Option<f64>,
+}
+
+/// The contact laws chosen per material pair (checkpoint format 5; `pair_values` since
+/// format 6): the rules in the order given, the last that covers a pair deciding. A new
+/// rule drops the older ones it covers entirely, so the list stays short.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactLaws {
     pub normal: Vec<(Pairs, NormalLaw)>,
     /// Rolling friction coefficients μ_r (`SET ROLling`, `physics::rolling`).
     pub rolling: Vec<(Pairs, f64)>,
+    /// Friction and restitution of single material pairs (`SET PAIr`; always
+    /// `Pairs::Pair(m1, m2)` with `m1 ≤ m2`, one entry per pair).
+    pub pair_values: Vec<(Pairs, PairValues)>,
 }
 
 impl ContactLaws {
@@ -183,6 +199,32 @@ impl ContactLaws {
         if !(pairs == Pairs::All && mu_r == 0.0) {
             self.rolling.push((pairs, mu_r));
         }
+    }
+    /// The friction and restitution given for a pair of materials (1-based), if any.
+    pub fn values_of(&self, a: usize, b: usize) -> PairValues {
+        self.pair_values
+            .iter()
+            .find(|(p, _)| p.covers(a, b))
+            .map_or(PairValues::default(), |r| r.1)
+    }
+    /// `SET PAIr m1 m2 ...`: the values given replace the pair's, the others stay; both
+    /// `None` returns the pair to TRUBAL's rule.
+    pub fn set_pair_values(&mut self, m1: u16, m2: u16, v: PairValues) {
+        let key = Pairs::Pair(m1.min(m2), m1.max(m2));
+        let old = self.values_of(m1 as usize, m2 as usize);
+        self.pair_values.retain(|(p, _)| *p != key);
+        if v == PairValues::default() {
+            return;
+        }
+        let new = PairValues {
+            friction: v.friction.or(old.friction),
+            restitution: v.restitution.or(old.restitution),
+        };
+        self.pair_values.push((key, new));
+        self.pair_values.sort_by_key(|(p, _)| match *p {
+            Pairs::Pair(a, b) => (a, b),
+            _ => (0, 0),
+        });
     }
     pub fn set_normal(&mut self, pairs: Pairs, law: NormalLaw) {
         self.normal.retain(|(p, _)| !p.within(&pairs));

@@ -11,7 +11,7 @@ pub struct PairConst {
     /// E* (3.16) and G* (3.95).
     pub e_star: f64,
     pub g_star: f64,
-    /// Smaller of the two friction coefficients (TRUBAL rule).
+    /// Smaller of the two friction coefficients (TRUBAL rule), or the pair's own (`SET PAIr`).
     pub mu: f64,
     /// Surface energy sqrt(γ1 γ2) (doc/spec/DECISIONS.md).
     pub gamma: f64,
@@ -73,6 +73,10 @@ pub struct Model {
     /// The normal laws of `SET NORmal` other than Hertz/JKR that pairs in use follow
     /// (`PairConst::law`); a scene with any goes through the adhesive kernel.
     pub laws: Vec<PairLaw>,
+    /// Particle pairs are evaluated while their centres are closer than this times the sum
+    /// of their radii in the adhesive and liquid kernels (`interact::Laws::reach`): 1 + 1e-6,
+    /// or enough for the largest gap across which a pair with LIGGGHTS' JKR attracts.
+    pub reach: f64,
     /// Rolling friction coefficient μ_r of every material pair (`SET ROLling`; None: no
     /// pair has one, `sim::rolling` does nothing).
     pub rolling: Option<Vec<f64>>,
@@ -127,6 +131,36 @@ fn check_materials(scene: &Scene, used: &[bool]) -> Result<(), String> {
     Ok(())
 }
 
+/// [`Model::reach`]: `1 + 1e-6`, or with LIGGGHTS' JKR (`SET NORmal NGUYEN`) `1 + |α_s|/(2r)`
+/// with `α_s` (Lian (3.38)) at `R* = r`, `r` the smallest radius, the largest γ and the
+/// smallest E* of the pairs with that law: since `|α_s| ∝ R*^{1/3}` and `R* ≤ min(r_i, r_j)
+/// ≤ (r_i + r_j)/2`, every such pair with a gap below its `|α_s|` is within the reach.
+fn reach_of(scene: &Scene, table: &[PairConst], laws: &[PairLaw]) -> f64 {
+    let base: f64 = 1.0 + 1e-6;
+    let rmin = scene
+        .particles
+        .radius
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let mut reach = base;
+    for pc in table {
+        if pc.law == 0 || laws[pc.law as usize - 1].law != NormalLaw::Nguyen || !(rmin > 0.0) {
+            continue;
+        }
+        let j = crate::physics::jkr::Jkr {
+            e_star: pc.e_star,
+            r_star: rmin,
+            gamma: pc.gamma.max(pc.gamma_base),
+        };
+        let r = 1.0 + 1.001 * (-j.alpha_s()) / (2.0 * rmin);
+        if r.is_finite() {
+            reach = reach.max(r);
+        }
+    }
+    reach
+}
+
 /// The constants of every material pair in use, and what they ask of the scene.
 struct PairTable {
     table: Vec<PairConst>,
@@ -160,7 +194,9 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
             }
             let e_star = hertz::e_star(ma.young, ma.poisson, mb.young, mb.poisson);
             let g_star = hertz::g_star(ma.shear(), ma.poisson, mb.shear(), mb.poisson);
-            let mu = ma.friction.min(mb.friction);
+            // TRUBAL's rule, unless `SET PAIr` gave the pair its own values.
+            let given = scene.laws.values_of(a + 1, b + 1);
+            let mu = given.friction.unwrap_or(ma.friction.min(mb.friction));
             let gamma = (ma.gamma * mb.gamma).sqrt();
             let gamma_base = (ma.gamma_base * mb.gamma_base).sqrt();
             // Restitution: the pair uses the smaller e set on either material.
@@ -168,6 +204,7 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
                 (Some(x), Some(y)) => Some(x.min(y)),
                 (x, y) => x.or(y),
             };
+            let e = given.restitution.or(e);
             let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
             rotation |= mu > 0.0;
             adhesion |= gamma > 0.0 || gamma_base > 0.0;
@@ -323,6 +360,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
     let dt = step_limits(scene, fraction * dt_r, dt_r, fraction, (k_lin, all_linear))?;
     Ok(Model {
+        reach: reach_of(scene, &table, &laws),
         nmat,
         table,
         rotation,

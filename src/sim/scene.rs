@@ -648,13 +648,26 @@ fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<super::cell::Cell
     }
 }
 
+/// The contact laws as checkpoint format 5 wrote them (frozen: never change): without
+/// `pair_values` (`SET PAIr`), read as none.
+#[derive(Deserialize)]
+struct ContactLawsV5 {
+    normal: Vec<(crate::sim::model::Pairs, crate::sim::model::NormalLaw)>,
+    rolling: Vec<(crate::sim::model::Pairs, f64)>,
+}
+
 /// Reads the contact laws in the layout of the checkpoint being decoded: formats 1–4 had
-/// none (the defaults, nothing read).
+/// none (the defaults, nothing read), format 5 no pair values.
 fn old_laws<'de, D: serde::Deserializer<'de>>(
     de: D,
 ) -> Result<crate::sim::model::ContactLaws, D::Error> {
     match super::contacts::old::version() {
         1..=4 => Ok(Default::default()),
+        5 => ContactLawsV5::deserialize(de).map(|o| crate::sim::model::ContactLaws {
+            normal: o.normal,
+            rolling: o.rolling,
+            pair_values: Vec::new(),
+        }),
         _ => crate::sim::model::ContactLaws::deserialize(de),
     }
 }

@@ -15,7 +15,9 @@ use trubal::sim::{Scene, Vec3};
 /// types, restitution and Rayleigh damping, liquid bridges, gravity, a servo-controlled wall,
 /// an agglomerate region, an advanced random generator, a PLot SAve reference, history rows,
 /// a sliding particle pair (tangential history and a bridge) and a particle on the wall; the
-/// last cycles with Walton's law (its history beside the Mindlin–Deresiewicz one).
+/// last cycles with Walton's law (its history beside the Mindlin–Deresiewicz one); laws of
+/// `SET NORmal` (a Thornton–Ning and a linear wall contact, a pair with LIGGGHTS' JKR held
+/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`).
 const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set tol 40e-6
@@ -52,6 +54,14 @@ density 2500 3
 friction 0.3 3
 set normal pasha 1000 500 10 1e-7 3 2
 create 0.003 0.003 0.00029999 0 0 -0.01 0 0 0 1 3
+ymd 1e8 4
+pra 0.3 4
+density 2500 4
+cohesion 0.05 4
+set normal nguyen 4
+set pair 1 2 friction 0.35 restitution 0.3
+create 0.001 0.001 0.002 0 0 0 0 0 0 1 4
+create 0.001 0.001 0.00220002 0 0 0 0 0 0 1 4
 cycle 40
 set tangential walton
 cycle 10";
@@ -149,6 +159,7 @@ fn normal_facts(h: &trubal::sim::contacts::NormalHistory) -> Value {
         H::Linear { st, stored } => json!({ "linear": {
             "alpha_max": f(st.alpha_max), "made": st.made, "stored": f(stored),
         }}),
+        H::Nguyen { stored } => json!({ "nguyen": f(stored) }),
     }
 }
 
@@ -201,7 +212,9 @@ fn facts(sc: &Scene) -> Value {
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
-        "laws": format!("{:?}", sc.laws()),
+        // (Format 5's facts wrote the whole ContactLaws; its fields since are facts of their own.)
+        "laws": format!("ContactLaws {{ normal: {:?}, rolling: {:?} }}", sc.laws().normal, sc.laws().rolling),
+        "pair_values": format!("{:?}", sc.laws().pair_values),
         "gravity": fs(&sc.gravity()), "cgravity": fs(&sc.cgravity()), "fmm": f(sc.fmm()),
         "zero_always": sc.zero_always(),
         "damping_pp": fs(&[sc.damping_pp().alpha, sc.damping_pp().beta]),
@@ -405,7 +418,22 @@ fn fixtures_of_every_version_still_load() {
 fn the_whole_state_round_trips() {
     let sc = fixture_scene();
     // The fixture scene exercises every part of the state.
-    assert!(sc.particles().len() == 5 && sc.walls().len() == 1);
+    assert!(sc.particles().len() == 7 && sc.walls().len() == 1);
+    // Format 6: a pair with LIGGGHTS' JKR (made across a gap), a pair's own friction and
+    // restitution.
+    let nguyen = sc
+        .contacts()
+        .iter()
+        .map(|c| c.s)
+        .find(|s| {
+            matches!(
+                s.ext().laws().normal,
+                trubal::sim::contacts::NormalHistory::Nguyen { .. }
+            )
+        })
+        .expect("a Nguyen contact");
+    assert!(nguyen.touching && nguyen.normal_force != 0.0);
+    assert_eq!(sc.laws().pair_values.len(), 1);
     // Format 5: a Thornton–Ning wall contact, a linear one, a rolling spring.
     use trubal::sim::contacts::NormalHistory;
     let hist = |k: usize| sc.contacts().wall_pairs()[k].s.ext().laws().normal;
@@ -777,7 +805,7 @@ fn a_failed_restart_changes_nothing_and_the_session_goes_on() {
         let infos = info_lines(&out);
         assert_eq!(infos.len(), 1, "{out}");
         assert_eq!(infos[0]["cycle"], 50);
-        assert_eq!(infos[0]["balls"], 5);
+        assert_eq!(infos[0]["balls"], 7);
 
         // After New: still no scene after the failure; STArt works.
         let (out, err) = trubal(

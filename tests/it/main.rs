@@ -20,6 +20,8 @@ mod hard_cases;
 mod indentation;
 mod json_output;
 mod liquid;
+mod nguyen_jkr;
+mod pair_values;
 mod pasha_laws;
 mod plot;
 mod readme;

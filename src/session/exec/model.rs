@@ -127,6 +127,12 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         });
         return Ok(String::new());
     }
+    if let Setting::Pair { m1, m2, values } = s {
+        super::existing_material(scene, *m1 as usize)?;
+        super::existing_material(scene, *m2 as usize)?;
+        scene.edit_laws(|laws| laws.set_pair_values(*m1, *m2, *values));
+        return Ok(String::new());
+    }
     if let Setting::Boundary { axes, periodic } = s {
         let mut want = scene.settings().periodic;
         for k in 0..3 {
@@ -174,7 +180,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
-        Setting::Normal { .. } | Setting::Rolling { .. } => {}
+        Setting::Normal { .. } | Setting::Rolling { .. } | Setting::Pair { .. } => {}
     });
     Ok(warn)
 }

@@ -163,6 +163,9 @@ pub enum NormalHistory {
         st: crate::physics::pasha_linear::LinState,
         stored: f64,
     },
+    /// LIGGGHTS' JKR (Nguyen et al. 2014): the energy on its curve (zero where the force
+    /// vanishes: `α_s` between particles, `α = 0` at a wall). Appended last (format 6).
+    Nguyen { stored: f64 },
 }
 
 impl NormalHistory {
@@ -177,7 +180,8 @@ impl NormalHistory {
             NormalHistory::None => 0.0,
             NormalHistory::ModifiedJkr { stored }
             | NormalHistory::ThorntonNing { stored, .. }
-            | NormalHistory::Linear { stored, .. } => stored,
+            | NormalHistory::Linear { stored, .. }
+            | NormalHistory::Nguyen { stored } => stored,
         }
     }
 }

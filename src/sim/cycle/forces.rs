@@ -61,6 +61,8 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
             .then_some(crate::sim::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
         pair_laws: &model.laws,
+        wall: false,
+        reach: model.reach,
         // (Only in a step, with the margins of its particles: not while priming.)
         margin: if dt > 0.0
             && scene.derived.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP)
@@ -76,6 +78,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
     // particle–wall set.
     let laws_pw = Laws {
         beta: scene.damping_pw.beta,
+        wall: true,
         margin: if laws_pp.margin > 0.0 {
             scene.contacts.step.margins[1]
         } else {

@@ -59,7 +59,7 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
 ) -> usize {
     let hots = &hots[..hots.len().min(SUB)];
     let ur = c.uni.map_or(0.0, |u| u.r);
-    let allow = if ADH || LIQ { 1.0 + 1e-6 } else { 1.0 };
+    let allow = if ADH || LIQ { c.laws.reach } else { 1.0 };
     let radius = (!UNI).then_some(c.radius);
     let scalar = || {
         if c.periodic == [false; 3] {
