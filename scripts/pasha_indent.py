@@ -151,6 +151,7 @@ def main():
     saves = arg(argv, "--saves", 0)
     from_unloaded = arg(argv, "--from", "")
     from_settled = arg(argv, "--from-settled", "")
+    gsettle = arg(argv, "--gsettle", 1.0)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     diam, d_mean, d3 = sizes(scale)
@@ -217,7 +218,10 @@ def main():
         out["particles"] = info["balls"]
         mass = np_ * 2456 * math.pi / 6 * d3
         if not from_settled:
-            # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed.
+            # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed. With
+            # --gsettle k the bed settles under k g (a shorter fall), then under g again.
+            if gsettle != 1.0:
+                tr.send(f"gravity 0 0 {-G * gsettle!r}")
             chunk = 5000
             settle = 0
             while True:
@@ -227,8 +231,14 @@ def main():
                 kin = e["kinetic"]
                 if settle % 20000 == 0:
                     say(f"  settling: {settle} cycles, kinetic {kin:.3g} J, {time.time() - t0:.0f} s")
-                if (settle * dt > math.sqrt(2 * hgen / G) and kin < 1e-4 * mass * G * d_mean) or settle > 400000:
+                if (settle * dt > math.sqrt(2 * hgen / (G * gsettle))
+                        and kin < 1e-4 * mass * G * gsettle * d_mean) or settle > 400000:
                     break
+            if gsettle != 1.0:
+                tr.send(f"gravity 0 0 {-G!r}")
+                tr.cycle(5000)
+                settle += 5000
+            out["gsettle"] = gsettle
             tr.send(f"save settled{tag}.sav")
             out["settle_cycles"] = settle
         balls = tr.print("balls")["balls"]

@@ -435,3 +435,45 @@ fn bin_stresses_in_a_settled_column_carry_the_weight_above() {
     assert!(rel(w["stress"][2][2].as_f64().unwrap(), want) < 2e-3, "{w}");
     assert!(rel(w["hydrostatic"].as_f64().unwrap(), want / 3.0) < 2e-3);
 }
+
+/// `AWAll n V ...` takes a servo off: the piston then moves at the velocity given (before,
+/// the servo set its velocity again at the next step and the V was lost).
+#[test]
+fn awall_velocity_takes_the_servo_off() {
+    let mut s = session(&format!(
+        "start 0.01 0.01 0.01 10 10 4\nset open all\nrad 5e-4 1\n{MATS}\
+         create 5e-3 5e-3 1e-3 0 0 0 0 0 0 1 1\n\
+         dwall p 0 0 -1 -0.008 m 2 se 1.0 0.01 0.01\ncycle 10\n"
+    ));
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls[0].servo.is_some());
+    // The servo pushes down at vmax (no force on the piston yet).
+    assert!(
+        rel(sc.walls[0].vel[2], -0.01) < 1e-12,
+        "{:?}",
+        sc.walls[0].vel
+    );
+    s.run_line("awall 1 v 0 0 0.02").unwrap();
+    let z0 = match s.scene.as_ref().unwrap().walls[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    s.run_line("cycle 100").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls[0].servo.is_none());
+    assert_eq!(sc.walls[0].vel, [0.0, 0.0, 0.02]);
+    let z1 = match sc.walls[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    let dt = sc.time / sc.cycle as f64;
+    assert!(
+        rel(z1 - z0, 0.02 * 100.0 * dt) < 1e-6,
+        "{} vs {}",
+        z1 - z0,
+        0.02 * 100.0 * dt
+    );
+    // SE again puts a servo on.
+    s.run_line("awall 1 se 1.0 0.01 0.01").unwrap();
+    assert!(s.scene.as_ref().unwrap().walls[0].servo.is_some());
+}
