@@ -26,8 +26,20 @@ gamma* = 10 sqrt(d_p/g) = 0.14 for d_p = 2 mm, still quasi-static by Tardos's 0.
 
 usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [--sigma PA]
                                [--hmax H/R] [--seed K] [--tag T] [--frac F]
-       scripts/pasha_indent.py --compare TAG...   (H against h/d of the runs TAG ("" = the
-                               default run) in doc/img/pasha_indent_compare.png)
+                               [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
+                               [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
+  --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
+                 from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
+  --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
+                 rolling friction (SET ROLling; Pasha: mjkr, 0.1)
+  --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
+  --servo-div K  the piston servo's gain v / (K F) (5; more if the log warns of hunting)
+  --saves K      save K + 1 states while indenting, from h = 0 to hmax (scripts/pasha_bins.py)
+  --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
+  --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
+                 this run's --soften, --law and --mur
+       scripts/pasha_indent.py --compare [--out NAME.png] TAG...   (H against h/d of the runs
+                               TAG ("" = the default run) in doc/img/pasha_indent_compare.png)
 """
 import csv
 import json
@@ -90,7 +102,7 @@ def say(text):
     print(text, file=sys.stderr, flush=True)
 
 
-def compare(tags):
+def compare(tags, out="pasha_indent_compare.png"):
     """One chart of H against h/d from doc/data/pasha_indent<tag>.csv and .json."""
     series = []
     for tag in tags:
@@ -100,17 +112,20 @@ def compare(tags):
         with open(base + ".csv") as fh:
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
         label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
+        if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
+            label += f" {o['law'].upper()} MUR{o['mur']:g}"
         # From a penetration of one particle radius on (Pasha plots from one diameter).
         dp = o["d"] / o["d_over_dp"]
         series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
     xs = [p[0] for _, s in series for p in s]
     run_table.chart(
-        os.path.join(ROOT, "doc", "img", "pasha_indent_compare.png"),
+        os.path.join(ROOT, "doc", "img", out),
         "BALL INDENTATION HARDNESS, SCALED CASES (SIGMA PRE 10 KPA)",
         series,
         "PENETRATION H/D",
         "HARDNESS (KPA)",
-        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)])],
+        refs=[("PASHA 8 KPA (13 MM BED)", [(min(xs), 8.0), (max(xs), 8.0)]),
+              ("PASHA 6 KPA (20-50 MM BEDS)", [(min(xs), 6.0), (max(xs), 6.0)])],
         cap=False,
     )
 
@@ -133,7 +148,10 @@ def bed_top(balls):
 def main():
     argv = sys.argv[1:]
     if argv and argv[0] == "--compare":
-        compare([t.strip("'\"") for t in argv[1:]])
+        # --compare [--out NAME.png] TAG...
+        rest = argv[1:]
+        out = arg(rest, "--out", "pasha_indent_compare.png")
+        compare([t.strip("'\"") for t in rest], out)
         return
     scale = arg(argv, "--scale", 2.0)
     soften = arg(argv, "--soften", 1000.0)
@@ -152,6 +170,7 @@ def main():
     from_unloaded = arg(argv, "--from", "")
     from_settled = arg(argv, "--from-settled", "")
     gsettle = arg(argv, "--gsettle", 1.0)
+    servo_div = arg(argv, "--servo-div", 5.0)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     diam, d_mean, d3 = sizes(scale)
@@ -207,7 +226,14 @@ def main():
             tr.send(f"restart settled{from_settled}.sav")
             # The moduli of this run (the settled bed was made with other ones).
             tr.send(f"ymd {55e9 / soften!r} 1\nymd {182e9 / soften!r} 2\nymd {55e9 / soften!r} 3")
+            # The law and the rolling friction of this run (from the consolidation on).
+            tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1")
             out["from_settled"] = from_settled
+            try:
+                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
+                    out["settle_cycles"] = json.load(fh).get("settle_cycles")
+            except OSError:
+                pass  # (that run still going)
             tr.cycle(2000)
         else:
             with open(os.path.join(HERE, "pasha_indent.tru")) as fh:
@@ -262,9 +288,11 @@ def main():
             consolidation.append((n, f))
         out["cycles_to_target"] = n
         say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g}), {time.time() - t0:.0f} s")
-        # The servo's gain: a fifth of the gain that would take the whole target for full speed
-        # (a larger one makes the wall hunt through the dashpots of its contacts).
-        gain = v / (5 * f_target)
+        # The servo's gain: a fifth (1/--servo-div) of the gain that would take the whole
+        # target for full speed (a larger one makes the wall hunt through the dashpots of its
+        # contacts: trubal warns, in the log).
+        gain = v / (servo_div * f_target)
+        out["servo_gain"] = gain
         tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
         within = 0
         chunk = 499
