@@ -365,7 +365,7 @@ fn stress(scene: &Scene) -> (String, Value) {
             m[0][0], m[0][1], m[0][2], "", m[1][0], m[1][1], m[1][2], "", m[2][0], m[2][1], m[2][2]
         )
     };
-    let s = format!(
+    let mut s = format!(
         "average stress (Pa, compression positive; row: force component, column: branch component), mean {:.6e}, major principal stress in x-y at {:.3} deg from x\n{}{}{}",
         st.mean(),
         angle,
@@ -373,12 +373,27 @@ fn stress(scene: &Scene) -> (String, Value) {
         matrix("contact", &st.contact),
         matrix("kinetic", &st.kinetic),
     );
-    (
-        s,
-        json!({"print": "stress", "cycle": scene.cycle(), "stress": total,
-            "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
-            "angle_xy": angle, "temperature": crate::sim::stress::temperature(scene)}),
-    )
+    let mut j = json!({"print": "stress", "cycle": scene.cycle(), "stress": total,
+        "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
+        "angle_xy": angle, "temperature": crate::sim::stress::temperature(scene)});
+    // With a Window: the stress in that bin (Pasha 2013 (5.1)-(5.3)).
+    if let Some(b) = scene.settings().window {
+        let (bs, count) = crate::sim::stress::in_box(scene, &b);
+        let bt = bs.total();
+        let dev = crate::sim::stress::deviatoric_pasha(&bt);
+        s.push_str(&format!(
+            "stress in the window (the {count} particles whose centre is in it, all their contacts, walls included; Pasha 2013 (5.1)), hydrostatic {:.6e}, deviatoric (5.3) {:.6e}\n{}{}{}",
+            bs.mean(),
+            dev,
+            matrix("total", &bt),
+            matrix("contact", &bs.contact),
+            matrix("kinetic", &bs.kinetic),
+        ));
+        j["window"] = json!({"bounds": b, "particles": count, "stress": bt,
+            "contact": bs.contact, "kinetic": bs.kinetic, "hydrostatic": bs.mean(),
+            "deviatoric": dev});
+    }
+    (s, j)
 }
 
 fn partitions(scene: &Scene) -> (String, Value) {

@@ -349,3 +349,131 @@ fn a_hunting_piston_is_warned_about_before_it_touches() {
         run.stderr
     );
 }
+
+/// The stress in bins (`PRint Stress` with a `Window`; Pasha 2013 (5.1)) in a column of five
+/// equal spheres resting on the floor under gravity, settled. Each sphere is in equilibrium
+/// with the weight w of those above it pressing on its top and w + m g on its bottom, so a
+/// bin holding one sphere has σ_zz V = 2 R (w + m g / 2) — the weight above the bin's middle
+/// times the sphere's height, computed here from the masses, not from the contact forces.
+/// A bin holding the whole column gives ∫σ_zz dV = g Σ m z (the weight times the height of
+/// the centre of mass), the floor's contact included. No horizontal stress without friction
+/// or lateral neighbours, and no particle-less bin.
+#[test]
+fn bin_stresses_in_a_settled_column_carry_the_weight_above() {
+    let (r, n) = (5e-4f64, 5usize);
+    let mut lines = format!(
+        "start 0.004 0.004 0.008 10 10 2\nset open all\nrad {r} 1\n{MATS}\
+         damping restitution 0.05 1\ndamping restitution 0.05 2\ndwall p 0 0 1 0 m 2\ngravity 0 0 -9.81\n"
+    );
+    for k in 0..n {
+        lines += &format!(
+            "create 2e-3 2e-3 {} 0 0 0 0 0 0 1 1\n",
+            r + 2.0 * r * k as f64 + 1e-9
+        );
+    }
+    let mut s = session(&lines);
+    s.run_line("cycle 40000").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    let g = 9.81;
+    let m = sc.particles().mass[0];
+    assert!(rel(m, 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)) < 1e-12);
+    // The column at rest: the kinetic energy a tiny part of the weight's work.
+    let kin: f64 = (0..n)
+        .map(|i| 0.5 * m * sc.particles().vel[i].norm_squared())
+        .sum();
+    assert!(kin < 1e-9 * m * g * r, "still moving: {kin}");
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| sc.particles().pos[a].z.total_cmp(&sc.particles().pos[b].z));
+    let (lx, ly) = (1e-3, 1.5e-3);
+    for (k, &i) in order.iter().enumerate() {
+        let z = sc.particles().pos[i].z;
+        let b = [
+            2e-3 - lx / 2.0,
+            2e-3 + lx / 2.0,
+            2e-3 - ly / 2.0,
+            2e-3 + ly / 2.0,
+            z - r,
+            z + r,
+        ];
+        let vol = lx * ly * 2.0 * r;
+        let (st, count) = trubal::sim::stress::in_box(sc, &b);
+        assert_eq!(count, 1, "bin {k}");
+        let above = (n - 1 - k) as f64 * m * g;
+        let want = 2.0 * r * (above + 0.5 * m * g) / vol;
+        let t = st.total();
+        assert!(rel(t[2][2], want) < 2e-3, "bin {k}: {} vs {want}", t[2][2]);
+        for (a, row) in t.iter().enumerate() {
+            for (c, x) in row.iter().enumerate() {
+                if (a, c) != (2, 2) {
+                    assert!(x.abs() < 1e-9 * want, "bin {k}: σ[{a}][{c}] = {x}");
+                }
+            }
+        }
+    }
+    let all = [0.0, 0.004, 0.0, 0.004, 0.0, 0.008];
+    let (st, count) = trubal::sim::stress::in_box(sc, &all);
+    assert_eq!(count, n);
+    let moment: f64 = (0..n).map(|i| m * g * sc.particles().pos[i].z).sum();
+    let vol = 0.004 * 0.004 * 0.008;
+    assert!(
+        rel(st.total()[2][2] * vol, moment) < 2e-3,
+        "{} vs {moment}",
+        st.total()[2][2] * vol
+    );
+    let (st, count) = trubal::sim::stress::in_box(sc, &[0.0, 0.004, 0.0, 0.004, 0.007, 0.008]);
+    assert_eq!((count, st), (0, Default::default()));
+    // The same through PRint Stress with a Window (JSON: the bin beside the average).
+    s.run_line(&format!("window 0 0.004 0 0.004 0 {}", 2.0 * r))
+        .unwrap();
+    let (_, j) = trubal::output::print::item(
+        s.scene.as_ref().unwrap(),
+        trubal::lang::command::PrintItem::Stress,
+    );
+    let w = &j["window"];
+    assert_eq!(w["particles"], 1);
+    let want = 2.0 * r * ((n as f64 - 0.5) * m * g) / (0.004 * 0.004 * 2.0 * r);
+    assert!(rel(w["stress"][2][2].as_f64().unwrap(), want) < 2e-3, "{w}");
+    assert!(rel(w["hydrostatic"].as_f64().unwrap(), want / 3.0) < 2e-3);
+}
+
+/// `AWAll n V ...` takes a servo off: the piston then moves at the velocity given (before,
+/// the servo set its velocity again at the next step and the V was lost).
+#[test]
+fn awall_velocity_takes_the_servo_off() {
+    let mut s = session(&format!(
+        "start 0.01 0.01 0.01 10 10 4\nset open all\nrad 5e-4 1\n{MATS}\
+         create 5e-3 5e-3 1e-3 0 0 0 0 0 0 1 1\n\
+         dwall p 0 0 -1 -0.008 m 2 se 1.0 0.01 0.01\ncycle 10\n"
+    ));
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls()[0].servo.is_some());
+    // The servo pushes down at vmax (no force on the piston yet).
+    assert!(
+        rel(sc.walls()[0].vel[2], -0.01) < 1e-12,
+        "{:?}",
+        sc.walls()[0].vel
+    );
+    s.run_line("awall 1 v 0 0 0.02").unwrap();
+    let z0 = match s.scene.as_ref().unwrap().walls()[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    s.run_line("cycle 100").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls()[0].servo.is_none());
+    assert_eq!(sc.walls()[0].vel, [0.0, 0.0, 0.02]);
+    let z1 = match sc.walls()[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    let dt = sc.time() / sc.cycle() as f64;
+    assert!(
+        rel(z1 - z0, 0.02 * 100.0 * dt) < 1e-6,
+        "{} vs {}",
+        z1 - z0,
+        0.02 * 100.0 * dt
+    );
+    // SE again puts a servo on.
+    s.run_line("awall 1 se 1.0 0.01 0.01").unwrap();
+    assert!(s.scene.as_ref().unwrap().walls()[0].servo.is_some());
+}

@@ -63,7 +63,10 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 if let Some(m) = opts.material {
                     w.material = m;
                 }
-                if opts.servo.is_some() {
+                // A velocity without SE takes the servo off (the servo would set the
+                // velocity again at the next step); SE alone keeps the velocity until the
+                // servo sets it.
+                if opts.servo.is_some() || opts.vel.is_some() {
                     w.servo = opts.servo;
                 }
             });
