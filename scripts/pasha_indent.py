@@ -117,7 +117,7 @@ def compare(tags, out="pasha_indent_compare.png"):
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
         label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
         if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
-            label += f" {o['law'].upper()} MUR{o['mur']:g}"
+            label = f"D{o['d'] * 1e3:.0f} E/{o['soften']:.0f} MUR{o['mur']:g}"
         # From a penetration of one particle radius on (Pasha plots from one diameter).
         dp = o["d"] / o["d_over_dp"]
         series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
@@ -128,8 +128,8 @@ def compare(tags, out="pasha_indent_compare.png"):
         series,
         "PENETRATION H/D",
         "HARDNESS (KPA)",
-        refs=[("PASHA 8 KPA (13 MM BED)", [(min(xs), 8.0), (max(xs), 8.0)]),
-              ("PASHA 6 KPA (20-50 MM BEDS)", [(min(xs), 6.0), (max(xs), 6.0)])],
+        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)]),
+              ("PASHA 6 KPA", [(min(xs), 6.0), (max(xs), 6.0)])],
         cap=False,
     )
 
