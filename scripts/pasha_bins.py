@@ -123,7 +123,7 @@ def main():
         wr.writerows(rows)
     series = [("DYNAMIC BIN", [(r["h_over_d"], r["dyn_szz"] / 1e3) for r in rows]),
               ("H", [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= d_mean / 2])]
-    for name in ["31", "21", "41", "11", "51", f"3{nrow}"]:
+    for name in ["31", "21", "11", f"3{nrow}"]:
         pts = [(r["h_over_d"], r[f"szz_{name}"] / 1e3) for r in rows if r.get(f"szz_{name}", "") != ""]
         if pts:
             series.append((f"BIN {name}", pts))

@@ -34,6 +34,10 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                  rolling friction (SET ROLling; Pasha: mjkr, 0.1)
   --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
   --servo-div K  the piston servo's gain v / (K F) (5; more if the log warns of hunting)
+  --hold 0       Pasha's procedure: the piston reverses at the target force and unloads at
+                 constant speed (no servo; the default 1 holds the target with the servo first)
+  --unload-rate R  with --hold 0, the piston's unloading speed R x bed height (default --rate;
+                 Pasha: 1/s; a fast retreat lets the bed spring up off the floor)
   --saves K      save K + 1 states while indenting, from h = 0 to hmax (scripts/pasha_bins.py)
   --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
   --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
@@ -113,7 +117,7 @@ def compare(tags, out="pasha_indent_compare.png"):
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
         label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
         if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
-            label += f" {o['law'].upper()} MUR{o['mur']:g}"
+            label = f"D{o['d'] * 1e3:.0f} E/{o['soften']:.0f} MUR{o['mur']:g}"
         # From a penetration of one particle radius on (Pasha plots from one diameter).
         dp = o["d"] / o["d_over_dp"]
         series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
@@ -124,8 +128,8 @@ def compare(tags, out="pasha_indent_compare.png"):
         series,
         "PENETRATION H/D",
         "HARDNESS (KPA)",
-        refs=[("PASHA 8 KPA (13 MM BED)", [(min(xs), 8.0), (max(xs), 8.0)]),
-              ("PASHA 6 KPA (20-50 MM BEDS)", [(min(xs), 6.0), (max(xs), 6.0)])],
+        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)]),
+              ("PASHA 6 KPA", [(min(xs), 6.0), (max(xs), 6.0)])],
         cap=False,
     )
 
@@ -171,6 +175,8 @@ def main():
     from_settled = arg(argv, "--from-settled", "")
     gsettle = arg(argv, "--gsettle", 1.0)
     servo_div = arg(argv, "--servo-div", 5.0)
+    hold = arg(argv, "--hold", 1)
+    unload_rate = arg(argv, "--unload-rate", 0.0)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     diam, d_mean, d3 = sizes(scale)
@@ -282,22 +288,26 @@ def main():
         n = 0
         f = 0.0
         while n < 200000 and f < f_target:
-            tr.cycle(100)
-            n += 100
+            # (Short records near the target: the overshoot is one record's travel.)
+            k = 100 if f < 0.5 * f_target else 10
+            tr.cycle(k)
+            n += k
             f = tr.print("walls")["walls"][2]["normal_force"]
             consolidation.append((n, f))
         out["cycles_to_target"] = n
         say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g}), {time.time() - t0:.0f} s")
+        out["hold"] = hold
         # The servo's gain: a fifth (1/--servo-div) of the gain that would take the whole
         # target for full speed (a larger one makes the wall hunt through the dashpots of its
         # contacts: trubal warns, in the log).
         gain = v / (servo_div * f_target)
-        out["servo_gain"] = gain
-        tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
+        if hold:
+            out["servo_gain"] = gain
+            tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
         within = 0
         chunk = 499
         m = 0
-        while m < 60000:
+        while hold and m < 60000:
             tr.cycle(chunk)
             m += chunk
             f = tr.print("walls")["walls"][2]["normal_force"]
@@ -320,21 +330,44 @@ def main():
             wr.writerows([(c_, f_, f_target) for c_, f_ in consolidation])
 
         say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
-        # 3. Unload at the same top speed; then lift the piston out of the way.
-        tr.send(f"awall 3 se 0 {v!r} {gain!r}")
+        # 3. Unload at the same top speed (the servo's target 0, or with --hold 0 the piston
+        # going up at v); then lift the piston out of the way.
+        if hold:
+            tr.send(f"awall 3 se 0 {v!r} {gain!r}")
+            chunk = 500
+        else:
+            vu = (unload_rate or rate) * h_bed
+            out["unload_speed"] = vu
+            tr.send(f"awall 3 v 0 0 {vu!r}")
+            chunk = 20
         n = 0
-        chunk = 500
         while n < 40000:
             tr.cycle(chunk)
             n += chunk
             if tr.print("walls")["walls"][2]["normal_force"] < 1e-2 * f_target:
                 break
+        out["unload_cycles"] = n
+        if not hold:
+            # The piston stops there while the bed comes to rest.
+            tr.send("awall 3 v 0 0 0")
         tr.cycle(2000)
         balls = tr.print("balls")["balls"]
         z_top = max(b["pos"][2] + b["radius"] for b in balls)
         # A plane at rest (a velocity turns the servo off).
         tr.send(f"awall 3 p 0 0 -1 {-(z_top + d_ind + 4e-3)!r} v 0 0 0")
         out["unloaded_height"] = z_top
+        # The bed at rest before the indenter comes: until its kinetic energy is below 1e-4 of
+        # m g d_p (or 20000 steps).
+        m = 0
+        while m < 20000:
+            e = tr.print("energy")["kinetic"]
+            if e < 1e-4 * mass * G * d_mean:
+                break
+            tr.cycle(1000)
+            m += 1000
+        out["rest_cycles"] = m
+        out["rest_kinetic_over_mgd"] = e / (mass * G * d_mean)
+        say(f"  at rest after {m} more cycles (kinetic {e:.3g} J)")
         # The unloaded bed: --from TAG indents it again; scripts/bench/indenter_cost.py.
         tr.send(f"save unloaded{tag}.sav")
         say(f"unloaded: bed top {z_top:.4g} m, {time.time() - t0:.0f} s")

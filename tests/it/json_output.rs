@@ -202,8 +202,8 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
     script.push_str("print contacts all\nprint contacts gap\n");
     // Several items on one command: one line each.
     script.push_str("print info balls energy\n");
-    // PRint Stress with a Window adds the stress in that bin.
-    script.push_str("window 0 1 0 1 0 1\nprint stress\n");
+    // PRint Stress with a Window adds the bin's stress (`window`).
+    script.push_str("window -1 1 -1 1 -1 1\nprint stress\n");
     let out = run_json(&script);
     let lines = json_lines(&out);
     let mut expected: Vec<String> = vec!["bonds".into()];
