@@ -171,7 +171,7 @@ pub fn normal(
                     r_star: k.r_star,
                     gamma,
                 },
-                wall: laws.wall,
+                wall: pl.wall,
             };
             now = law.contact(alpha, s.a);
             history = match now {
