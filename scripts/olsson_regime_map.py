@@ -183,18 +183,20 @@ def main():
             for b, x in zip(BORDERS, borders_in([r["delta"] for r in ours], [r["fragmented_pct"] for r in ours])):
                 if x:
                     cv.line(X(x), y - 22, X(x), y + 22, (0, 0, 0), 3)
+                    cv.text(X(x) - 5, y - 32, f"{b:g}", (0, 0, 0), 1)
             kk = sum(r["delta"] / r["v"] ** 2 for r in ours) / len(ours)
             vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
             for b, x in zip(BORDERS, borders_in([v * v for v in vs], [olsson_pct(liq, v) for v in vs])):
                 if x:
                     cv.line(X(kk * x), y - 22, X(kk * x), y + 22, (150, 150, 150), 3)
+                    cv.text(X(kk * x) - 5, y - 32, f"{b:g}", (150, 150, 150), 1)
     ly = T
     for c, n in zip(regime_rgb, REGIME_NAMES):
         cv.box(W - R + 20, ly + 7, 6, c)
         cv.text(W - R + 34, ly, n.upper(), (0, 0, 0), 1)
         ly += 18
     cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (0, 0, 0), 3)
-    cv.text(W - R + 34, ly + 3, "BORDER, TRUBAL", (0, 0, 0), 1)
+    cv.text(W - R + 34, ly + 3, "BORDER 3/20/50 %, TRUBAL", (0, 0, 0), 1)
     ly += 18
     cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (150, 150, 150), 3)
     cv.text(W - R + 34, ly + 3, "BORDER, OLSSON (AT OUR DELTA/V2)", (0, 0, 0), 1)
