@@ -26,8 +26,20 @@ gamma* = 10 sqrt(d_p/g) = 0.14 for d_p = 2 mm, still quasi-static by Tardos's 0.
 
 usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [--sigma PA]
                                [--hmax H/R] [--seed K] [--tag T] [--frac F]
-       scripts/pasha_indent.py --compare TAG...   (H against h/d of the runs TAG ("" = the
-                               default run) in doc/img/pasha_indent_compare.png)
+                               [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
+                               [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
+  --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
+                 from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
+  --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
+                 rolling friction (SET ROLling; Pasha: mjkr, 0.1)
+  --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
+  --servo-div K  the piston servo's gain v / (K F) (5; more if the log warns of hunting)
+  --saves K      save K + 1 states while indenting, from h = 0 to hmax (scripts/pasha_bins.py)
+  --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
+  --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
+                 this run's --soften, --law and --mur
+       scripts/pasha_indent.py --compare [--out NAME.png] TAG...   (H against h/d of the runs
+                               TAG ("" = the default run) in doc/img/pasha_indent_compare.png)
 """
 import csv
 import json
@@ -54,7 +66,8 @@ class Trubal:
     """A trubal session on a pipe: commands in, the JSON lines of PRint out."""
 
     def __init__(self, sets, log, work):
-        args = [run_table.trubal_binary(), "--json", "-"]
+        # One thread unless TRUBAL_THREADS says otherwise (the results do not depend on it).
+        args = [run_table.trubal_binary(), "--json", "-", "--threads", os.environ.get("TRUBAL_THREADS", "1")]
         for k, v in sets.items():
             args += ["--set", f"{k}={v}"]
         self.p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -89,7 +102,7 @@ def say(text):
     print(text, file=sys.stderr, flush=True)
 
 
-def compare(tags):
+def compare(tags, out="pasha_indent_compare.png"):
     """One chart of H against h/d from doc/data/pasha_indent<tag>.csv and .json."""
     series = []
     for tag in tags:
@@ -99,25 +112,46 @@ def compare(tags):
         with open(base + ".csv") as fh:
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
         label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
+        if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
+            label += f" {o['law'].upper()} MUR{o['mur']:g}"
         # From a penetration of one particle radius on (Pasha plots from one diameter).
         dp = o["d"] / o["d_over_dp"]
         series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
     xs = [p[0] for _, s in series for p in s]
     run_table.chart(
-        os.path.join(ROOT, "doc", "img", "pasha_indent_compare.png"),
+        os.path.join(ROOT, "doc", "img", out),
         "BALL INDENTATION HARDNESS, SCALED CASES (SIGMA PRE 10 KPA)",
         series,
         "PENETRATION H/D",
         "HARDNESS (KPA)",
-        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)])],
+        refs=[("PASHA 8 KPA (13 MM BED)", [(min(xs), 8.0), (max(xs), 8.0)]),
+              ("PASHA 6 KPA (20-50 MM BEDS)", [(min(xs), 6.0), (max(xs), 6.0)])],
         cap=False,
     )
+
+
+def sizes(scale):
+    """Table 5.1's diameters x scale: [(d, f)], the number-mean d and <d^3>."""
+    diam = [(d * 1e-3 * scale, f) for d, f in TABLE_5_1]
+    d_mean = sum(d * f for d, f in diam) / sum(f for _, f in diam)
+    d3 = sum(d ** 3 * f for d, f in diam) / sum(f for _, f in diam)
+    return diam, d_mean, d3
+
+
+def bed_top(balls):
+    """The bed's height: the mean top of its highest 5 % of particles."""
+    tops = sorted(b["pos"][2] + b["radius"] for b in balls)
+    k = max(1, len(tops) // 20)
+    return sum(tops[-k:]) / k, tops
 
 
 def main():
     argv = sys.argv[1:]
     if argv and argv[0] == "--compare":
-        compare([t.strip("'\"") for t in argv[1:]])
+        # --compare [--out NAME.png] TAG...
+        rest = argv[1:]
+        out = arg(rest, "--out", "pasha_indent_compare.png")
+        compare([t.strip("'\"") for t in rest], out)
         return
     scale = arg(argv, "--scale", 2.0)
     soften = arg(argv, "--soften", 1000.0)
@@ -128,138 +162,202 @@ def main():
     seed = arg(argv, "--seed", 0)
     tag = arg(argv, "--tag", "")
     frac = arg(argv, "--frac", 0.2)
-    np_ = int(round(N_PASHA / scale ** 3))
-    diam = [(d * 1e-3 * scale, f) for d, f in TABLE_5_1]
-    d_mean = sum(d * f for d, f in diam) / sum(f for _, f in diam)
-    d3 = sum(d ** 3 * f for d, f in diam) / sum(f for _, f in diam)
-    rdie = DIE / 2
+    die = arg(argv, "--die", DIE * 1e3) * 1e-3
+    bed = arg(argv, "--bed", 0.0) * 1e-3
+    law = arg(argv, "--law", "hertz")
+    mur = arg(argv, "--mur", 0.0)
+    saves = arg(argv, "--saves", 0)
+    from_unloaded = arg(argv, "--from", "")
+    from_settled = arg(argv, "--from-settled", "")
+    gsettle = arg(argv, "--gsettle", 1.0)
+    servo_div = arg(argv, "--servo-div", 5.0)
+    if from_unloaded and from_settled:
+        sys.exit("--from and --from-settled exclude each other")
+    diam, d_mean, d3 = sizes(scale)
+    rdie = die / 2
+    area = math.pi * rdie ** 2
+    if bed > 0:
+        # The settled bed's solids fraction is about 0.50 (the runs below).
+        np_ = int(round(0.50 * area * bed / (math.pi / 6 * d3)))
+    else:
+        np_ = int(round(N_PASHA / scale ** 3))
     # Generation region: the bed's volume at solids fraction 0.25 (random sequential placement
     # jams near 0.38; at 0.3 a few per cent of the particles found no place).
     vsolid = np_ * math.pi / 6 * d3
-    hgen = vsolid / 0.25 / (math.pi * rdie ** 2)
-    side = DIE + 2e-3
+    hgen = vsolid / 0.25 / area
+    side = die + 2e-3
+    c = side / 2
     gamma_w = 0.5 * scale  # Pasha's Gamma = 0.5 J/m^2, scaled with d_p
     sets = {
-        "side": side, "zmax": hgen + d_ind + 0.02, "c": side / 2, "rdie": rdie, "hgen": hgen,
+        "side": side, "zmax": hgen + d_ind + 0.02, "c": c, "rdie": rdie, "hgen": hgen,
         "np": np_, "nball": np_ + 10,
         "rnom": d_mean / 2, "rtab": " ".join(f"{d / 2:.6e} {f}" for d, f in diam),
         "E": 55e9 / soften, "Ew": 182e9 / soften, "gamma": gamma_w / 2, "frac": frac,
-        "seed": seed,
+        "seed": seed, "law": law, "mur": mur,
     }
     work = os.path.join(ROOT, "target", "pasha_indent")
     os.makedirs(work, exist_ok=True)
     log = open(os.path.join(work, f"run{tag}.log"), "w")
     t0 = time.time()
     tr = Trubal(sets, log, work)
-    with open(os.path.join(HERE, "pasha_indent.tru")) as fh:
-        tr.send(fh.read())
-    tr.cycle(1)
-    info = tr.print("info")
-    dt = info["dt"] or 0.0
-    out = {"particles": info["balls"], "scale": scale, "soften": soften, "d": d_ind,
-           "d_over_dp": d_ind / d_mean, "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
+    out = {"particles": np_, "scale": scale, "soften": soften, "d": d_ind, "die": die,
+           "law": law, "mur": mur, "d_over_dp": d_ind / d_mean, "die_over_dp": die / d_mean,
+           "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
+    if from_unloaded:
+        # Indent the unloaded bed of run TAG (its set-up: the same --scale, --die, --bed, ...).
+        with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_unloaded}.json")) as fh:
+            prev = json.load(fh)
+        for k in ("settle_cycles", "bed_height", "bed_over_dp", "solids_fraction",
+                  "cycles_to_target", "consolidation_cycles", "piston_force", "piston_error",
+                  "piston_within_2pc_records", "consolidated_height", "unloaded_height"):
+            if k in prev:
+                out[k] = prev[k]
+        out["from"] = from_unloaded
+        tr.send(f"restart unloaded{from_unloaded}.sav")
+        tr.cycle(0)
+        info = tr.print("info")
+        dt = info["dt"] or 0.0
+        balls = tr.print("balls")["balls"]
+        h_bed = prev["bed_height"]
+        v = rate * h_bed
+        out["particles"] = info["balls"]
+    else:
+        if from_settled:
+            tr.send(f"restart settled{from_settled}.sav")
+            # The moduli of this run (the settled bed was made with other ones).
+            tr.send(f"ymd {55e9 / soften!r} 1\nymd {182e9 / soften!r} 2\nymd {55e9 / soften!r} 3")
+            # The law and the rolling friction of this run (from the consolidation on).
+            tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1")
+            out["from_settled"] = from_settled
+            try:
+                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
+                    out["settle_cycles"] = json.load(fh).get("settle_cycles")
+            except OSError:
+                pass  # (that run still going)
+            tr.cycle(2000)
+        else:
+            with open(os.path.join(HERE, "pasha_indent.tru")) as fh:
+                tr.send(fh.read())
+            tr.cycle(1)
+        info = tr.print("info")
+        dt = info["dt"] or 0.0
+        out["particles"] = info["balls"]
+        mass = np_ * 2456 * math.pi / 6 * d3
+        if not from_settled:
+            # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed. With
+            # --gsettle k the bed settles under k g (a shorter fall), then under g again.
+            if gsettle != 1.0:
+                tr.send(f"gravity 0 0 {-G * gsettle!r}")
+            chunk = 5000
+            settle = 0
+            while True:
+                tr.cycle(chunk)
+                settle += chunk
+                e = tr.print("energy")
+                kin = e["kinetic"]
+                if settle % 20000 == 0:
+                    say(f"  settling: {settle} cycles, kinetic {kin:.3g} J, {time.time() - t0:.0f} s")
+                if (settle * dt > math.sqrt(2 * hgen / (G * gsettle))
+                        and kin < 1e-4 * mass * G * gsettle * d_mean) or settle > 400000:
+                    break
+            if gsettle != 1.0:
+                tr.send(f"gravity 0 0 {-G!r}")
+                tr.cycle(5000)
+                settle += 5000
+            out["gsettle"] = gsettle
+            tr.send(f"save settled{tag}.sav")
+            out["settle_cycles"] = settle
+        balls = tr.print("balls")["balls"]
+        h_bed, tops = bed_top(balls)
+        say(f"settled: {time.time() - t0:.0f} s, bed {h_bed:.4g} m")
+        out.update({"bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
+                    "solids_fraction": vsolid / (area * h_bed)})
 
-    # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed.
-    mass = np_ * 2456 * math.pi / 6 * d3
-    chunk = 5000
-    settle = 0
-    while True:
-        tr.cycle(chunk)
-        settle += chunk
-        e = tr.print("energy")
-        kin = e["kinetic"]
-        if (settle * dt > math.sqrt(2 * hgen / G) and kin < 1e-4 * mass * G * d_mean) or settle > 400000:
-            break
-    balls = tr.print("balls")["balls"]
-    tops = sorted(b["pos"][2] + b["radius"] for b in balls)
-    h_bed = sum(tops[-len(tops) // 20:]) / (len(tops) // 20)
-    say(f"settled: {settle} cycles, {time.time() - t0:.0f} s")
-    out.update({"settle_cycles": settle, "bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
-                "solids_fraction": vsolid / (math.pi * rdie ** 2 * h_bed)})
+        # 2. Consolidate: the piston just above the bed comes down at rate x h until its force
+        # reaches sigma x area; then a servo holds it there until the force stays within 2 %.
+        f_target = sigma * area
+        v = rate * h_bed
+        tr.send(f"awall 3 p 0 0 -1 {-(tops[-1] + 0.2 * d_mean)!r} v 0 0 {-v!r}")
+        consolidation = []
+        n = 0
+        f = 0.0
+        while n < 200000 and f < f_target:
+            tr.cycle(100)
+            n += 100
+            f = tr.print("walls")["walls"][2]["normal_force"]
+            consolidation.append((n, f))
+        out["cycles_to_target"] = n
+        say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g}), {time.time() - t0:.0f} s")
+        # The servo's gain: a fifth (1/--servo-div) of the gain that would take the whole
+        # target for full speed (a larger one makes the wall hunt through the dashpots of its
+        # contacts: trubal warns, in the log).
+        gain = v / (servo_div * f_target)
+        out["servo_gain"] = gain
+        tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
+        within = 0
+        chunk = 499
+        m = 0
+        while m < 60000:
+            tr.cycle(chunk)
+            m += chunk
+            f = tr.print("walls")["walls"][2]["normal_force"]
+            consolidation.append((n + m, f))
+            if m % 4990 == 0:
+                say(f"  holding: {m} cycles, piston force {f:.4g} N of {f_target:.4g}")
+            within = within + 1 if abs(f / f_target - 1) < 0.02 else 0
+            if within >= 6:
+                break
+        n += m
+        piston = tr.print("walls")["walls"][2]
+        z_piston = -piston["geometry"]["Plane"]["d"] / abs(piston["geometry"]["Plane"]["normal"][2])
+        out.update({"consolidation_cycles": n, "piston_force": consolidation[-1][1],
+                    "piston_error": consolidation[-1][1] / f_target - 1,
+                    "piston_within_2pc_records": within,
+                    "consolidated_height": z_piston})
+        with open(os.path.join(ROOT, "doc", "data", f"pasha_consolidation{tag}.csv"), "w", newline="") as fh:
+            wr = csv.writer(fh)
+            wr.writerow(["cycle", "piston_force", "target"])
+            wr.writerows([(c_, f_, f_target) for c_, f_ in consolidation])
 
-    # 2. Consolidate: the piston just above the bed comes down at rate x h until its force
-    # reaches sigma x area; then a servo holds it there until the force stays within 2 %.
-    area = math.pi * rdie ** 2
-    f_target = sigma * area
-    v = rate * h_bed
-    tr.send(f"awall 3 p 0 0 -1 {-(tops[-1] + 0.2 * d_mean)!r} v 0 0 {-v!r}")
-    consolidation = []
-    n = 0
-    f = 0.0
-    while n < 200000 and f < f_target:
-        tr.cycle(100)
-        n += 100
-        f = tr.print("walls")["walls"][2]["normal_force"]
-        consolidation.append((n, f))
-    out["cycles_to_target"] = n
-    say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g})")
-    # The servo's gain: a fifth of the gain that would take the whole target for full speed
-    # (a larger one makes the wall hunt through the dashpots of its contacts).
-    gain = v / (5 * f_target)
-    tr.send(f"awall 3 se {f_target!r} {v!r} {gain!r}")
-    within = 0
-    chunk = 499
-    m = 0
-    while m < 60000:
-        tr.cycle(chunk)
-        m += chunk
-        f = tr.print("walls")["walls"][2]["normal_force"]
-        consolidation.append((n + m, f))
-        if m % 4990 == 0:
-            say(f"  holding: {m} cycles, piston force {f:.4g} N of {f_target:.4g}")
-        within = within + 1 if abs(f / f_target - 1) < 0.02 else 0
-        if within >= 6:
-            break
-    n += m
-    piston = tr.print("walls")["walls"][2]
-    z_piston = -piston["geometry"]["Plane"]["d"] / abs(piston["geometry"]["Plane"]["normal"][2])
-    out.update({"consolidation_cycles": n, "piston_force": consolidation[-1][1],
-                "piston_error": consolidation[-1][1] / f_target - 1,
-                "piston_within_2pc_records": within,
-                "consolidated_height": z_piston})
-    with open(os.path.join(ROOT, "doc", "data", f"pasha_consolidation{tag}.csv"), "w", newline="") as fh:
-        wr = csv.writer(fh)
-        wr.writerow(["cycle", "piston_force", "target"])
-        wr.writerows([(c, f, f_target) for c, f in consolidation])
+        say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
+        # 3. Unload at the same top speed; then lift the piston out of the way.
+        tr.send(f"awall 3 se 0 {v!r} {gain!r}")
+        n = 0
+        chunk = 500
+        while n < 40000:
+            tr.cycle(chunk)
+            n += chunk
+            if tr.print("walls")["walls"][2]["normal_force"] < 1e-2 * f_target:
+                break
+        tr.cycle(2000)
+        balls = tr.print("balls")["balls"]
+        z_top = max(b["pos"][2] + b["radius"] for b in balls)
+        # A plane at rest (a velocity turns the servo off).
+        tr.send(f"awall 3 p 0 0 -1 {-(z_top + d_ind + 4e-3)!r} v 0 0 0")
+        out["unloaded_height"] = z_top
+        # The unloaded bed: --from TAG indents it again; scripts/bench/indenter_cost.py.
+        tr.send(f"save unloaded{tag}.sav")
+        say(f"unloaded: bed top {z_top:.4g} m, {time.time() - t0:.0f} s")
 
-    say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
-    # 3. Unload at the same top speed; then lift the piston out of the way.
-    tr.send(f"awall 3 se 0 {v!r} {gain!r}")
-    n = 0
-    chunk = 500
-    while n < 40000:
-        tr.cycle(chunk)
-        n += chunk
-        if tr.print("walls")["walls"][2]["normal_force"] < 1e-2 * f_target:
-            break
-    tr.cycle(2000)
-    balls = tr.print("balls")["balls"]
-    c = side / 2
-    tops = [b["pos"][2] + b["radius"] for b in balls]
-    z_top = max(tops)
-    tr.send(f"awall 3 p 0 0 -1 {-(z_top + d_ind + 4e-3)!r}")
-    out["unloaded_height"] = z_top
-    # The unloaded bed, for scripts/bench/indenter_cost.py (target/pasha_indent/).
-    tr.send(f"save unloaded{tag}.sav")
-
-    say(f"unloaded: bed top {z_top:.4g} m, {time.time() - t0:.0f} s")
     # 4. Indent at constant speed from just above the highest particle under the indenter.
     under = [b["pos"][2] + b["radius"] for b in balls
              if math.hypot(b["pos"][0] - c, b["pos"][1] - c) < d_ind / 2]
     z0 = max(under) + 0.2 * d_mean + d_ind / 2
     tr.send(f"dwall ob {c!r} {c!r} {z0!r} {d_ind / 2!r} v 0 0 {-v!r} m 3")
+    nwall = len(tr.print("walls")["walls"])
     travel = hmax * d_ind / 2 + 0.2 * d_mean
     steps = travel / v / dt
     chunk = max(1, int(steps / 250))
     rows = []
     zc_first = None
     n = 0
+    saved = 0
     while n < 3 * steps:
         tr.cycle(chunk)
         n += chunk
-        w = tr.print("walls")["walls"][3]
+        w = tr.print("walls")["walls"][nwall - 1]
         zc = w["geometry"]["Obstacle"]["centre"][2]
-        f = w["force"][2]
+        f = w["force"][2]  # the vertical component: the indenter's load
         if zc_first is None and f > 0:
             zc_first = zc
         if zc_first is None:
@@ -267,7 +365,11 @@ def main():
         h = zc_first - zc
         area_h = math.pi * (d_ind * h - h * h)
         rows.append({"h": h, "h_over_d": h / d_ind, "h_over_r": 2 * h / d_ind, "force": f,
-                     "hardness": f / area_h if area_h > 0 else 0.0})
+                     "hardness": f / area_h if area_h > 0 else 0.0, "zc": zc})
+        if saves and 2 * h / d_ind >= hmax * saved / saves:
+            # States for the bin stresses (scripts/pasha_bins.py).
+            tr.send(f"save indent{tag}_{saved:02d}.sav")
+            saved += 1
         if len(rows) % 25 == 0:
             say(f"  indenting: h/r {2 * h / d_ind:.3f}, F {f:.4g} N, {time.time() - t0:.0f} s")
         if h >= hmax * d_ind / 2:

@@ -31,12 +31,12 @@ pub fn bond_counts(reference: &[(u32, u32)], now: &[(u32, u32)]) -> (usize, usiz
 /// The bonds that define an agglomerate: liquid bridges in a wet scene, solid contacts
 /// otherwise.
 pub fn bonds_now(scene: &Scene) -> (Vec<(u32, u32)>, bool) {
-    let wet = scene.liquid.is_some_and(|l| l.pvol > 0.0);
-    (scene.contacts.bonded_pairs(&scene.particles, wet), wet)
+    let wet = scene.liquid().is_some_and(|l| l.pvol > 0.0);
+    (scene.contacts().bonded_pairs(scene.particles(), wet), wet)
 }
 
 pub fn bonds_item(scene: &Scene) -> (String, Value) {
-    let Some(r) = &scene.reference else {
+    let Some(r) = &scene.reference() else {
         return (
             "no reference state: give `PLot SAve` first\n".into(),
             json!({"print": "bonds", "error": "no reference state"}),
@@ -222,8 +222,8 @@ fn largest_cluster(p: &crate::sim::scene::Particles, bonds: &[(u32, u32)]) -> Ve
 
 pub fn clusters_item(scene: &Scene) -> (String, Value) {
     let (bonds, wet) = bonds_now(scene);
-    let sizes = cluster_sizes(&scene.particles.id, &bonds);
-    let p = &scene.particles;
+    let sizes = cluster_sizes(&scene.particles().id, &bonds);
+    let p = &scene.particles();
     let coordination = if p.is_empty() {
         0.0
     } else {
@@ -231,7 +231,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
     };
     // Particles held by a wall (solid contact or bridge): Olsson's capture ratio.
     let mut on_wall = vec![false; p.len()];
-    for c in &scene.contacts.wall_pairs {
+    for c in scene.contacts().wall_pairs() {
         if c.s.touching || c.s.bridge.is_some() {
             on_wall[c.i as usize] = true;
         }
@@ -247,7 +247,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
     } else {
         p.radius.iter().sum::<f64>() / p.len() as f64
     };
-    let eps = scene.settings.fragment_eps.unwrap_or(4.0 * rmean);
+    let eps = scene.settings().fragment_eps.unwrap_or(4.0 * rmean);
     let frags = dbscan_sizes(&p.pos, eps, 3);
     let fragmentation = p.len() - frags.first().copied().unwrap_or(0);
     // Fractal dimension of the largest cluster.
@@ -275,7 +275,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
             .map(|&k| p.radius[k])
             .collect::<Vec<_>>(),
     );
-    let n = scene.particles.len();
+    let n = scene.particles().len();
     let largest = sizes.first().copied().unwrap_or(0);
     let debris = n - largest;
     let count = |k: usize| sizes.iter().skip(1).filter(|&&s| s == k).count();

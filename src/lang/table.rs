@@ -223,7 +223,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &["P", "SP", "OB", "CYlinder", "V", "M", "SE"],
         true,
         b_awall,
-        "Alter wall n: geometry (any kind to any other), velocity, material or servo. Refused if the new geometry puts a particle's centre behind the wall's surface (with SET TUNnel STOP, the default)."
+        "Alter wall n: geometry (any kind to any other), velocity, material or servo (a V without SE takes a servo off: the wall then moves at V). Refused if the new geometry puts a particle's centre behind the wall's surface (with SET TUNnel STOP, the default)."
     ),
     def!(
         "CGRavity",

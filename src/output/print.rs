@@ -15,7 +15,7 @@ fn v3(v: &crate::sim::Vec3) -> Value {
 }
 
 fn in_window(scene: &Scene, x: &crate::sim::Vec3) -> bool {
-    match scene.settings.window {
+    match scene.settings().window {
         None => true,
         Some(w) => {
             w[0] <= x.x && x.x <= w[1] && w[2] <= x.y && x.y <= w[3] && w[4] <= x.z && x.z <= w[5]
@@ -50,11 +50,11 @@ pub fn item(scene: &Scene, it: PrintItem) -> (String, Value) {
 
 fn info(scene: &Scene) -> (String, Value) {
     let dt = current_dt(scene);
-    let (c, cw) = scene.contacts.active_counts();
-    let (b, bw) = scene.contacts.bridge_counts();
+    let (c, cw) = scene.contacts().active_counts();
+    let (b, bw) = scene.contacts().bridge_counts();
     let touching = touching_pairs(scene);
     let (mut bc, mut bt) = (0, 0);
-    for p in scene.contacts.iter() {
+    for p in scene.contacts().iter() {
         if let Some(br) = &p.s.bridge {
             if br.gap <= 0.0 { bc += 1 } else { bt += 1 }
         }
@@ -62,20 +62,20 @@ fn info(scene: &Scene) -> (String, Value) {
     let mut s = format!(
         "cycle {}  time {:.6e} s  dt {:.6e} s\nballs {} (capacity {}, lost through open sides or walls crossed {})  walls {}\n\
          contacts {} particle-particle, {} particle-wall  ({} candidate pairs, {} touching or overlapping pairs)\n",
-        scene.cycle,
-        scene.time,
+        scene.cycle(),
+        scene.time(),
         dt,
-        scene.particles.len(),
-        scene.nball,
-        scene.lost,
-        scene.walls.len(),
+        scene.particles().len(),
+        scene.nball(),
+        scene.lost(),
+        scene.walls().len(),
         c,
         cw,
-        scene.contacts.len(),
+        scene.contacts().len(),
         touching
     );
     let (free, in_bridges) = crate::sim::liquid::total_liquid(scene);
-    if scene.liquid.is_some() {
+    if scene.liquid().is_some() {
         s.push_str(&format!(
             "liquid bridges {b} particle-particle ({bc} compressive, {bt} tensile), {bw} particle-wall\n\
              liquid {:.6e} m^3 in bridges, {:.6e} m^3 on particles, total {:.6e} m^3\n",
@@ -84,7 +84,7 @@ fn info(scene: &Scene) -> (String, Value) {
             in_bridges + free
         ));
     }
-    for (k, w) in scene.walls.iter().enumerate() {
+    for (k, w) in scene.walls().iter().enumerate() {
         s.push_str(&format!(
             "wall {}: {}  normal force {:.6e} N\n",
             k + 1,
@@ -93,19 +93,19 @@ fn info(scene: &Scene) -> (String, Value) {
         ));
     }
     let j = json!({
-        "print": "info", "cycle": scene.cycle, "time": scene.time, "dt": dt,
-        "balls": scene.particles.len(), "walls": scene.walls.len(), "contacts": c,
+        "print": "info", "cycle": scene.cycle(), "time": scene.time(), "dt": dt,
+        "balls": scene.particles().len(), "walls": scene.walls().len(), "contacts": c,
         "wall_contacts": cw, "touching": touching, "bridges": b, "wall_bridges": bw,
-        "bridges_compressive": bc, "bridges_tensile": bt, "lost": scene.lost,
+        "bridges_compressive": bc, "bridges_tensile": bt, "lost": scene.lost(),
         "liquid_bridges": in_bridges, "liquid_free": free, "liquid_total": in_bridges + free,
-        "wall_forces": scene.walls.iter().map(|w| w.normal_force).collect::<Vec<_>>(),
+        "wall_forces": scene.walls().iter().map(|w| w.normal_force).collect::<Vec<_>>(),
     });
     (s, j)
 }
 
 /// Pairs whose gap is at most 1e-6 of the smallest radius (touching within round-off).
 pub fn touching_pairs(scene: &Scene) -> usize {
-    let p = &scene.particles;
+    let p = &scene.particles();
     if p.is_empty() {
         return 0;
     }
@@ -142,7 +142,7 @@ fn geom_text(g: &WallGeom) -> String {
 }
 
 fn balls(scene: &Scene) -> (String, Value) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let mut s = format!(
         "{:>7} {:>13} {:>13} {:>13} {:>13} {:>13} {:>13} {:>11} {:>3} {:>3} {:>3}\n",
         "id", "x", "y", "z", "vx", "vy", "vz", "radius", "siz", "mat", "agg"
@@ -164,11 +164,11 @@ fn balls(scene: &Scene) -> (String, Value) {
         }));
     }
     // In a deforming cell the stored velocities are relative to the mean field (`sim::cell`).
-    let relative = scene.cell.in_use();
+    let relative = scene.cell().in_use();
     if relative {
         s.push_str("(velocities relative to the mean field of the cell's GRID, C = c - G x)\n");
     }
-    let j = json!({"print": "balls", "cycle": scene.cycle, "time": scene.time, "balls": arr,
+    let j = json!({"print": "balls", "cycle": scene.cycle(), "time": scene.time(), "balls": arr,
         "velocity": if relative { "relative to the mean field" } else { "total" }});
     (s, j)
 }
@@ -189,7 +189,7 @@ fn contact_json(s: &ContactState) -> Value {
 }
 
 fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let keep = |s: &ContactState| match f {
         ContactsFilter::All => true,
         _ => s.touching || s.bridge.is_some(),
@@ -199,7 +199,7 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
         "a", "b", "overlap", "normal_force", "tang_force", "bridge_force"
     );
     let mut arr = Vec::new();
-    for c in scene.contacts.iter() {
+    for c in scene.contacts().iter() {
         if !keep(c.s) || !in_window(scene, &p.pos[c.i as usize]) {
             continue;
         }
@@ -225,7 +225,7 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
         v["b"] = json!(c.idb);
         arr.push(v);
     }
-    for c in &scene.contacts.wall_pairs {
+    for c in scene.contacts().wall_pairs() {
         if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
             continue;
         }
@@ -242,19 +242,19 @@ fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
         v["wall"] = json!(c.wall + 1);
         arr.push(v);
     }
-    let j = json!({"print": "contacts", "cycle": scene.cycle, "contacts": arr});
+    let j = json!({"print": "contacts", "cycle": scene.cycle(), "contacts": arr});
     (s, j)
 }
 
 fn energy_item(scene: &Scene) -> (String, Value) {
     let st = energy::stored(scene);
-    let l = &scene.ledger;
+    let l = &scene.ledger();
     let res = energy::residual(scene);
-    let input = l.input() + scene.cell.work;
+    let input = l.input() + scene.cell().work;
     let frac = |x: f64| if input != 0.0 { x / input } else { 0.0 };
     // The periodic cell's work (`sim::cell`), shown once a GRID or servo has deformed it.
-    let cell = if scene.cell.work != 0.0 {
-        format!("  cell {:.6e}", scene.cell.work)
+    let cell = if scene.cell().work != 0.0 {
+        format!("  cell {:.6e}", scene.cell().work)
     } else {
         String::new()
     };
@@ -265,7 +265,7 @@ fn energy_item(scene: &Scene) -> (String, Value) {
          dissipated     friction {:.6e}  mass damping {:.6e}  contact damping {:.6e}\n                 \
          viscous {:.6e}  adhesion {:.6e}  rupture {:.6e}  total {:.6e}\n  \
          residual       {:.6e} (stored - input + dissipated)\n",
-        scene.cycle,
+        scene.cycle(),
         st.kinetic_translation,
         st.kinetic_rotation,
         st.strain_normal,
@@ -285,7 +285,7 @@ fn energy_item(scene: &Scene) -> (String, Value) {
         res
     );
     let j = json!({
-        "print": "energy", "cycle": scene.cycle, "time": scene.time,
+        "print": "energy", "cycle": scene.cycle(), "time": scene.time(),
         "kinetic": st.kinetic_translation + st.kinetic_rotation,
         "kinetic_translation": st.kinetic_translation, "kinetic_rotation": st.kinetic_rotation,
         "strain": st.strain_normal + st.strain_tangential,
@@ -293,7 +293,7 @@ fn energy_item(scene: &Scene) -> (String, Value) {
         "bridge": st.bridge,
         "input": input,
         "inputs": {"commands": l.commands, "gravity": l.gravity, "walls": l.walls,
-            "cell": scene.cell.work},
+            "cell": scene.cell().work},
         "dissipated": {
             "friction": l.friction, "damping_mass": l.damping_mass,
             "damping_contact": l.damping_contact, "viscous": l.viscous,
@@ -331,12 +331,12 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
         xres,
         pairs.len(),
         walls.len(),
-        scene.contacts.rebuilds()
+        scene.contacts().rebuilds()
     );
     // The list in use may have been made with a larger TOL (automatic TOL, fast particles:
     // cycle::rebuild_tol).
-    let list_tol = scene.contacts.tol();
-    let s = if list_tol > tol && scene.contacts.rebuilds() > 0 {
+    let list_tol = scene.contacts().tol();
+    let s = if list_tol > tol && scene.contacts().rebuilds() > 0 {
         format!(
             "{s}the candidate list in use was made with TOL {:.4e} m, XRES {:.4e} m (grown for fast particles)\n",
             list_tol,
@@ -350,7 +350,7 @@ fn entries(scene: &Scene, map: bool) -> (String, Value) {
         "entries": g.entries, "max_entries_per_box": g.max_entries_per_box,
         "empty_boxes": g.empty_boxes, "tol": tol, "xres": xres,
         "candidate_pairs": pairs.len(), "wall_candidates": walls.len(),
-        "rebuilds": scene.contacts.rebuilds(), "list_tol": list_tol,
+        "rebuilds": scene.contacts().rebuilds(), "list_tol": list_tol,
     });
     (s, j)
 }
@@ -365,7 +365,7 @@ fn stress(scene: &Scene) -> (String, Value) {
             m[0][0], m[0][1], m[0][2], "", m[1][0], m[1][1], m[1][2], "", m[2][0], m[2][1], m[2][2]
         )
     };
-    let s = format!(
+    let mut s = format!(
         "average stress (Pa, compression positive; row: force component, column: branch component), mean {:.6e}, major principal stress in x-y at {:.3} deg from x\n{}{}{}",
         st.mean(),
         angle,
@@ -373,21 +373,36 @@ fn stress(scene: &Scene) -> (String, Value) {
         matrix("contact", &st.contact),
         matrix("kinetic", &st.kinetic),
     );
-    (
-        s,
-        json!({"print": "stress", "cycle": scene.cycle, "stress": total,
-            "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
-            "angle_xy": angle, "temperature": crate::sim::stress::temperature(scene)}),
-    )
+    let mut j = json!({"print": "stress", "cycle": scene.cycle(), "stress": total,
+        "contact": st.contact, "kinetic": st.kinetic, "mean": st.mean(),
+        "angle_xy": angle, "temperature": crate::sim::stress::temperature(scene)});
+    // With a Window: the stress in that bin (Pasha 2013 (5.1)-(5.3)).
+    if let Some(b) = scene.settings().window {
+        let (bs, count) = crate::sim::stress::in_box(scene, &b);
+        let bt = bs.total();
+        let dev = crate::sim::stress::deviatoric_pasha(&bt);
+        s.push_str(&format!(
+            "stress in the window (the {count} particles whose centre is in it, all their contacts, walls included; Pasha 2013 (5.1)), hydrostatic {:.6e}, deviatoric (5.3) {:.6e}\n{}{}{}",
+            bs.mean(),
+            dev,
+            matrix("total", &bt),
+            matrix("contact", &bs.contact),
+            matrix("kinetic", &bs.kinetic),
+        ));
+        j["window"] = json!({"bounds": b, "particles": count, "stress": bt,
+            "contact": bs.contact, "kinetic": bs.kinetic, "hydrostatic": bs.mean(),
+            "deviatoric": dev});
+    }
+    (s, j)
 }
 
 fn partitions(scene: &Scene) -> (String, Value) {
     // Contributions of compressive solid contacts, tensile solid contacts and bridges to the
     // mean stress.
-    let p = &scene.particles;
-    let vol = scene.size[0] * scene.size[1] * scene.size[2];
+    let p = &scene.particles();
+    let vol = scene.size()[0] * scene.size()[1] * scene.size()[2];
     let (mut comp, mut tens, mut brid) = (0.0, 0.0, 0.0);
-    for c in scene.contacts.iter() {
+    for c in scene.contacts().iter() {
         let l = scene
             .branch(&p.pos[c.i as usize], &p.pos[c.j as usize])
             .norm();
@@ -417,7 +432,7 @@ fn partitions(scene: &Scene) -> (String, Value) {
 }
 
 fn settings(scene: &Scene) -> (String, Value) {
-    let st = &scene.settings;
+    let st = &scene.settings();
     let (tol, xres) = match params::build(scene) {
         Ok(m) => cycle::search_distances(scene, &m),
         Err(_) => (0.0, 0.0),
@@ -466,7 +481,7 @@ fn settings(scene: &Scene) -> (String, Value) {
 fn walls(scene: &Scene) -> (String, Value) {
     let mut s = String::new();
     let mut arr = Vec::new();
-    for (k, w) in scene.walls.iter().enumerate() {
+    for (k, w) in scene.walls().iter().enumerate() {
         s.push_str(&format!(
             "wall {}: {}  velocity ({}, {}, {}) vr {}  material {}  force ({:.6e}, {:.6e}, {:.6e}) normal {:.6e}{}\n",
             k + 1, geom_text(&w.geom), w.vel[0], w.vel[1], w.vel[2], w.vr, w.material,
@@ -487,9 +502,9 @@ fn walls(scene: &Scene) -> (String, Value) {
 
 fn chist(scene: &Scene) -> (String, Value) {
     // Histogram of the number of solid contacts per particle.
-    let n = scene.particles.len();
+    let n = scene.particles().len();
     let mut z = vec![0usize; n];
-    for c in scene.contacts.iter() {
+    for c in scene.contacts().iter() {
         if c.s.touching {
             z[c.i as usize] += 1;
             z[c.j as usize] += 1;
@@ -516,15 +531,15 @@ fn chist(scene: &Scene) -> (String, Value) {
 }
 
 fn grid(scene: &Scene) -> (String, Value) {
-    let c = &scene.cell;
+    let c = &scene.cell();
     let mut s = format!(
         "work-space {} x {} x {} m; periodic x {} y {} z {}\n",
-        scene.size[0],
-        scene.size[1],
-        scene.size[2],
-        scene.settings.periodic[0],
-        scene.settings.periodic[1],
-        scene.settings.periodic[2]
+        scene.size()[0],
+        scene.size()[1],
+        scene.size()[2],
+        scene.settings().periodic[0],
+        scene.settings().periodic[1],
+        scene.settings().periodic[2]
     );
     s.push_str(&format!(
         "strain rates (1/s) ed11 {:e} ed22 {:e} ed33 {:e} ed12 {:e} ed23 {:e} ed31 {:e}\n\
@@ -536,7 +551,7 @@ fn grid(scene: &Scene) -> (String, Value) {
     ));
     (
         s,
-        json!({"print": "grid", "size": scene.size, "periodic": scene.settings.periodic,
+        json!({"print": "grid", "size": scene.size(), "periodic": scene.settings().periodic,
             "rates": c.rate, "strains": c.strain, "offset": c.shift, "gain": c.gain,
             "mode": c.mode, "work": c.work}),
     )
@@ -546,13 +561,13 @@ fn history(scene: &Scene) -> (String, Value) {
     let cols = crate::sim::history::COLUMNS;
     let mut s = cols.join(",");
     s.push('\n');
-    for r in &scene.history.rows {
+    for r in &scene.history().rows {
         let line: Vec<String> = r.iter().map(|x| format!("{x:e}")).collect();
         s.push_str(&line.join(","));
         s.push('\n');
     }
     (
         s,
-        json!({"print": "history", "columns": cols, "rows": scene.history.rows}),
+        json!({"print": "history", "columns": cols, "rows": scene.history().rows}),
     )
 }

@@ -25,7 +25,7 @@ const PANELS: &[(&str, &str, &[(&str, Rgb)])] = &[
 
 /// The chart of the history recorded by `SET HIStory n`.
 pub fn history_chart(scene: &Scene) -> Result<Chart, String> {
-    let rows = &scene.history.rows;
+    let rows = &scene.history().rows;
     if rows.is_empty() {
         return Err(
             "PLot HIStory: no history recorded yet: give `SET HIStory n` (record every n cycles), then Cycle"
@@ -65,7 +65,7 @@ pub fn history_chart(scene: &Scene) -> Result<Chart, String> {
         title: format!(
             "trubal history: {} records up to cycle {}",
             rows.len(),
-            scene.cycle
+            scene.cycle()
         ),
         x_label: "cycle".into(),
         panels,

@@ -41,8 +41,8 @@ pub fn png_bytes(scene: &Scene, items: &[PlotItem]) -> Result<Vec<u8>, String> {
 /// of the file written.
 pub fn plot(scene: &Scene, items: &[PlotItem]) -> Result<String, String> {
     let bytes = png_bytes(scene, items)?;
-    let dir = scene.settings.out_dir.as_str();
-    let name = file_name(scene.cycle, items);
+    let dir = scene.settings().out_dir.as_str();
+    let name = file_name(scene.cycle(), items);
     let (path, shown) = if dir.is_empty() || dir == "." {
         (Path::new(&name).to_path_buf(), name.clone())
     } else {

@@ -18,9 +18,9 @@ const R: f64 = 0.01;
 /// A non-periodic 1 m cube with particles of radius R at the given centres (ids 1, 2, ...).
 fn scene_at(centres: &[[f64; 3]]) -> Scene {
     let mut s = Scene::new([1.0, 1.0, 1.0], 100, 100, 2);
-    s.settings.periodic = [false; 3];
+    s.unchecked().settings.periodic = [false; 3];
     for (k, c) in centres.iter().enumerate() {
-        s.particles.push(
+        s.unchecked().particles.push(
             k as u32 + 1,
             Vec3::from(*c),
             Vec3::zeros(),
@@ -32,7 +32,7 @@ fn scene_at(centres: &[[f64; 3]]) -> Scene {
             0,
         );
     }
-    s.next_id = centres.len() as u32 + 1;
+    *s.unchecked().next_id = centres.len() as u32 + 1;
     s
 }
 
@@ -67,7 +67,7 @@ fn bridge_template() -> Box<BridgeState> {
     }
     let scene = session.scene.expect("scene");
     scene
-        .contacts
+        .contacts()
         .iter()
         .find_map(|p| p.s.bridge.clone())
         .expect("a bridge between touching wet spheres")
@@ -91,8 +91,8 @@ fn state(touching: bool, normal: f64, damp: f64, bridge: Option<(f64, f64)>) -> 
 }
 
 fn pair(s: &Scene, ida: u32, idb: u32, st: ContactState) -> PairWithState {
-    let i = s.particles.id.iter().position(|&x| x == ida).expect("id");
-    let j = s.particles.id.iter().position(|&x| x == idb).expect("id");
+    let i = s.particles().id.iter().position(|&x| x == ida).expect("id");
+    let j = s.particles().id.iter().position(|&x| x == idb).expect("id");
     PairWithState {
         i: i as u32,
         j: j as u32,
@@ -105,7 +105,7 @@ fn pair(s: &Scene, ida: u32, idb: u32, st: ContactState) -> PairWithState {
 fn touching(s: &mut Scene, bonds: &[(u32, u32)]) {
     for &(a, b) in bonds {
         let p = pair(s, a, b, state(true, 1.0, 0.0, None));
-        s.contacts.push(p);
+        s.unchecked().contacts.push(p);
     }
 }
 
@@ -153,14 +153,14 @@ fn discs_far_first_in_each_view() {
             .map(|d| d.id)
             .collect()
     };
-    s.settings.view = View::Xz; // far = large y
+    s.unchecked().settings.view = View::Xz; // far = large y
     assert_eq!(order(&s), vec![2, 1, 3]);
-    s.settings.view = View::Yz; // far = small x
+    s.unchecked().settings.view = View::Yz; // far = small x
     assert_eq!(order(&s), vec![1, 2, 3]);
-    s.settings.view = View::Xy; // far = small z
+    s.unchecked().settings.view = View::Xy; // far = small z
     assert_eq!(order(&s), vec![2, 3, 1]);
-    s.settings.two_d = true;
-    s.settings.view = View::Xz;
+    s.unchecked().settings.two_d = true;
+    s.unchecked().settings.view = View::Xz;
     assert_eq!(order(&s), vec![2, 3, 1]);
     let pic = picture(&s, &[PlotItem::Disks]).expect("picture");
     assert!(pic.discs.iter().all(|d| d.shade == Shade::Flat));
@@ -206,7 +206,7 @@ fn force_scene() -> Scene {
         pair(&s, 3, 4, state(true, 1.0, 0.0, Some((0.3, 0.1)))),
         pair(&s, 4, 5, state(false, 0.0, 0.0, None)),
     ];
-    s.contacts.set_pairs(c);
+    s.unchecked().contacts.set_pairs(c);
     s
 }
 
@@ -319,7 +319,7 @@ fn overlaid_force_sets_share_one_scale() {
 #[test]
 fn wall_contacts_end_on_the_wall() {
     let mut s = scene_at(&[[0.3, 0.5, 0.1 + 0.9 * R]]);
-    s.walls.push(Wall {
+    s.unchecked().walls.push(Wall {
         geom: WallGeom::Plane {
             normal: [0.0, 0.0, 1.0],
             d: 0.1,
@@ -333,7 +333,7 @@ fn wall_contacts_end_on_the_wall() {
         disp: [0.0; 3],
         travel: 0.0,
     });
-    s.contacts.wall_pairs.push(WallPair {
+    s.unchecked().contacts.wall_pairs_mut().push(WallPair {
         i: 0,
         id: 1,
         wall: 0,
@@ -362,7 +362,7 @@ fn wall_contacts_end_on_the_wall() {
     assert!(hatch.clone().count() > 5);
     assert!(hatch.into_iter().all(|g| g.b[1] < 0.1));
     // Seen from above the plane is parallel to the view: not drawn, said so.
-    s.settings.view = View::Xy;
+    s.unchecked().settings.view = View::Xy;
     let pic = picture(&s, &[PlotItem::Wall]).expect("picture");
     assert!(pic.segments.is_empty());
     assert!(pic.notes.iter().any(|n| n.contains("parallel")));
@@ -382,11 +382,11 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
         disp: [0.0; 3],
         travel: 0.0,
     };
-    s.walls.push(wall(WallGeom::Plane {
+    s.unchecked().walls.push(wall(WallGeom::Plane {
         normal: [1.0, 0.0, 0.0],
         d: 0.2,
     }));
-    s.walls.push(wall(WallGeom::Obstacle {
+    s.unchecked().walls.push(wall(WallGeom::Obstacle {
         centre: [0.5, 0.9, 0.7],
         radius: 0.1,
     }));
@@ -405,8 +405,8 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
     assert!(pic.bounds.vmax > 0.8);
     // A die along z, seen from the side (XZ): its two sides x = 0.5 ± 0.3, the particles
     // between them; from the top (XY) a circle.
-    s.walls.clear();
-    s.walls.push(wall(WallGeom::Cylinder {
+    s.unchecked().walls.clear();
+    s.unchecked().walls.push(wall(WallGeom::Cylinder {
         point: [0.5, 0.5, 0.0],
         axis: [0.0, 0.0, 1.0],
         radius: 0.3,
@@ -420,7 +420,7 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
         .collect();
     assert_eq!(sides.len(), 2, "{sides:?}");
     assert!(sides.iter().any(|&u| close(u, 0.2)) && sides.iter().any(|&u| close(u, 0.8)));
-    s.settings.view = View::Xy;
+    s.unchecked().settings.view = View::Xy;
     let pic = picture(&s, &[PlotItem::Wall]).expect("picture");
     assert_eq!(pic.rings.len(), 1);
     assert_eq!(
@@ -432,9 +432,9 @@ fn walls_out_of_the_picture_extend_it_and_spheres_are_rings() {
 #[test]
 fn periodic_pairs_are_drawn_as_two_halves() {
     let mut s = scene_at(&[[0.005, 0.5, 0.5], [0.995, 0.5, 0.5]]);
-    s.settings.periodic = [true; 3];
+    s.unchecked().settings.periodic = [true; 3];
     let p = pair(&s, 1, 2, state(true, 1.0, 0.0, None));
-    s.contacts.push(p);
+    s.unchecked().contacts.push(p);
     let pic = picture(&s, &[PlotItem::MForces]).expect("picture");
     assert_eq!(pic.segments.len(), 2);
     assert_eq!(pic.segments[0].a, [0.005, 0.5]);
@@ -495,7 +495,7 @@ fn a_cluster_of_three_bridges() {
         wet(&s, 2, 3),
         pair(&s, 3, 4, state(true, 0.5, 0.0, None)),
     ];
-    s.contacts.set_pairs(c);
+    s.unchecked().contacts.set_pairs(c);
     let pic = picture(&s, &[PlotItem::LCluster]).expect("picture");
     let want = [
         colour::CLUSTER[1],
@@ -554,9 +554,9 @@ fn cnd_kept_new_broken() {
     touching(&mut s, &[(1, 2), (2, 3), (3, 4)]);
     // A bridge 4-5 in the reference.
     let p = pair(&s, 4, 5, state(false, 0.0, 0.0, Some((0.1, 0.0))));
-    s.contacts.push(p);
-    s.reference = Some(Reference::take(&s));
-    s.contacts.clear_pairs();
+    s.unchecked().contacts.push(p);
+    *s.unchecked().reference = Some(Reference::take(&s));
+    s.unchecked().contacts.clear_pairs();
     touching(&mut s, &[(1, 2), (3, 4), (4, 5)]);
     let pic = picture(&s, &[PlotItem::Cnd]).expect("picture");
     let mut l: Vec<(Tag, Mark, Rgb)> = pic
@@ -584,7 +584,7 @@ fn cnd_kept_new_broken() {
         .collect();
     assert_eq!(l, vec![(Tag::Pair(4, 5), Mark::Broken, colour::BROKEN)]);
     // A particle that left: its broken bond is not drawn, and said so.
-    s.particles.remove(0);
+    s.unchecked().particles.remove(0);
     let pic = picture(&s, &[PlotItem::Cnd]).expect("picture");
     assert!(pic.segments.iter().all(|g| g.tag != Tag::Pair(1, 2)));
     assert!(pic.notes.iter().any(|n| n.contains("no longer present")));
@@ -593,12 +593,12 @@ fn cnd_kept_new_broken() {
 #[test]
 fn displacement_and_rotation_since_the_reference() {
     let mut s = chain(3);
-    s.reference = Some(Reference::take(&s));
-    s.particles.pos[0] += Vec3::new(0.002, 0.5, 0.0); // the y part is not seen in XZ
-    s.particles.pos[1] += Vec3::new(0.0, 0.0, -0.001);
-    s.particles.rot[0] = Vec3::new(0.0, -0.2, 0.0); // −y points at the viewer: anticlockwise
-    s.particles.rot[1] = Vec3::new(0.0, 0.1, 0.0);
-    s.particles.rot[2] = Vec3::new(0.3, 0.0, 0.3); // nothing about the viewing axis
+    *s.unchecked().reference = Some(Reference::take(&s));
+    s.unchecked().particles.pos[0] += Vec3::new(0.002, 0.5, 0.0); // the y part is not seen in XZ
+    s.unchecked().particles.pos[1] += Vec3::new(0.0, 0.0, -0.001);
+    s.unchecked().particles.rot[0] = Vec3::new(0.0, -0.2, 0.0); // −y points at the viewer: anticlockwise
+    s.unchecked().particles.rot[1] = Vec3::new(0.0, 0.1, 0.0);
+    s.unchecked().particles.rot[2] = Vec3::new(0.3, 0.0, 0.3); // nothing about the viewing axis
     let pic = picture(&s, &[PlotItem::RDisp, PlotItem::Rotation]).expect("picture");
     assert_eq!(pic.arrows.len(), 2);
     let a = &pic.arrows[0];
@@ -614,18 +614,18 @@ fn displacement_and_rotation_since_the_reference() {
     assert_eq!(pic.arcs[1].colour, colour::CLOCKWISE);
     // Arcs carry their particle's depth: the renderer draws each with its disc.
     let xz = Projection::of(View::Xz, false);
-    assert_eq!(pic.arcs[0].depth, xz.depth(&s.particles.pos[0]));
+    assert_eq!(pic.arcs[0].depth, xz.depth(&s.particles().pos[0]));
     // Periodic: a particle that crossed the side moved a little, not the cell length.
     let mut s = scene_at(&[[0.999, 0.5, 0.5]]);
-    s.settings.periodic = [true; 3];
-    s.reference = Some(Reference::take(&s));
-    s.particles.pos[0].x = 0.001;
+    s.unchecked().settings.periodic = [true; 3];
+    *s.unchecked().reference = Some(Reference::take(&s));
+    s.unchecked().particles.pos[0].x = 0.001;
     let pic = picture(&s, &[PlotItem::RDisp]).expect("picture");
     assert!(close(pic.arrows[0].value, 0.002));
     // A particle created after the reference has no displacement.
     let mut s = chain(2);
-    s.reference = Some(Reference::take(&s));
-    s.particles.push(
+    *s.unchecked().reference = Some(Reference::take(&s));
+    s.unchecked().particles.push(
         9,
         Vec3::new(0.9, 0.5, 0.5),
         Vec3::zeros(),
@@ -636,7 +636,7 @@ fn displacement_and_rotation_since_the_reference() {
         1,
         0,
     );
-    s.particles.pos[0].x += 0.001;
+    s.unchecked().particles.pos[0].x += 0.001;
     let pic = picture(&s, &[PlotItem::RDisp]).expect("picture");
     assert_eq!(pic.arrows.len(), 1);
     assert!(
@@ -649,9 +649,9 @@ fn displacement_and_rotation_since_the_reference() {
 #[test]
 fn velocity_vectors_and_couples() {
     let mut s = chain(3);
-    s.particles.vel[0] = Vec3::new(0.0, 0.0, -2.0);
-    s.particles.vel[1] = Vec3::new(1.0, 0.0, 0.0);
-    s.particles.moment[2] = Vec3::new(0.0, 5.0, 0.0); // +y: clockwise in the XZ view
+    s.unchecked().particles.vel[0] = Vec3::new(0.0, 0.0, -2.0);
+    s.unchecked().particles.vel[1] = Vec3::new(1.0, 0.0, 0.0);
+    s.unchecked().particles.moment[2] = Vec3::new(0.0, 5.0, 0.0); // +y: clockwise in the XZ view
     let pic = picture(&s, &[PlotItem::Velocity, PlotItem::Couple]).expect("picture");
     assert_eq!(pic.arrows.len(), 2);
     assert!(close(
@@ -719,7 +719,7 @@ fn an_empty_scene_draws_the_boundary_and_says_so() {
 #[test]
 fn boundary_marks_periodic_sides_dashed() {
     let mut s = chain(2);
-    s.settings.periodic = [true, false, false];
+    s.unchecked().settings.periodic = [true, false, false];
     let pic = picture(&s, &[PlotItem::Bou, PlotItem::Grid]).expect("picture");
     let b: Vec<&Segment> = pic
         .segments
@@ -767,9 +767,9 @@ fn file_names_are_predictable() {
 #[test]
 fn pictures_and_charts_are_wide_pngs() {
     let mut s = force_scene();
-    s.reference = Some(Reference::take(&s));
-    s.particles.vel[0] = Vec3::new(1.0, 0.0, 0.0);
-    s.particles.moment[1] = Vec3::new(0.0, 1.0, 0.0);
+    *s.unchecked().reference = Some(Reference::take(&s));
+    s.unchecked().particles.vel[0] = Vec3::new(1.0, 0.0, 0.0);
+    s.unchecked().particles.moment[1] = Vec3::new(0.0, 1.0, 0.0);
     let all = [
         PlotItem::Ball,
         PlotItem::Bou,
@@ -785,18 +785,18 @@ fn pictures_and_charts_are_wide_pngs() {
     let (w, h) = png_size(&png_bytes(&s, &all).expect("png"));
     assert!(w >= 1000 && h >= 500, "{w} x {h}");
     for view in [View::Xz, View::Yz, View::Xy] {
-        s.settings.view = view;
+        s.unchecked().settings.view = view;
         let (w, _) = png_size(&png_bytes(&s, &[PlotItem::Disks]).expect("png"));
         assert!(w >= 1000);
     }
     for k in 0..5 {
-        s.cycle = 10 * k;
+        *s.unchecked().cycle = 10 * k;
         crate::sim::record_history(&mut s);
     }
     let (w, h) = png_size(&png_bytes(&s, &[PlotItem::History]).expect("chart"));
     assert!(w >= 1000 && h >= 600, "{w} x {h}");
     // One record only still draws.
-    s.history.rows.truncate(1);
+    s.unchecked().history.rows.truncate(1);
     assert!(png_bytes(&s, &[PlotItem::History]).is_ok());
 }
 
@@ -805,8 +805,8 @@ fn files_go_to_the_output_directory() {
     let dir = std::env::temp_dir().join(format!("trubal-plot-unit-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let mut s = chain(3);
-    s.cycle = 42;
-    s.settings.out_dir = dir.join("a/b").display().to_string();
+    *s.unchecked().cycle = 42;
+    s.unchecked().settings.out_dir = dir.join("a/b").display().to_string();
     let name = plot(&s, &[PlotItem::Ball, PlotItem::Bou]).expect("written");
     assert!(name.ends_with("plot_c00000042_ball_bou.png"), "{name}");
     let bytes = std::fs::read(&name).expect("file");
@@ -814,10 +814,10 @@ fn files_go_to_the_output_directory() {
     // An output "directory" that is a file: a clear error, no panic.
     let file = dir.join("not-a-dir");
     std::fs::write(&file, b"x").expect("write");
-    s.settings.out_dir = file.join("sub").display().to_string();
+    s.unchecked().settings.out_dir = file.join("sub").display().to_string();
     let e = plot(&s, &[PlotItem::Ball]).expect_err("unwritable");
     assert!(e.contains("cannot create the output directory"), "{e}");
-    s.settings.out_dir = file.display().to_string();
+    s.unchecked().settings.out_dir = file.display().to_string();
     let e = plot(&s, &[PlotItem::Ball]).expect_err("unwritable");
     assert!(
         e.contains("output directory") || e.contains("cannot write"),

@@ -18,7 +18,7 @@ use crate::lang::command::{Command, PlotItem, StressServo};
 use crate::lang::{Parsed, parse_line};
 use crate::output::print;
 use crate::sim::cell::{Servo, StressTarget};
-use crate::sim::{Scene, cycle, energy, reference::Reference};
+use crate::sim::{Scene, cycle, energy};
 
 /// Where a line came from (for error messages).
 #[derive(Clone, Debug)]
@@ -157,7 +157,7 @@ impl Session {
         if !matches!(cmd, Command::Create { .. })
             && let Some(s) = self.scene.as_mut()
         {
-            s.derived.create_index = None;
+            s.end_create_run();
         }
         let r = self.execute_one(cmd);
         // Only an AGEnerate right after another joins its lattice (`sim::place::layer_order`).
@@ -165,7 +165,7 @@ impl Session {
             && !matches!(cmd, Command::Agenerate { .. })
             && let Some(s) = self.scene.as_mut()
         {
-            s.derived.lattice_run = None;
+            s.end_lattice_run();
         }
         r
     }
@@ -231,7 +231,7 @@ impl Session {
                 }
                 let name = file.clone().unwrap_or_else(|| "save.old".into());
                 let scene = checkpoint::load(&self.path(&name))?;
-                self.emit(&format!("restarted from {name} at cycle {}", scene.cycle));
+                self.emit(&format!("restarted from {name} at cycle {}", scene.cycle()));
                 self.scene = Some(scene);
                 return Ok(Flow::Continue);
             }
@@ -287,9 +287,9 @@ impl Session {
         let scene = self.scene_mut()?;
         let run = watched(scene, n, &mut progress);
         progress.finish();
-        let notes = std::mem::take(&mut scene.derived.notes);
-        let balls = scene.particles.len();
-        let at = scene.cycle;
+        let notes = scene.take_notes();
+        let balls = scene.particles().len();
+        let at = scene.cycle();
         let ran = match run {
             Ok((_, ran)) => ran,
             Err(b) => return Err(with_notes(b.message, &notes)),
@@ -345,7 +345,7 @@ impl Session {
             targets.push((t, v));
         }
         let scene = self.scene_mut()?;
-        let servo = Servo::new(&scene.cell, &targets);
+        let servo = Servo::new(scene.cell(), &targets);
         if servo
             .targets
             .iter()
@@ -353,10 +353,10 @@ impl Session {
         {
             return Err("Cycle: RING has no strain rate to turn: GRID prescribes the shear rate ed12 and S11 and S22 hold ed11 and ed22; give up one of them (doc/cell.md, \"Ring shear\")".into());
         }
-        scene.derived.servo = Some(servo);
+        scene.set_servo(Some(servo));
         let r = self.cycle(n);
         if let Ok(scene) = self.scene_mut() {
-            scene.derived.servo = None;
+            scene.set_servo(None);
         }
         r
     }
@@ -375,7 +375,7 @@ impl Session {
             let n = (nmax - done).min(100);
             progress.set_offset(done);
             let run = watched(scene, n, &mut progress);
-            notes.append(&mut scene.derived.notes);
+            notes.append(&mut scene.take_notes());
             let ran = match run {
                 Ok((_, ran)) => ran,
                 Err(b) => {
@@ -396,7 +396,7 @@ impl Session {
             }
         }
         progress.finish();
-        let at = scene.cycle;
+        let at = scene.cycle();
         for w in notes {
             self.emit_err(&format!("warning: {w}"));
         }
@@ -429,7 +429,7 @@ fn watched(
     progress: &mut progress::Progress,
 ) -> Result<(crate::sim::params::Model, u64), cycle::Blowup> {
     cycle::run_watched(scene, n, &mut |s, done| {
-        progress.tick(s.cycle, s.time, s.particles.len(), done);
+        progress.tick(s.cycle(), s.time(), s.particles().len(), done);
         interrupt::requested()
     })
 }
@@ -474,10 +474,10 @@ fn max_contact_force(scene: &Scene) -> f64 {
         f.abs()
     }
     let mut f: f64 = 0.0;
-    for c in scene.contacts.iter() {
+    for c in scene.contacts().iter() {
         f = f.max(net(c.s));
     }
-    for c in &scene.contacts.wall_pairs {
+    for c in scene.contacts().wall_pairs() {
         f = f.max(net(&c.s));
     }
     f
@@ -518,16 +518,13 @@ fn scene_command(
         Command::Save { file } => {
             let name = file.clone().unwrap_or_else(|| "save.new".into());
             checkpoint::save(scene, &join(dir, &name))?;
-            out = format!("saved cycle {} to {name}", scene.cycle);
+            out = format!("saved cycle {} to {name}", scene.cycle());
         }
         Command::Plot { items } => {
             let mut drawn: Vec<PlotItem> = Vec::new();
             for it in items {
                 if *it == PlotItem::Save {
-                    // Contacts of a scene that changed since the last cycle are evaluated
-                    // first, so that the reference holds its bonds.
-                    cycle::prime_if_stale(scene);
-                    scene.reference = Some(Reference::take(scene));
+                    scene.take_reference();
                 } else {
                     drawn.push(*it);
                 }
@@ -543,20 +540,10 @@ fn scene_command(
         }
         _ => {
             // exec::apply checks everything before it changes anything, so a failing
-            // command changes nothing. The kinetic energy the command adds or removes (new
-            // particles, VELocity, Zero, ...) is booked; strain energy of new overlaps is
-            // booked when the next Cycle evaluates the contacts (cycle::prime).
-            // A CReate appends one particle: the total after it is the total before plus its
-            // term, the same bits as the sum over all (`energy::kinetic_of`), and a run of
-            // CReates keeps the total between them (`CreateIndex`).
+            // command changes nothing; the kinetic energy it adds or removes is booked
+            // (`Scene::booked_edit`).
             let create = matches!(cmd, Command::Create { .. });
-            let n0 = scene.particles.len();
-            let before = match &scene.derived.create_index {
-                Some(c) if create && c.n == n0 => c.kinetic,
-                _ => None,
-            }
-            .unwrap_or_else(|| energy::kinetic(scene));
-            let text = exec::apply(scene, cmd)?;
+            let text = scene.booked_edit(create, |scene| exec::apply(scene, cmd))?;
             // Warnings go to standard error with the others.
             for line in text.lines() {
                 match line.strip_prefix("warning: ") {
@@ -567,16 +554,6 @@ fn scene_command(
                     }
                 }
             }
-            let after = if create {
-                let after = before + energy::kinetic_of(scene, n0);
-                if let Some(c) = scene.derived.create_index.as_mut() {
-                    c.kinetic = Some(after);
-                }
-                after
-            } else {
-                energy::kinetic(scene)
-            };
-            scene.ledger.commands += after - before;
         }
     }
     Ok((out, warnings))

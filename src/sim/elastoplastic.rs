@@ -108,114 +108,15 @@ pub fn normal(
         pcrit: 0.0,
         linear: None,
     };
-    // (force, contact radius, stored energy) while in contact.
-    let now: Option<(f64, f64, f64)>;
-    let history: NormalHistory;
     let hist = s.ext().laws().normal;
-    match pl.law {
-        NormalLaw::ModifiedJkr => {
-            let j = Jkr {
-                e_star: pc.e_star,
-                r_star: k.r_star,
-                gamma,
-            };
-            now = modified_jkr::force(&j, alpha, s.a)
-                .map(|(f, a)| (f, a, modified_jkr::stored(&j, a)));
-            history = match now {
-                Some((_, _, stored)) => NormalHistory::ModifiedJkr { stored },
-                None => NormalHistory::None,
-            };
-            if let Some((_, a, _)) = now {
-                out.kn = j.stiffness_of_a(a).abs();
-                out.pcrit = j.pc();
-            }
-        }
+    let (now, history) = match pl.law {
+        NormalLaw::ModifiedJkr => modified_jkr_step(k, pc, alpha, s.a, &mut out),
         NormalLaw::ThorntonNing { p_y } => {
-            let t = ThorntonNing {
-                e_star: pc.e_star,
-                r_star: k.r_star,
-                gamma,
-                p_y,
-            };
-            let mut st = match hist {
-                NormalHistory::ThorntonNing { st, .. } => st,
-                _ => TnState::default(),
-            };
-            let r = t.step(&mut st, alpha, was_touching, s.a);
-            now = match r {
-                Tn::Contact { force, a, stored } => Some((force, a, stored)),
-                Tn::Apart => None,
-            };
-            history = NormalHistory::ThorntonNing {
-                st,
-                stored: now.map_or(0.0, |x| x.2),
-            };
-            if let Some((_, a, _)) = now {
-                let j = Jkr {
-                    e_star: pc.e_star,
-                    r_star: st.r_p,
-                    gamma,
-                };
-                out.kn = j.stiffness_of_a(a).abs();
-                out.pcrit = t.f_cp(&st);
-            }
+            thornton_ning_step(k, pc, p_y, (alpha, was_touching, s.a), hist, &mut out)
         }
-        NormalLaw::Nguyen => {
-            // LIGGGHTS' JKR (Nguyen et al. 2014; `physics::jkr_nguyen`): the JKR curve above
-            // α_s (at a wall above 0), approaching and separating alike; the energy on the
-            // curve, zero where the force vanishes (`Jkr::energy_of_a`: U(a_s) = 0; at a wall
-            // U(a) − U(a_0), as the modified JKR).
-            let law = NguyenJkr {
-                jkr: Jkr {
-                    e_star: pc.e_star,
-                    r_star: k.r_star,
-                    gamma,
-                },
-                wall: pl.wall,
-            };
-            now = law.contact(alpha, s.a);
-            history = match now {
-                Some((_, _, stored)) => NormalHistory::Nguyen { stored },
-                None => NormalHistory::None,
-            };
-            if let Some((_, a, _)) = now {
-                out.kn = law.jkr.stiffness_of_a(a).abs();
-                out.pcrit = law.jkr.pc();
-                // Its own tangential spring: Mindlin's 8G*sqrt(R*α) capped at μ F_Hertz(α),
-                // none in the neck (α ≤ 0).
-                out.linear = Some(LinearShear {
-                    k_t: law.tangential_stiffness(pc.g_star, alpha),
-                    limit: law.friction_bound(pc.mu, alpha),
-                });
-            }
-        }
-        ref law => {
-            let (l, k_t) = linear_of(law, pc, k.r_star).expect("a linear law");
-            let mut st = match hist {
-                NormalHistory::Linear { st, .. } => st,
-                _ => LinState::default(),
-            };
-            let r = l.step(&mut st, alpha, was_touching);
-            let mut stored = 0.0;
-            now = match r {
-                Lin::Contact {
-                    force,
-                    k_n,
-                    stored: u,
-                } => {
-                    out.kn = k_n;
-                    stored = u;
-                    out.linear = Some(LinearShear {
-                        k_t,
-                        limit: l.friction_limit(pc.mu, force, alpha, &st),
-                    });
-                    Some((force, 0.0, u))
-                }
-                Lin::Apart => None,
-            };
-            history = NormalHistory::Linear { st, stored };
-        }
-    }
+        NormalLaw::Nguyen => nguyen_step(k, pc, pl.wall, alpha, s.a, &mut out),
+        ref law => linear_step(k, pc, law, (alpha, was_touching), hist, &mut out),
+    };
     match now {
         Some((f, a, _)) => {
             if !was_touching && dt == 0.0 {
@@ -250,6 +151,156 @@ pub fn normal(
     }
     s.overlap = alpha;
     out
+}
+
+/// One law's step: (force, contact radius, stored energy) while in contact, and the
+/// history the contact keeps.
+type LawStep = (Option<(f64, f64, f64)>, NormalHistory);
+
+/// The modified JKR of EDEM (`physics::modified_jkr`) at overlap `alpha`, contact radius
+/// `a_old` of the last step.
+#[inline(always)]
+fn modified_jkr_step(
+    k: &Kin,
+    pc: &PairConst,
+    alpha: f64,
+    a_old: f64,
+    out: &mut NormalOut,
+) -> LawStep {
+    let j = Jkr {
+        e_star: pc.e_star,
+        r_star: k.r_star,
+        gamma: out.gamma,
+    };
+    let now =
+        modified_jkr::force(&j, alpha, a_old).map(|(f, a)| (f, a, modified_jkr::stored(&j, a)));
+    let history = match now {
+        Some((_, _, stored)) => NormalHistory::ModifiedJkr { stored },
+        None => NormalHistory::None,
+    };
+    if let Some((_, a, _)) = now {
+        out.kn = j.stiffness_of_a(a).abs();
+        out.pcrit = j.pc();
+    }
+    (now, history)
+}
+
+/// Thornton–Ning's elasto-plastic adhesive law (`physics::thornton_ning`) with yield
+/// pressure `p_y`; `(alpha, was_touching, a_old)` as in [`normal`].
+#[inline(always)]
+fn thornton_ning_step(
+    k: &Kin,
+    pc: &PairConst,
+    p_y: f64,
+    (alpha, was_touching, a_old): (f64, bool, f64),
+    hist: NormalHistory,
+    out: &mut NormalOut,
+) -> LawStep {
+    let gamma = out.gamma;
+    let t = ThorntonNing {
+        e_star: pc.e_star,
+        r_star: k.r_star,
+        gamma,
+        p_y,
+    };
+    let mut st = match hist {
+        NormalHistory::ThorntonNing { st, .. } => st,
+        _ => TnState::default(),
+    };
+    let r = t.step(&mut st, alpha, was_touching, a_old);
+    let now = match r {
+        Tn::Contact { force, a, stored } => Some((force, a, stored)),
+        Tn::Apart => None,
+    };
+    let history = NormalHistory::ThorntonNing {
+        st,
+        stored: now.map_or(0.0, |x| x.2),
+    };
+    if let Some((_, a, _)) = now {
+        let j = Jkr {
+            e_star: pc.e_star,
+            r_star: st.r_p,
+            gamma,
+        };
+        out.kn = j.stiffness_of_a(a).abs();
+        out.pcrit = t.f_cp(&st);
+    }
+    (now, history)
+}
+
+/// LIGGGHTS' JKR (Nguyen et al. 2014; `physics::jkr_nguyen`): the JKR curve above α_s (at a
+/// wall, `wall`, above 0), approaching and separating alike; the energy on the curve, zero
+/// where the force vanishes (`Jkr::energy_of_a`: U(a_s) = 0; at a wall U(a) − U(a_0), as
+/// the modified JKR). Its own tangential spring: Mindlin's 8G*sqrt(R*α) capped at μ F_Hertz(α),
+/// none in the neck (α ≤ 0).
+#[inline(always)]
+fn nguyen_step(
+    k: &Kin,
+    pc: &PairConst,
+    wall: bool,
+    alpha: f64,
+    a_old: f64,
+    out: &mut NormalOut,
+) -> LawStep {
+    let law = NguyenJkr {
+        jkr: Jkr {
+            e_star: pc.e_star,
+            r_star: k.r_star,
+            gamma: out.gamma,
+        },
+        wall,
+    };
+    let now = law.contact(alpha, a_old);
+    let history = match now {
+        Some((_, _, stored)) => NormalHistory::Nguyen { stored },
+        None => NormalHistory::None,
+    };
+    if let Some((_, a, _)) = now {
+        out.kn = law.jkr.stiffness_of_a(a).abs();
+        out.pcrit = law.jkr.pc();
+        out.linear = Some(LinearShear {
+            k_t: law.tangential_stiffness(pc.g_star, alpha),
+            limit: law.friction_bound(pc.mu, alpha),
+        });
+    }
+    (now, history)
+}
+
+/// Pasha's linear elasto-plastic adhesive laws (`physics::pasha_linear`), with their own
+/// tangential spring and limit (`out.linear`).
+#[inline(always)]
+fn linear_step(
+    k: &Kin,
+    pc: &PairConst,
+    law: &NormalLaw,
+    (alpha, was_touching): (f64, bool),
+    hist: NormalHistory,
+    out: &mut NormalOut,
+) -> LawStep {
+    let (l, k_t) = linear_of(law, pc, k.r_star).expect("a linear law");
+    let mut st = match hist {
+        NormalHistory::Linear { st, .. } => st,
+        _ => LinState::default(),
+    };
+    let r = l.step(&mut st, alpha, was_touching);
+    let mut stored = 0.0;
+    let now = match r {
+        Lin::Contact {
+            force,
+            k_n,
+            stored: u,
+        } => {
+            out.kn = k_n;
+            stored = u;
+            out.linear = Some(LinearShear {
+                k_t,
+                limit: l.friction_limit(pc.mu, force, alpha, &st),
+            });
+            Some((force, 0.0, u))
+        }
+        Lin::Apart => None,
+    };
+    (now, NormalHistory::Linear { st, stored })
 }
 
 /// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)

@@ -261,9 +261,99 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let (bridge_prev, bridge_static, bridge_c, sgap) = bridge_now::<LIQ>(k, laws, s, acc, v_n);
 
     // ---- velocity-dependent normal forces (physics::dashpot) ---------------------------------
-    // The restitution dashpot D (R*α)^{1/4} α' while touching, and while approaching within
-    // half a step's travel (its share of the step in which the contact starts); Rayleigh's
-    // β k_n; the bridge's viscous force. One implicit midpoint velocity for all of them.
+    let (fd, fv) = viscous_normal::<ADH>(
+        k,
+        pc,
+        laws,
+        s,
+        &Normal {
+            alpha,
+            v_n,
+            p_old,
+            was_touching,
+            gamma,
+            kn,
+            linear: lin_shear.is_some(),
+        },
+        (fd_prev, bridge_prev, bridge_static, bridge_c),
+    );
+
+    if s.touching || fd != 0.0 || fd_prev != 0.0 {
+        // Solid contact (or its approach): the dashpot's booking, the last step's second half
+        // when it has ended.
+        if s.touching {
+            fn_b += s.normal_force;
+        }
+        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
+        // step are kept, since they are the ones the next booking must pair with.
+        if dt > 0.0 {
+            s.damp_force = fd;
+        }
+        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
+        fn_b += fd;
+    }
+    // ---- tangential law ---------------------------------------------------------------
+    let mut ft_b = match lin_shear {
+        // Pasha's linear laws: their own spring and limit (sim::elastoplastic).
+        Some(ls) if ADH && laws.rotation => super::elastoplastic::shear(k, laws.dt, s, acc, ls),
+        _ => shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n)),
+    };
+
+    // ---- liquid bridge: viscous forces and booking -------------------------------------
+    if let Some((fn_bridge, ft)) =
+        bridge_forces::<LIQ>(k, laws, s, acc, v_n, (bridge_static, fv, sgap))
+    {
+        ft_b += ft;
+        fn_b += fn_bridge;
+    }
+
+    Out {
+        f: k.n * fn_b + ft_b,
+        ft: ft_b,
+    }
+}
+
+/// What the normal law left for the velocity-dependent forces of one contact.
+struct Normal {
+    /// Overlap (negative: gap) and separation rate (positive: opening).
+    alpha: f64,
+    v_n: f64,
+    /// The elastic normal force of the last step.
+    p_old: f64,
+    was_touching: bool,
+    /// Surface energy of the contact (0: the dashpot never pulls).
+    gamma: f64,
+    /// Normal stiffness (Rayleigh's β k_n).
+    kn: f64,
+    /// One of Pasha's linear laws, with its own dashpot.
+    linear: bool,
+}
+
+/// The velocity-dependent normal forces of one contact (`physics::dashpot`): the restitution
+/// dashpot D (R*α)^{1/4} α' while touching, and while approaching within half a step's
+/// travel (its share of the step in which the contact starts); Rayleigh's β k_n; the
+/// bridge's viscous force (`bridge_c`). One implicit midpoint velocity for all of them.
+/// Returns the dashpot's and the bridge's viscous force; `prev` = (the last step's dashpot
+/// force, bridge force, the bridge's static force, its viscous coefficient).
+#[inline(always)]
+fn viscous_normal<const ADH: bool>(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    nl: &Normal,
+    (fd_prev, bridge_prev, bridge_static, bridge_c): (f64, f64, f64, f64),
+) -> (f64, f64) {
+    let Normal {
+        alpha,
+        v_n,
+        p_old,
+        was_touching,
+        gamma,
+        kn,
+        linear,
+    } = *nl;
+    let dt = laws.dt;
     let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
     let dashed = pc.zeta > 0.0 && (s.touching || approaching);
     let mut rayleigh = if laws.beta > 0.0 && s.touching {
@@ -271,7 +361,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     } else {
         0.0
     };
-    if ADH && pc.law != 0 && lin_shear.is_some() {
+    if ADH && pc.law != 0 && linear {
         // The linear laws' dashpot β (Pasha 2013 (4.24)–(4.25)), a linear coefficient like
         // Rayleigh's β k_n (with which it is booked as contact damping).
         rayleigh += super::elastoplastic::linear_damping(laws, pc, kn, k.m_star);
@@ -320,40 +410,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     } else if dt > 0.0 {
         s.v_prev = f64::INFINITY;
     }
-
-    if s.touching || fd != 0.0 || fd_prev != 0.0 {
-        // Solid contact (or its approach): the dashpot's booking, the last step's second half
-        // when it has ended.
-        if s.touching {
-            fn_b += s.normal_force;
-        }
-        // While priming (Δt = 0: states only, nothing moves) the forces of the last real
-        // step are kept, since they are the ones the next booking must pair with.
-        if dt > 0.0 {
-            s.damp_force = fd;
-        }
-        acc.damping_contact += -0.5 * (fd + fd_prev) * v_n * dt;
-        fn_b += fd;
-    }
-    // ---- tangential law ---------------------------------------------------------------
-    let mut ft_b = match lin_shear {
-        // Pasha's linear laws: their own spring and limit (sim::elastoplastic).
-        Some(ls) if ADH && laws.rotation => super::elastoplastic::shear(k, laws.dt, s, acc, ls),
-        _ => shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n)),
-    };
-
-    // ---- liquid bridge: viscous forces and booking -------------------------------------
-    if let Some((fn_bridge, ft)) =
-        bridge_forces::<LIQ>(k, laws, s, acc, v_n, (bridge_static, fv, sgap))
-    {
-        ft_b += ft;
-        fn_b += fn_bridge;
-    }
-
-    Out {
-        f: k.n * fn_b + ft_b,
-        ft: ft_b,
-    }
+    (fd, fv)
 }
 
 /// The tangential force on B of a touching contact (`tangential_step`), or, for a contact

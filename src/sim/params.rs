@@ -166,28 +166,28 @@ fn reach_of(scene: &Scene, table: &[PairConst], laws: &[PairLaw]) -> f64 {
     reach
 }
 
-/// Builds the pair table and the time step. Fails with a message when a material or size in
-/// use lacks a value, or a value is unphysical.
-pub fn build(scene: &Scene) -> Result<Model, String> {
+/// The constants of every material pair in use, and what they ask of the scene.
+struct PairTable {
+    table: Vec<PairConst>,
+    /// Some pair has friction or rolling friction (the particles rotate).
+    rotation: bool,
+    /// Some pair has a surface energy.
+    adhesion: bool,
+    laws: Vec<PairLaw>,
+    /// The stiffest linear law, and whether every pair in use has one (the step).
+    k_lin: f64,
+    all_linear: bool,
+    rolling: Vec<f64>,
+}
+
+/// The pair table of [`build`]: E*, G*, μ, γ, the dashpot and the law of every pair of
+/// materials in use (`used`).
+fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
     let nmat = scene.materials.len();
-    let mut used = vec![false; nmat];
-    for &m in &scene.particles.material {
-        used[m as usize - 1] = true;
-    }
-    for w in &scene.walls {
-        if w.material > nmat {
-            return Err(format!("wall material {} is not defined", w.material));
-        }
-        used[w.material - 1] = true;
-    }
-    check_materials(scene, &used)?;
     let mut table = vec![PairConst::default(); nmat * nmat];
-    let mut rotation = scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
-        || (super::interact::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
-            && scene.liquid.is_some_and(|l| l.eta > 0.0));
+    let mut rotation = false;
     let mut adhesion = false;
     let mut laws: Vec<PairLaw> = Vec::new();
-    // The stiffest linear law and whether every pair in use has one (the step, below).
     let mut k_lin: f64 = 0.0;
     let mut all_linear = true;
     let mut rolling = vec![0.0; nmat * nmat];
@@ -254,19 +254,28 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
             };
         }
     }
-    // Rayleigh critical step over the sizes and materials present.
-    let p = &scene.particles;
-    let mut dt_r = f64::INFINITY;
-    for i in 0..p.len() {
-        let m = &scene.materials[p.material[i] as usize - 1];
-        let rho = p.mass[i] / (4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3));
-        dt_r = dt_r.min(hertz::rayleigh_dt(p.radius[i], rho, m.shear(), m.poisson));
+    PairTable {
+        table,
+        rotation,
+        adhesion,
+        laws,
+        k_lin,
+        all_linear,
+        rolling,
     }
-    let fraction = scene
-        .settings
-        .fraction
-        .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
-    let mut dt = fraction * dt_r;
+}
+
+/// The step `dt` (FRAction × the Rayleigh step `dt_r`) bounded by the linear laws' own
+/// critical step (`lin` = the stiffest linear law and whether every pair has one), the
+/// stiffest viscous bridge and Rayleigh's stiffness damping.
+fn step_limits(
+    scene: &Scene,
+    mut dt: f64,
+    dt_r: f64,
+    fraction: f64,
+    (k_lin, all_linear): (f64, bool),
+) -> Result<f64, String> {
+    let p = &scene.particles;
     // The linear laws: FRAction × (m_min/k_max)^{1/2}, Pasha 2013 (4.29)–(4.31) (FRAction
     // 0.2 is his rule); the Rayleigh step still bounds the Hertzian pairs of a mixed scene.
     if k_lin > 0.0 {
@@ -311,6 +320,51 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         let lim = 2.0 / w * ((1.0 + z * z).sqrt() - z);
         dt = dt.min(lim);
     }
+    Ok(dt)
+}
+
+/// Builds the pair table and the time step. Fails with a message when a material or size in
+/// use lacks a value, or a value is unphysical.
+pub fn build(scene: &Scene) -> Result<Model, String> {
+    let nmat = scene.materials.len();
+    let mut used = vec![false; nmat];
+    for &m in &scene.particles.material {
+        used[m as usize - 1] = true;
+    }
+    for w in &scene.walls {
+        if w.material > nmat {
+            return Err(format!("wall material {} is not defined", w.material));
+        }
+        used[w.material - 1] = true;
+    }
+    check_materials(scene, &used)?;
+    let pairs = pair_table(scene, &used);
+    let PairTable {
+        table,
+        laws,
+        k_lin,
+        all_linear,
+        rolling,
+        ..
+    } = pairs;
+    let rotation = pairs.rotation
+        || scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
+        || (super::interact::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
+            && scene.liquid.is_some_and(|l| l.eta > 0.0));
+    let adhesion = pairs.adhesion;
+    // Rayleigh critical step over the sizes and materials present.
+    let p = &scene.particles;
+    let mut dt_r = f64::INFINITY;
+    for i in 0..p.len() {
+        let m = &scene.materials[p.material[i] as usize - 1];
+        let rho = p.mass[i] / (4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3));
+        dt_r = dt_r.min(hertz::rayleigh_dt(p.radius[i], rho, m.shear(), m.poisson));
+    }
+    let fraction = scene
+        .settings
+        .fraction
+        .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
+    let dt = step_limits(scene, fraction * dt_r, dt_r, fraction, (k_lin, all_linear))?;
     let wall_laws = laws.iter().map(|l| PairLaw { wall: true, ..*l }).collect();
     Ok(Model {
         reach: reach_of(scene, &table, &laws),

@@ -202,24 +202,7 @@ pub fn random(
     };
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     let (lo, hi) = if walls {
-        let (lo, hi) = walls_box(&scene.walls, lo, hi);
-        if (0..3).any(|k| !(lo[k] < hi[k])) {
-            return Err(format!(
-                "RGEnerate WAlls: the walls leave no room in the {}: the box between them is ({:e}, {:e}, {:e}) to ({:e}, {:e}, {:e})",
-                if region.is_some() {
-                    "region's bounding box"
-                } else {
-                    "work-space"
-                },
-                lo.x,
-                lo.y,
-                lo.z,
-                hi.x,
-                hi.y,
-                hi.z
-            ));
-        }
-        (lo, hi)
+        walls_room(&scene.walls, lo, hi, region.is_some())?
     } else {
         (lo, hi)
     };
@@ -283,27 +266,61 @@ pub fn random(
     };
     // Without WAlls, particles placed behind or across a wall (outside a die) are named.
     if !walls && !shapes.is_empty() {
-        let p = &scene.particles;
-        let mut behind = 0;
-        let mut across = 0;
-        for i in start..p.len() {
-            let worst = shapes
-                .iter()
-                .map(|s| s.gap(&p.pos[i], p.radius[i]).0 / p.radius[i])
-                .fold(f64::INFINITY, f64::min);
-            if worst < -1.0 {
-                behind += 1;
-            } else if worst < 0.0 {
-                across += 1;
-            }
-        }
-        if behind + across > 0 {
-            text.push_str(&format!(
-                "\nwarning: RGEnerate placed {behind} particle(s) with the centre behind a wall (outside a die or container, inside an indenter) and {across} across a wall's surface; RGEnerate ... WAlls places them only on the particles' side of every wall"
-            ));
-        }
+        text.push_str(&against_walls(&scene.particles, start, &shapes));
     }
     Ok(text)
+}
+
+/// `RGEnerate ... WAlls`: the box `lo`–`hi` (the region's or the work-space's) narrowed to
+/// what the walls leave free ([`walls_box`]); an error if they leave no room.
+fn walls_room(
+    walls: &[crate::sim::scene::Wall],
+    lo: Vec3,
+    hi: Vec3,
+    in_region: bool,
+) -> Result<(Vec3, Vec3), String> {
+    let (lo, hi) = walls_box(walls, lo, hi);
+    if (0..3).any(|k| !(lo[k] < hi[k])) {
+        return Err(format!(
+            "RGEnerate WAlls: the walls leave no room in the {}: the box between them is ({:e}, {:e}, {:e}) to ({:e}, {:e}, {:e})",
+            if in_region {
+                "region's bounding box"
+            } else {
+                "work-space"
+            },
+            lo.x,
+            lo.y,
+            lo.z,
+            hi.x,
+            hi.y,
+            hi.z
+        ));
+    }
+    Ok((lo, hi))
+}
+
+/// The warning for particles `start..` that lie behind a wall (centre behind its surface) or
+/// across one, or "".
+fn against_walls(p: &crate::sim::scene::Particles, start: usize, shapes: &[WallShape]) -> String {
+    let mut behind = 0;
+    let mut across = 0;
+    for i in start..p.len() {
+        let worst = shapes
+            .iter()
+            .map(|s| s.gap(&p.pos[i], p.radius[i]).0 / p.radius[i])
+            .fold(f64::INFINITY, f64::min);
+        if worst < -1.0 {
+            behind += 1;
+        } else if worst < 0.0 {
+            across += 1;
+        }
+    }
+    if behind + across == 0 {
+        return String::new();
+    }
+    format!(
+        "\nwarning: RGEnerate placed {behind} particle(s) with the centre behind a wall (outside a die or container, inside an indenter) and {across} across a wall's surface; RGEnerate ... WAlls places them only on the particles' side of every wall"
+    )
 }
 
 /// The box `lo`–`hi` narrowed to what the walls leave free: a spherical container's

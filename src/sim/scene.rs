@@ -9,6 +9,10 @@ use super::energy::Ledger;
 use super::rng::Rng;
 use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
 
+mod access;
+mod check;
+mod edit;
+
 pub type Vec3 = Vector3<f64>;
 
 /// Number of size types and material types (TRUBAL had 10 and 5; the tables grow on demand up
@@ -368,53 +372,53 @@ pub struct Liquid {
 /// The whole state of a problem.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Scene {
-    pub size: [f64; 3],
-    pub nbox: usize,
-    pub nball: usize,
-    pub nwall: usize,
-    pub sizes: Vec<f64>,
+    pub(in crate::sim) size: [f64; 3],
+    pub(in crate::sim) nbox: usize,
+    pub(in crate::sim) nball: usize,
+    pub(in crate::sim) nwall: usize,
+    pub(in crate::sim) sizes: Vec<f64>,
     /// Radius distribution of each size type.
-    pub size_dist: Vec<crate::sim::model::SizeDist>,
-    pub materials: Vec<Material>,
-    pub regions: [Option<Region>; 2],
-    pub particles: Particles,
-    pub next_id: u32,
+    pub(in crate::sim) size_dist: Vec<crate::sim::model::SizeDist>,
+    pub(in crate::sim) materials: Vec<Material>,
+    pub(in crate::sim) regions: [Option<Region>; 2],
+    pub(in crate::sim) particles: Particles,
+    pub(in crate::sim) next_id: u32,
     #[serde(deserialize_with = "old_walls")]
-    pub walls: Vec<Wall>,
-    pub contacts: ContactStore,
+    pub(in crate::sim) walls: Vec<Wall>,
+    pub(in crate::sim) contacts: ContactStore,
     #[serde(deserialize_with = "old_settings")]
-    pub settings: Settings,
-    pub gravity: [f64; 3],
+    pub(in crate::sim) settings: Settings,
+    pub(in crate::sim) gravity: [f64; 3],
     /// Centripetal gravity per agglomerate (m/s², 0 = off).
-    pub cgravity: [f64; 2],
-    pub fmm: f64,
-    pub zero_always: bool,
-    pub damping_pp: Rayleigh,
-    pub damping_pw: Rayleigh,
-    pub liquid: Option<Liquid>,
+    pub(in crate::sim) cgravity: [f64; 2],
+    pub(in crate::sim) fmm: f64,
+    pub(in crate::sim) zero_always: bool,
+    pub(in crate::sim) damping_pp: Rayleigh,
+    pub(in crate::sim) damping_pw: Rayleigh,
+    pub(in crate::sim) liquid: Option<Liquid>,
     /// Surface energy used for contacts made after an impact (`VELocity ... 1`), per material.
-    pub impact: bool,
-    pub rng: Rng,
-    pub cycle: u64,
-    pub time: f64,
-    pub ledger: Ledger,
+    pub(in crate::sim) impact: bool,
+    pub(in crate::sim) rng: Rng,
+    pub(in crate::sim) cycle: u64,
+    pub(in crate::sim) time: f64,
+    pub(in crate::sim) ledger: Ledger,
     /// Particles removed through open sides.
-    pub lost: u64,
+    pub(in crate::sim) lost: u64,
     /// Reference state (`PLot SAve`).
-    pub reference: Option<super::reference::Reference>,
-    pub history: super::history::History,
+    pub(in crate::sim) reference: Option<super::reference::Reference>,
+    pub(in crate::sim) history: super::history::History,
     /// The periodic cell's deformation (`GRID`, stress servo), [`super::cell`]; checkpoints
     /// before format 4 have none (read as at rest).
     #[serde(deserialize_with = "old_cell")]
-    pub cell: super::cell::Cell,
+    pub(in crate::sim) cell: super::cell::Cell,
     /// The contact laws per material pair (`SET NORmal`, `SET ROLling`); checkpoints before
     /// format 5 have none (Hertz/JKR everywhere, no rolling friction).
     #[serde(deserialize_with = "old_laws")]
-    pub laws: crate::sim::model::ContactLaws,
+    pub(in crate::sim) laws: crate::sim::model::ContactLaws,
     /// What a `Cycle` and the commands derive and keep between steps or commands, never
     /// saved (see [`Derived`]).
     #[serde(skip)]
-    pub derived: Derived,
+    pub(in crate::sim) derived: Derived,
 }
 
 /// The scene's derived state: kept between steps or between commands for speed or for the

@@ -6,7 +6,11 @@
 //! `σ[i][j]` pairs the force component i with the branch component j. `V` is the
 //! work-space (cell) volume. Particle–wall contacts are not in the sum (in a cell closed by
 //! walls the wall forces give the boundary stress instead: `PRint Walls`).
+//!
+//! [`in_box`] is the stress of a bin (a box, `PRint Stress` with a `Window`): the particles
+//! whose centre lies in it with all their contacts, walls included (Pasha 2013 (5.1), Bagi).
 use super::scene::{Scene, Vec3};
+use super::walls::WallShape;
 
 /// The two parts of the average stress and their sum (Pa, compression positive).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -122,4 +126,105 @@ pub fn temperature(scene: &Scene) -> f64 {
         return 0.0;
     }
     p.vel.iter().map(|c| c.norm_squared()).sum::<f64>() / (3.0 * p.len() as f64)
+}
+
+/// Adds `−f ⊗ l` to `sig` (`f` the force on a particle, `l` its centre → the contact point).
+fn add_particle_term(sig: &mut [[f64; 3]; 3], f: &Vec3, l: &Vec3) {
+    for (a, row) in sig.iter_mut().enumerate() {
+        for (b, x) in row.iter_mut().enumerate() {
+            *x -= f[a] * l[b];
+        }
+    }
+}
+
+/// The stress in a bin, the box `b` = [x1, x2, y1, y2, z1, z2] (Pa, compression positive),
+/// and the number of particles in it. Pasha 2013 (5.1) (Bagi 1996; `doc/spec/pasha2013.md`
+/// §5): `σ = −(1/V) Σ_{p in the bin} Σ_{contacts of p} F ⊗ (x_c − x_p)`, `F` the force on the
+/// particle, `x_c` the contact point, summed over the particles whose centre lies in the box
+/// (bounds included) and all of their contacts, particle–wall ones included; `V` is the box's
+/// volume (a bin that an indenter or a wall cuts is not corrected: Pasha skips such bins).
+/// The contact point is the middle of the overlap (of the gap for a bridge), on the line of
+/// centres (on the wall's normal). Summed over a box that holds every particle, the
+/// particle–particle terms give [`contact_part`]'s `Σ f ⊗ l` (the contact points cancel).
+/// The kinetic part is `Σ m C ⊗ C / V` over the same particles.
+pub fn in_box(scene: &Scene, b: &[f64; 6]) -> (Stress, usize) {
+    let p = &scene.particles;
+    let inside = |x: &Vec3| {
+        b[0] <= x.x && x.x <= b[1] && b[2] <= x.y && x.y <= b[3] && b[4] <= x.z && x.z <= b[5]
+    };
+    let vol = (b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]);
+    let mut sig = [[0.0; 3]; 3];
+    let mut kin = [[0.0; 3]; 3];
+    let is_in: Vec<bool> = p.pos.iter().map(inside).collect();
+    let count = is_in.iter().filter(|&&x| x).count();
+    if count == 0 || vol <= 0.0 {
+        return (Stress::default(), count);
+    }
+    for c in scene.contacts.iter() {
+        let (i, j) = (c.i as usize, c.j as usize);
+        if !is_in[i] && !is_in[j] {
+            continue;
+        }
+        let s = c.s;
+        if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+            continue;
+        }
+        let l = scene.branch(&p.pos[i], &p.pos[j]);
+        let dist = l.norm();
+        if dist == 0.0 {
+            continue;
+        }
+        let u = l / dist;
+        let fb = pair_force(s, &u);
+        // The middle of the overlap (or of the gap): R − δ/2 from each centre.
+        let half = 0.5 * (p.radius[i] + p.radius[j] - dist);
+        if is_in[i] {
+            add_particle_term(&mut sig, &(-fb), &(u * (p.radius[i] - half)));
+        }
+        if is_in[j] {
+            add_particle_term(&mut sig, &fb, &(-u * (p.radius[j] - half)));
+        }
+    }
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    for c in &scene.contacts.wall_pairs {
+        let i = c.i as usize;
+        let s = &c.s;
+        if !is_in[i] || (!s.touching && s.damp_force == 0.0 && s.bridge.is_none()) {
+            continue;
+        }
+        let Some(shape) = shapes.get(c.wall as usize) else {
+            continue;
+        };
+        // n: from the particle towards the wall (the wall is B).
+        let (gap, n) = shape.gap(&p.pos[i], p.radius[i]);
+        let fw = pair_force(s, &n);
+        add_particle_term(&mut sig, &(-fw), &(n * (p.radius[i] + 0.5 * gap)));
+    }
+    for i in (0..p.len()).filter(|&i| is_in[i]) {
+        let (m, v) = (p.mass[i], p.vel[i]);
+        for (a, row) in kin.iter_mut().enumerate() {
+            for (b, x) in row.iter_mut().enumerate() {
+                *x += m * v[a] * v[b];
+            }
+        }
+    }
+    for row in sig.iter_mut().chain(kin.iter_mut()) {
+        for x in row.iter_mut() {
+            *x /= vol;
+        }
+    }
+    (
+        Stress {
+            contact: sig,
+            kinetic: kin,
+        },
+        count,
+    )
+}
+
+/// The deviatoric stress of Pasha 2013 (5.3): `((σxx − σyy)² + (σxx − σzz)² + (σyy − σzz)²)/6`
+/// to the power ½ (the normal components only, as he wrote it).
+pub fn deviatoric_pasha(t: &[[f64; 3]; 3]) -> f64 {
+    let (x, y, z) = (t[0][0], t[1][1], t[2][2]);
+    (((x - y).powi(2) + (x - z).powi(2) + (y - z).powi(2)) / 6.0).sqrt()
 }

@@ -271,13 +271,42 @@ pub fn collect(store: &Store, m: &Manifest) -> Result<Collected, String> {
         table.push(row);
     }
     header.extend(extra);
+    let path = store.dir.join("results.csv");
+    write_atomic(&path, csv_text(&header, &table).as_bytes())?;
+    let mut files = vec![path.display().to_string()];
+    let mut notes = Vec::new();
+    for c in &charts {
+        match chart_png(c, &table, m.logx)? {
+            Some(png) => {
+                let p = store.dir.join(c.file_name());
+                write_atomic(&p, &png)?;
+                files.push(p.display().to_string());
+            }
+            None => notes.push(format!(
+                "chart {}: no finished run has a number for `{}` and `{}`",
+                c.file_name(),
+                c.y,
+                c.x
+            )),
+        }
+    }
+    Ok(Collected {
+        rows: table.len(),
+        ok,
+        files,
+        notes,
+    })
+}
+
+/// The CSV text of the table: the header, then one line per row in the header's order.
+fn csv_text(header: &[String], table: &[Vec<(String, String)>]) -> String {
     let mut csv = header
         .iter()
         .map(|h| csv_cell(h))
         .collect::<Vec<_>>()
         .join(",");
     csv.push('\n');
-    for row in &table {
+    for row in table {
         let cells: Vec<String> = header
             .iter()
             .map(|h| {
@@ -290,55 +319,44 @@ pub fn collect(store: &Store, m: &Manifest) -> Result<Collected, String> {
         csv.push_str(&cells.join(","));
         csv.push('\n');
     }
-    let path = store.dir.join("results.csv");
-    write_atomic(&path, csv.as_bytes())?;
-    let mut files = vec![path.display().to_string()];
-    let mut notes = Vec::new();
-    for c in &charts {
-        let get = |row: &Vec<(String, String)>, k: &str| {
-            row.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone())
+    csv
+}
+
+/// The chart of one measure against a parameter (by a group if given) over the finished
+/// runs; `None` if no finished run has numbers for both.
+fn chart_png(
+    c: &ChartSpec,
+    table: &[Vec<(String, String)>],
+    logx: bool,
+) -> Result<Option<Vec<u8>>, String> {
+    let get = |row: &Vec<(String, String)>, k: &str| {
+        row.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone())
+    };
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for row in table
+        .iter()
+        .filter(|r| get(r, "status").as_deref() == Some("ok"))
+    {
+        let x = get(row, &c.x).and_then(|v| crate::lang::lexer::parse_real(&v));
+        let y = get(row, &c.y).and_then(|v| v.parse::<f64>().ok());
+        let (Some(x), Some(y)) = (x, y) else { continue };
+        let label = match &c.group {
+            Some(g) => format!("{g} = {}", get(row, g).unwrap_or_default()),
+            None => c.y.clone(),
         };
-        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-        for row in table
-            .iter()
-            .filter(|r| get(r, "status").as_deref() == Some("ok"))
-        {
-            let x = get(row, &c.x).and_then(|v| crate::lang::lexer::parse_real(&v));
-            let y = get(row, &c.y).and_then(|v| v.parse::<f64>().ok());
-            let (Some(x), Some(y)) = (x, y) else { continue };
-            let label = match &c.group {
-                Some(g) => format!("{g} = {}", get(row, g).unwrap_or_default()),
-                None => c.y.clone(),
-            };
-            match series.iter_mut().find(|(l, _)| *l == label) {
-                Some((_, pts)) => pts.push((x, y)),
-                None => series.push((label, vec![(x, y)])),
-            }
+        match series.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, pts)) => pts.push((x, y)),
+            None => series.push((label, vec![(x, y)])),
         }
-        if series.is_empty() {
-            notes.push(format!(
-                "chart {}: no finished run has a number for `{}` and `{}`",
-                c.file_name(),
-                c.y,
-                c.x
-            ));
-            continue;
-        }
-        let title = match &c.group {
-            Some(g) => format!("{} against {} by {g}", c.y, c.x),
-            None => format!("{} against {}", c.y, c.x),
-        };
-        let png = chart::xy_png(&title, &c.x, &c.y, &mut series, m.logx)?;
-        let p = store.dir.join(c.file_name());
-        write_atomic(&p, &png)?;
-        files.push(p.display().to_string());
     }
-    Ok(Collected {
-        rows: table.len(),
-        ok,
-        files,
-        notes,
-    })
+    if series.is_empty() {
+        return Ok(None);
+    }
+    let title = match &c.group {
+        Some(g) => format!("{} against {} by {g}", c.y, c.x),
+        None => format!("{} against {}", c.y, c.x),
+    };
+    chart::xy_png(&title, &c.x, &c.y, &mut series, logx).map(Some)
 }
 
 #[cfg(test)]

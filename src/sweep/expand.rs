@@ -205,10 +205,54 @@ fn define(
     }
 }
 
+/// The names a sweep defines: every parameter once, with what defines it, the rows' columns
+/// and the parsed `--let` expressions.
+struct Names {
+    defined: HashMap<String, String>,
+    columns: Vec<String>,
+    rows: Vec<(usize, Vec<String>)>,
+    rows_shown: String,
+    lets: Vec<(String, Expr)>,
+}
+
 /// Expands the sweep into its runs, checking everything first. All errors are returned.
 pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
     let mut errors = Vec::new();
-    // Every name once, with what defines it.
+    let names = define_names(spec, inputs, &mut errors);
+    check_usage(spec, inputs, &names, &mut errors);
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let params: Vec<String> = spec
+        .grids
+        .iter()
+        .map(|g| g.value.0.clone())
+        .chain(names.columns.iter().filter(|c| *c != "run").cloned())
+        .collect();
+    if names.columns.iter().any(|c| c == "run") && !spec.grids.is_empty() {
+        errors.push(format!(
+            "{}: a `run` column names each run, but the --grid values multiply the rows: name the runs by their parameters (drop the column) or put the grid into the rows",
+            names.rows_shown
+        ));
+        return Err(errors);
+    }
+    let combos = combinations(spec, inputs.rows.is_some(), &names);
+    let runs = name_and_evaluate(spec, &names, combos, &mut errors);
+    if !errors.is_empty() {
+        errors.truncate(20);
+        return Err(errors);
+    }
+    Ok(Plan {
+        params,
+        lets: names.lets.into_iter().map(|(n, _)| n).collect(),
+        runs,
+    })
+}
+
+/// Every name once, with what defines it: the grids (checked non-empty, no value twice),
+/// the rows' columns, the `--set` values and the `--let` expressions (parsed; they read only
+/// what is defined before them).
+fn define_names(spec: &Spec, inputs: &Inputs, errors: &mut Vec<String>) -> Names {
     let mut defined: HashMap<String, String> = HashMap::new();
     for g in &spec.grids {
         let (name, values) = &g.value;
@@ -216,7 +260,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             &mut defined,
             name,
             format!("{}: --grid {name}", g.origin),
-            &mut errors,
+            errors,
         );
         if values.is_empty() || values.iter().all(|v| v.is_empty()) {
             errors.push(format!(
@@ -239,7 +283,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
         }
     }
     let (columns, rows) = match &inputs.rows {
-        Some(t) => read_rows(t, &mut errors),
+        Some(t) => read_rows(t, errors),
         None => (Vec::new(), Vec::new()),
     };
     let rows_shown = inputs
@@ -247,14 +291,8 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
         .as_ref()
         .map(|t| t.shown.clone())
         .unwrap_or_default();
-    let name_col = columns.iter().position(|c| c == "run");
     for c in columns.iter().filter(|c| *c != "run") {
-        define(
-            &mut defined,
-            c,
-            format!("{rows_shown}: column {c}"),
-            &mut errors,
-        );
+        define(&mut defined, c, format!("{rows_shown}: column {c}"), errors);
     }
     for s in &spec.sets {
         let (name, value) = &s.value;
@@ -262,7 +300,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             &mut defined,
             name,
             format!("{}: --set {name}", s.origin),
-            &mut errors,
+            errors,
         );
         if value.is_empty() {
             errors.push(format!("{}: --set {name}: no value", s.origin));
@@ -272,7 +310,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
     for l in &spec.lets {
         let (name, text) = &l.value;
         let what = format!("{}: --let {name}", l.origin);
-        define(&mut defined, name, what.clone(), &mut errors);
+        define(&mut defined, name, what.clone(), errors);
         match expr::parse(text) {
             Ok(e) => {
                 for n in e.names() {
@@ -287,17 +325,28 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             Err(e) => errors.push(format!("{what}: {e}")),
         }
     }
+    Names {
+        defined,
+        columns,
+        rows,
+        rows_shown,
+        lets,
+    }
+}
 
-    // The names against the command files.
-    let used = used_names(&inputs.script, &mut errors);
+/// The names against the command files: every parameter is used, every `$name` has a value,
+/// the prepare file reads only `--set` values.
+fn check_usage(spec: &Spec, inputs: &Inputs, names: &Names, errors: &mut Vec<String>) {
+    let used = used_names(&inputs.script, errors);
     let used_prep = inputs
         .prepare
         .as_ref()
-        .map(|t| used_names(t, &mut errors))
+        .map(|t| used_names(t, errors))
         .unwrap_or_default();
-    let read_by_lets: HashSet<String> = lets.iter().flat_map(|(_, e)| e.names()).collect();
+    let read_by_lets: HashSet<String> = names.lets.iter().flat_map(|(_, e)| e.names()).collect();
     let is_used = |n: &str| used.iter().any(|(u, _)| u == n) || read_by_lets.contains(n);
     let file = &inputs.script.shown;
+    let rows_shown = &names.rows_shown;
     for g in &spec.grids {
         if !is_used(&g.value.0) {
             errors.push(format!(
@@ -306,7 +355,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             ));
         }
     }
-    for c in columns.iter().filter(|c| *c != "run") {
+    for c in names.columns.iter().filter(|c| *c != "run") {
         if !is_used(c) {
             errors.push(format!(
                 "{rows_shown}: column {c}: {file} does not use `${c}`"
@@ -332,13 +381,13 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
         }
     }
     for (n, at) in &used {
-        if !defined.contains_key(n) {
+        if !names.defined.contains_key(n) {
             errors.push(format!(
                 "{at}: `${n}` has no value in the sweep: give it with --grid, --rows, --set or --let"
             ));
         }
     }
-    if let Some(p) = &inputs.prepare {
+    if inputs.prepare.is_some() {
         for (n, at) in &used_prep {
             if !spec.sets.iter().any(|s| s.value.0 == *n) {
                 errors.push(format!(
@@ -346,29 +395,29 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
                 ));
             }
         }
-        let _ = p;
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+}
 
-    // The runs: the rows (or one empty row), times each grid, the last grid fastest.
-    let params: Vec<String> = spec
-        .grids
-        .iter()
-        .map(|g| g.value.0.clone())
-        .chain(columns.iter().filter(|c| *c != "run").cloned())
-        .collect();
-    let base_rows: Vec<(Option<usize>, Vec<String>)> = if inputs.rows.is_some() {
-        rows.into_iter().map(|(l, r)| (Some(l), r)).collect()
+/// One run before it is named: the row's line (if any), its parameter values, the name the
+/// row gives it (a `run` column).
+type Combo = (Option<usize>, Vec<(String, String)>, Option<String>);
+
+/// The runs: the rows (or one empty row), times each grid, the last grid fastest.
+fn combinations(spec: &Spec, has_rows: bool, names: &Names) -> Vec<Combo> {
+    let base_rows: Vec<(Option<usize>, Vec<String>)> = if has_rows {
+        names
+            .rows
+            .iter()
+            .map(|(l, r)| (Some(*l), r.clone()))
+            .collect()
     } else {
         vec![(None, Vec::new())]
     };
-    let mut combos: Vec<(Option<usize>, Vec<(String, String)>, Option<String>)> = Vec::new();
+    let mut combos: Vec<Combo> = Vec::new();
     for (line, cells) in base_rows {
         let mut from_row = Vec::new();
         let mut explicit = None;
-        for (c, v) in columns.iter().zip(cells) {
+        for (c, v) in names.columns.iter().zip(cells) {
             if c == "run" {
                 explicit = Some(v);
             } else {
@@ -395,14 +444,20 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             combos.push((line, ps, explicit.clone()));
         }
     }
-    if name_col.is_some() && !spec.grids.is_empty() {
-        errors.push(format!(
-            "{rows_shown}: a `run` column names each run, but the --grid values multiply the rows: name the runs by their parameters (drop the column) or put the grid into the rows"
-        ));
-        return Err(errors);
-    }
+    combos
+}
+
+/// Each run named (by its row or its parameters; two runs may not share a name) and its
+/// `--set` and `--let` values added.
+fn name_and_evaluate(
+    spec: &Spec,
+    names: &Names,
+    combos: Vec<Combo>,
+    errors: &mut Vec<String>,
+) -> Vec<Run> {
+    let rows_shown = &names.rows_shown;
     let mut runs = Vec::new();
-    let mut names: HashMap<String, String> = HashMap::new();
+    let mut seen: HashMap<String, String> = HashMap::new();
     for (line, ps, explicit) in combos {
         let at = match line {
             Some(l) => format!("{rows_shown}:{l}"),
@@ -419,14 +474,14 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
             }
             None => run_name(&ps),
         };
-        if let Some(first) = names.insert(name.clone(), at.clone()) {
+        if let Some(first) = seen.insert(name.clone(), at.clone()) {
             errors.push(format!(
                 "{at}: the run `{name}` is already in the sweep ({first}): two runs would share a directory"
             ));
         }
         let mut values = ps;
         values.extend(spec.sets.iter().map(|s| s.value.clone()));
-        for (lname, e) in &lets {
+        for (lname, e) in &names.lets {
             let got = e.eval(&|n: &str| {
                 let v = values
                     .iter()
@@ -443,15 +498,7 @@ pub fn expand(spec: &Spec, inputs: &Inputs) -> Result<Plan, Vec<String>> {
         }
         runs.push(Run { name, values });
     }
-    if !errors.is_empty() {
-        errors.truncate(20);
-        return Err(errors);
-    }
-    Ok(Plan {
-        params,
-        lets: lets.into_iter().map(|(n, _)| n).collect(),
-        runs,
-    })
+    runs
 }
 
 #[cfg(test)]

@@ -265,31 +265,7 @@ fn sweep(spec: &Spec) -> Result<ExitCode, Vec<String>> {
         one(slurm::check_sbatch())?;
     }
     if spec.mode == Mode::DryRun {
-        let finished = |name: &str| existing.is_some() && store.finished(name);
-        let mut n_done = 0;
-        for r in &plan.runs {
-            let done = finished(&r.name);
-            n_done += done as usize;
-            let values: Vec<String> = r.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
-            say!(
-                "{}  {}{}",
-                r.name,
-                values.join(" "),
-                if done { "  (finished)" } else { "" }
-            );
-        }
-        say!(
-            "{} runs of {}, {} finished, {} to run{}",
-            plan.runs.len(),
-            manifest.script.name,
-            n_done,
-            plan.runs.len() - n_done,
-            if manifest.prepare.is_some() {
-                " (after the prepare step)"
-            } else {
-                ""
-            }
-        );
+        dry_run(&plan, &manifest, &store, existing.is_some());
         return Ok(ExitCode::SUCCESS);
     }
     let exe = one(exe())?;
@@ -308,109 +284,154 @@ fn sweep(spec: &Spec) -> Result<ExitCode, Vec<String>> {
     let todo: Vec<&expand::Run> = store.missing(&plan.runs);
     match spec.mode {
         Mode::Collect => Ok(report_collect(&store, &m)),
-        Mode::Slurm { submit } => {
-            let w = one(slurm::write(
-                &store,
-                &m,
-                &todo,
-                &spec.slurm,
-                spec.jobs,
-                &exe,
-            ))?;
-            let mut lines = Vec::new();
-            for p in [&w.prepare, &w.array].into_iter().flatten() {
-                lines.push(p.display().to_string());
-            }
-            lines.push(w.collect.display().to_string());
-            say!(
-                "{} runs, {} finished, {} to run; wrote {}",
-                plan.runs.len(),
-                plan.runs.len() - todo.len(),
-                w.tasks,
-                lines.join(", ")
-            );
-            if submit {
-                let ids = one(slurm::submit(&store, &w))?;
-                for (what, id) in ids {
-                    say!("submitted {what}: job {id}");
-                }
-                say!(
-                    "results: {} (when the collect job has run)",
-                    store.dir.join("results.csv").display()
-                );
-            } else {
-                say!(
-                    "submit with: sbatch PREPARE (if written), then sbatch --dependency=afterok:ID ARRAY, then sbatch --dependency=afterany:ID COLLECT; or run trubal sweep again with --submit"
-                );
-            }
-            Ok(ExitCode::SUCCESS)
+        Mode::Slurm { submit } => run_slurm(spec, &plan, &store, &m, &todo, &exe, submit),
+        _ => run_local(spec, &plan, &store, &m, &todo, &exe),
+    }
+}
+
+/// `--dry-run`: the runs and their values, which are finished.
+fn dry_run(plan: &Plan, manifest: &Manifest, store: &Store, existing: bool) {
+    let finished = |name: &str| existing && store.finished(name);
+    let mut n_done = 0;
+    for r in &plan.runs {
+        let done = finished(&r.name);
+        n_done += done as usize;
+        let values: Vec<String> = r.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        say!(
+            "{}  {}{}",
+            r.name,
+            values.join(" "),
+            if done { "  (finished)" } else { "" }
+        );
+    }
+    say!(
+        "{} runs of {}, {} finished, {} to run{}",
+        plan.runs.len(),
+        manifest.script.name,
+        n_done,
+        plan.runs.len() - n_done,
+        if manifest.prepare.is_some() {
+            " (after the prepare step)"
+        } else {
+            ""
         }
-        _ => {
-            let terminal = std::io::stderr().is_terminal();
-            if m.prepare.is_some() && !store.prepared() {
-                complain!(
-                    "sweep: the prepare step ({}) ...",
-                    m.prepare.as_ref().map(|p| p.name.as_str()).unwrap_or("")
-                );
-                match store.prepare(&m, &exe) {
-                    Ok(Some(o)) if !o.status.ok() => {
-                        return Err(vec![format!(
-                            "the prepare step failed ({}); no run started. Its standard error ({}):\n{}",
-                            o.status
-                                .exit
-                                .map(|c| format!("exit {c}"))
-                                .unwrap_or("killed".into()),
-                            store.prepare_dir().join(store::STDERR).display(),
-                            o.stderr_tail
-                        )]);
-                    }
-                    Ok(_) => {}
-                    Err(e) => return Err(vec![e]),
-                }
-            }
-            let jobs = spec.jobs.unwrap_or_else(|| {
-                let cores = std::thread::available_parallelism()
-                    .map(|n| n.get())
-                    .unwrap_or(1);
-                (cores / m.threads).max(1)
-            });
-            complain!(
-                "sweep: {} runs, {} finished, {} to run, {} at a time ({} thread{} each)",
-                plan.runs.len(),
-                plan.runs.len() - todo.len(),
-                todo.len(),
-                jobs.min(todo.len().max(1)),
-                m.threads,
-                if m.threads == 1 { "" } else { "s" }
-            );
-            let sum = pool::run(&store, &m, &todo, jobs, &exe, terminal);
-            let code = report_collect(&store, &m);
-            let failures = sum.failed.len() + sum.errors.len();
-            for o in &sum.failed {
-                complain!(
-                    "\nrun {} failed ({}); {}:\n{}",
-                    o.name,
+    );
+}
+
+/// `--slurm`: the job-array scripts written for the runs still to do, and submitted with
+/// `--submit`.
+fn run_slurm(
+    spec: &Spec,
+    plan: &Plan,
+    store: &Store,
+    m: &Manifest,
+    todo: &[&expand::Run],
+    exe: &std::path::Path,
+    submit: bool,
+) -> Result<ExitCode, Vec<String>> {
+    let w = one(slurm::write(store, m, todo, &spec.slurm, spec.jobs, exe))?;
+    let mut lines = Vec::new();
+    for p in [&w.prepare, &w.array].into_iter().flatten() {
+        lines.push(p.display().to_string());
+    }
+    lines.push(w.collect.display().to_string());
+    say!(
+        "{} runs, {} finished, {} to run; wrote {}",
+        plan.runs.len(),
+        plan.runs.len() - todo.len(),
+        w.tasks,
+        lines.join(", ")
+    );
+    if submit {
+        let ids = one(slurm::submit(store, &w))?;
+        for (what, id) in ids {
+            say!("submitted {what}: job {id}");
+        }
+        say!(
+            "results: {} (when the collect job has run)",
+            store.dir.join("results.csv").display()
+        );
+    } else {
+        say!(
+            "submit with: sbatch PREPARE (if written), then sbatch --dependency=afterok:ID ARRAY, then sbatch --dependency=afterany:ID COLLECT; or run trubal sweep again with --submit"
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The local pool: the prepare step if any, then the runs still to do, `--jobs` at a time;
+/// failures reported with their standard error, the others collected.
+fn run_local(
+    spec: &Spec,
+    plan: &Plan,
+    store: &Store,
+    m: &Manifest,
+    todo: &[&expand::Run],
+    exe: &std::path::Path,
+) -> Result<ExitCode, Vec<String>> {
+    let terminal = std::io::stderr().is_terminal();
+    if m.prepare.is_some() && !store.prepared() {
+        complain!(
+            "sweep: the prepare step ({}) ...",
+            m.prepare.as_ref().map(|p| p.name.as_str()).unwrap_or("")
+        );
+        match store.prepare(m, exe) {
+            Ok(Some(o)) if !o.status.ok() => {
+                return Err(vec![format!(
+                    "the prepare step failed ({}); no run started. Its standard error ({}):\n{}",
                     o.status
                         .exit
                         .map(|c| format!("exit {c}"))
-                        .unwrap_or("killed by a signal".into()),
-                    store.run_dir(&o.name).join(store::STDERR).display(),
+                        .unwrap_or("killed".into()),
+                    store.prepare_dir().join(store::STDERR).display(),
                     o.stderr_tail
-                );
+                )]);
             }
-            for (name, e) in &sum.errors {
-                complain!("\nrun {name} could not run: {e}");
-            }
-            if failures > 0 {
-                complain!(
-                    "\nsweep: {failures} of {} runs failed; the others are finished. Run the same command again to retry only the failed ones.",
-                    todo.len()
-                );
-                return Ok(ExitCode::FAILURE);
-            }
-            Ok(code)
+            Ok(_) => {}
+            Err(e) => return Err(vec![e]),
         }
     }
+    let jobs = spec.jobs.unwrap_or_else(|| {
+        let cores = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1);
+        (cores / m.threads).max(1)
+    });
+    complain!(
+        "sweep: {} runs, {} finished, {} to run, {} at a time ({} thread{} each)",
+        plan.runs.len(),
+        plan.runs.len() - todo.len(),
+        todo.len(),
+        jobs.min(todo.len().max(1)),
+        m.threads,
+        if m.threads == 1 { "" } else { "s" }
+    );
+    let sum = pool::run(store, m, todo, jobs, exe, terminal);
+    let code = report_collect(store, m);
+    let failures = sum.failed.len() + sum.errors.len();
+    for o in &sum.failed {
+        complain!(
+            "\nrun {} failed ({}); {}:\n{}",
+            o.name,
+            o.status
+                .exit
+                .map(|c| format!("exit {c}"))
+                .unwrap_or("killed by a signal".into()),
+            store.run_dir(&o.name).join(store::STDERR).display(),
+            o.stderr_tail
+        );
+    }
+    for (name, e) in &sum.errors {
+        complain!("\nrun {name} could not run: {e}");
+    }
+    if failures > 0 {
+        complain!(
+            "\nsweep: {failures} of {} runs failed; the others are finished. Run the same command again to retry only the failed ones.",
+            todo.len()
+        );
+        return Ok(ExitCode::FAILURE);
+    }
+    Ok(code)
 }
 
 /// Collects and says what was written.

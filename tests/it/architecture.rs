@@ -103,3 +103,72 @@ fn the_core_reads_no_environment_but_its_knob() {
         }
     }
 }
+
+/// The part of a source file before its tests module (`#[cfg(test)]` at the start of a
+/// line), or none for a file of tests (`tests.rs`).
+fn code_of(f: &Path) -> String {
+    if f.file_name().is_some_and(|n| n == "tests.rs") {
+        return String::new();
+    }
+    let text = std::fs::read_to_string(f).unwrap();
+    match text.find("\n#[cfg(test)]") {
+        Some(k) => text[..k].to_string(),
+        None => text,
+    }
+}
+
+/// A file fits on a few screens: at most 800 lines before its tests (the one table of
+/// commands, `src/lang/table.rs`, aside).
+#[test]
+fn no_source_file_is_longer_than_800_lines() {
+    for f in rust_files(&root().join("src")) {
+        if f.ends_with("src/lang/table.rs") {
+            continue;
+        }
+        let n = code_of(&f).lines().count();
+        assert!(n <= 800, "{}: {n} lines before its tests", f.display());
+    }
+}
+
+/// A function reads in one go: at most 120 lines (tests aside), from its `fn` line to the
+/// closing brace at the same indentation.
+#[test]
+fn no_function_is_longer_than_120_lines() {
+    let mut long = Vec::new();
+    for f in rust_files(&root().join("src")) {
+        let code = code_of(&f);
+        let lines: Vec<&str> = code.lines().collect();
+        let mut i = 0;
+        while i < lines.len() {
+            let l = lines[i];
+            let t = l.trim_start();
+            let indent = l.len() - t.len();
+            let is_fn = [
+                "fn ",
+                "pub fn ",
+                "pub(crate) fn ",
+                "pub(super) fn ",
+                "const fn ",
+            ]
+            .iter()
+            .any(|p| t.starts_with(p))
+                || (t.starts_with("pub(in ") && t.contains(") fn "));
+            if is_fn && !t.ends_with(';') {
+                let close = format!("{}}}", " ".repeat(indent));
+                let end = (i + 1..lines.len())
+                    .find(|&j| lines[j].trim_end() == close)
+                    .unwrap_or(i);
+                if end - i > 120 {
+                    long.push(format!("{}:{}: {} lines", f.display(), i + 1, end - i));
+                }
+                i = end;
+            }
+            i += 1;
+        }
+    }
+    assert!(
+        long.is_empty(),
+        "functions over 120 lines:\n{}",
+        long.join("\n")
+    );
+}

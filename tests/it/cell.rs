@@ -15,7 +15,7 @@ fn the_sheared_search_finds_the_brute_force_pairs() {
              density 1000 1\nrge {n} 1 1 0\n"
         ));
         for frac in [0.0, 0.1, 0.25, 0.37, 0.5, 0.999] {
-            sc.cell.shift = frac * sc.size[0];
+            sc.unchecked().cell.shift = frac * sc.size()[0];
             for tol in [0.0, 2e-4, 2e-3] {
                 let (pairs, _, _) = search::candidates(&sc, tol);
                 let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
@@ -25,16 +25,16 @@ fn the_sheared_search_finds_the_brute_force_pairs() {
             }
         }
         // Pairs across the sheared side exist (the test sees the images).
-        sc.cell.shift = 0.37 * sc.size[0];
+        sc.unchecked().cell.shift = 0.37 * sc.size()[0];
         let across = search::brute_force_pairs(&sc, 2e-3)
             .iter()
             .filter(|&&(a, b)| {
-                let p = &sc.particles;
+                let p = &sc.particles();
                 let (i, j) = (
                     p.id.iter().position(|&x| x == a).unwrap(),
                     p.id.iter().position(|&x| x == b).unwrap(),
                 );
-                (p.pos[j].y - p.pos[i].y).abs() > 0.5 * sc.size[1]
+                (p.pos[j].y - p.pos[i].y).abs() > 0.5 * sc.size()[1]
             })
             .count();
         assert!(across > 0, "cell {w}");
@@ -76,15 +76,15 @@ fn a_free_particle_and_the_cell_follow_the_rates() {
     let model = cycle::run(sc, 1000).unwrap();
     let t = 1000.0 * model.dt;
     for (k, ed) in [20.0, -30.0, 5.0].into_iter().enumerate() {
-        assert!(rel(sc.size[k], 0.01 * (ed * t).exp()) < 1e-12, "{k}");
-        assert!(rel(sc.cell.strain[k], ed * t) < 1e-12, "{k}");
+        assert!(rel(sc.size()[k], 0.01 * (ed * t).exp()) < 1e-12, "{k}");
+        assert!(rel(sc.cell().strain[k], ed * t) < 1e-12, "{k}");
         // At rest in the mean field: carried affinely.
         let x0 = [0.005, 0.004, 0.003][k];
         assert!(
-            rel(sc.particles.pos[0][k], x0 * (ed * t).exp()) < 1e-12,
+            rel(sc.particles().pos[0][k], x0 * (ed * t).exp()) < 1e-12,
             "{k}"
         );
-        assert!(sc.particles.vel[0][k].abs() < 1e-20);
+        assert!(sc.particles().vel[0][k].abs() < 1e-20);
     }
     // Simple shear: a particle moving up through the top side.
     let (s12, vy) = (500.0, 2.0);
@@ -92,24 +92,24 @@ fn a_free_particle_and_the_cell_follow_the_rates() {
         "{base}cr 0.005 0.0095 0.005 0 {vy} 0 0 0 0 1 1\ngrid 0 0 0 {s12} 0 0\n"
     ));
     let sc = s.scene.as_mut().unwrap();
-    let ly = sc.size[1];
-    let total_x = |sc: &trubal::sim::Scene| sc.particles.vel[0].x + s12 * sc.particles.pos[0].y;
+    let ly = sc.size()[1];
+    let total_x = |sc: &trubal::sim::Scene| sc.particles().vel[0].x + s12 * sc.particles().pos[0].y;
     let c0 = total_x(sc);
     let model = cycle::run(sc, 10).unwrap();
     assert!(rel(total_x(sc), c0) < 1e-9, "no crossing yet");
     let n = (0.002 / (vy * model.dt)) as u64;
     cycle::run(sc, n).unwrap();
     let t = (n + 10) as f64 * model.dt;
-    assert!(sc.particles.pos[0].y < 0.002, "crossed the top");
+    assert!(sc.particles().pos[0].y < 0.002, "crossed the top");
     assert!(
         (total_x(sc) - (c0 - s12 * ly)).abs() < 1e-9 * s12 * ly,
         "{} vs {}",
         total_x(sc),
         c0 - s12 * ly
     );
-    assert!((sc.cell.shift - (s12 * ly * t).rem_euclid(sc.size[0])).abs() < 1e-12);
-    assert!(rel(sc.cell.strain[3], s12 * t) < 1e-12);
-    assert_eq!(sc.particles.vel[0].y, vy);
+    assert!((sc.cell().shift - (s12 * ly * t).rem_euclid(sc.size()[0])).abs() < 1e-12);
+    assert!(rel(sc.cell().strain[3], s12 * t) < 1e-12);
+    assert_eq!(sc.particles().vel[0].y, vy);
 }
 
 /// A simple-cubic lattice of touching Hertz spheres compressed isotropically by GRID: every
@@ -125,9 +125,9 @@ fn a_compressed_simple_cubic_lattice_has_the_closed_form_stress() {
     let mut s = session(&lines);
     let sc = s.scene.as_mut().unwrap();
     cycle::run(sc, 300).unwrap();
-    sc.cell.rate = [0.0; 6];
+    sc.unchecked().cell.rate = [0.0; 6];
     cycle::run(sc, 1).unwrap();
-    let eps = sc.cell.strain[0];
+    let eps = sc.cell().strain[0];
     let d = d0 * eps.exp();
     let alpha = d0 - d;
     let e_star = 1e8 / (2.0 * (1.0 - 0.09));
@@ -169,7 +169,7 @@ fn the_servo_holds_its_target_and_a_static_packing_carries_its_stress_across_a_p
     s.run_line("cycle 4000 s0 2e4").unwrap();
     let sc = s.scene.as_mut().unwrap();
     // The history's last records (every 500 cycles): the mean within 1 %.
-    let rows = &sc.history.rows;
+    let rows = &sc.history().rows;
     let cols = trubal::sim::history::COLUMNS;
     let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
     for row in &rows[rows.len() - 8..] {
@@ -181,15 +181,15 @@ fn the_servo_holds_its_target_and_a_static_packing_carries_its_stress_across_a_p
         );
     }
     // Stop the cell and let the packing settle.
-    sc.cell.rate = [0.0; 6];
+    sc.unchecked().cell.rate = [0.0; 6];
     cycle::run(sc, 20000).unwrap();
     let sigma = stress::of(sc);
-    let p = &sc.particles;
-    let area = sc.size[1] * sc.size[2];
+    let p = &sc.particles();
+    let area = sc.size()[1] * sc.size()[2];
     for c in [0.1, 0.35, 0.5, 0.8] {
-        let x = c * sc.size[0];
+        let x = c * sc.size()[0];
         let mut f = 0.0;
-        for k in sc.contacts.iter() {
+        for k in sc.contacts().iter() {
             let (i, j) = (k.i as usize, k.j as usize);
             let l = sc.branch(&p.pos[i], &p.pos[j]);
             // Does the segment from A to A + l cross the plane x (or one of its images)?
@@ -200,7 +200,7 @@ fn the_servo_holds_its_target_and_a_static_packing_carries_its_stress_across_a_p
                 (xa + l.x, xa)
             };
             let crosses = (-1..=1).any(|m| {
-                let xm = x + m as f64 * sc.size[0];
+                let xm = x + m as f64 * sc.size()[0];
                 lo < xm && xm <= hi
             });
             if crosses {
@@ -264,7 +264,7 @@ fn bad_cell_input_is_refused() {
     refused("set open y\ngrid 0 0 0 1 0 0", "Lees");
     refused("grid nan 0 0 0 0 0", "expected a number");
     let s = refused("dwall p 0 0 1 0\ngrid 1 0 0 0 0 0", "wall");
-    assert_eq!(s.scene.as_ref().unwrap().cell.rate, [0.0; 6]);
+    assert_eq!(s.scene.as_ref().unwrap().cell().rate, [0.0; 6]);
     refused("grid -1000 0 0 0 0 0\ncycle 100000", "shrink");
     refused("cycle 10 s0 1e4", "GAIN");
     refused("gain 1e-3 10\ncycle 10 s0 -5", "positive");
@@ -286,7 +286,7 @@ fn bad_cell_input_is_refused() {
     let mut s = session(base);
     let _ = s.run_line("grid -1000 0 0 0 0 0");
     assert!(s.run_line("cycle 100000").is_err());
-    assert_eq!(s.scene.as_ref().unwrap().cycle, 0);
+    assert_eq!(s.scene.as_ref().unwrap().cycle(), 0);
     let _ = Vec3::zeros();
 }
 
@@ -356,15 +356,18 @@ fn two_d_motion_stays_in_the_plane() {
          friction 0.4 1\nrge 120 1 1 0\ngrid -100 -100 0 300 0 0\ncycle 4000\n",
     );
     let sc = s.scene.as_mut().unwrap();
-    let z0 = sc.particles.pos[0].z;
+    let z0 = sc.particles().pos[0].z;
     assert!(
-        sc.contacts.iter().any(|c| c.s.touching),
+        sc.contacts().iter().any(|c| c.s.touching),
         "it was compressed into contact"
     );
-    for i in 0..sc.particles.len() {
-        assert_eq!(sc.particles.pos[i].z, z0);
-        assert_eq!(sc.particles.vel[i].z, 0.0);
-        assert_eq!((sc.particles.spin[i].x, sc.particles.spin[i].y), (0.0, 0.0));
+    for i in 0..sc.particles().len() {
+        assert_eq!(sc.particles().pos[i].z, z0);
+        assert_eq!(sc.particles().vel[i].z, 0.0);
+        assert_eq!(
+            (sc.particles().spin[i].x, sc.particles().spin[i].y),
+            (0.0, 0.0)
+        );
     }
     let mut s = session(
         "start 1e-3 1e-3 2e-4 200 1000 0\n2-D\nrad 4e-5 1\ndensity 2600 1\nymd 1e8 1\npra 0.25 1\n\
@@ -381,10 +384,10 @@ fn a_diverging_servo_gain_is_refused() {
     let mut lines = sc_lattice_lines(1e-3);
     lines.push_str("grid -2 -2 -2 0 0 0\ncycle 300\ngrid 0 0 0 0 0 0\nmode 1\ngain 1e3 10\n");
     let mut s = session(&lines);
-    let before = s.scene.as_ref().unwrap().cycle;
+    let before = s.scene.as_ref().unwrap().cycle();
     let e = s.run_line("cycle 100 s0 1e3").unwrap_err().message;
     assert!(e.contains("diverge"), "{e}");
-    assert_eq!(s.scene.as_ref().unwrap().cycle, before);
+    assert_eq!(s.scene.as_ref().unwrap().cycle(), before);
     let usable: f64 = e
         .split("use GAIN below ")
         .nth(1)
@@ -415,20 +418,24 @@ fn no_contact_is_missed_in_a_deforming_cell() {
     let mut across = 0;
     for _ in 0..60 {
         cycle::run(sc, 40).unwrap();
-        let stored: std::collections::HashSet<(u32, u32)> =
-            sc.contacts.pairs().iter().map(|k| (k.ida, k.idb)).collect();
+        let stored: std::collections::HashSet<(u32, u32)> = sc
+            .contacts()
+            .pairs()
+            .iter()
+            .map(|k| (k.ida, k.idb))
+            .collect();
         for (a, b) in search::brute_force_pairs(sc, 0.0) {
             assert!(
                 stored.contains(&(a, b)),
                 "pair {a}-{b} missing at cycle {}",
-                sc.cycle
+                sc.cycle()
             );
-            let p = &sc.particles;
+            let p = &sc.particles();
             let (i, j) = (
                 p.id.iter().position(|&x| x == a).unwrap(),
                 p.id.iter().position(|&x| x == b).unwrap(),
             );
-            across += usize::from((p.pos[j].y - p.pos[i].y).abs() > 0.5 * sc.size[1]);
+            across += usize::from((p.pos[j].y - p.pos[i].y).abs() > 0.5 * sc.size()[1]);
         }
     }
     assert!(across > 0, "no pair across the sheared side was seen");
@@ -445,7 +452,7 @@ fn a_hunting_servo_stops_the_cycle() {
     let e = s.run_line("cycle 40000 s0 2e4").unwrap_err().message;
     assert!(e.contains("hunts"), "{e}");
     let sc = s.scene.as_ref().unwrap();
-    assert!(sc.cycle < 40000);
+    assert!(sc.cycle() < 40000);
 }
 
 /// `RING θ` (ring shear): the major principal stress of a packing held at a mean stress
@@ -470,7 +477,7 @@ fn the_ring_servo_holds_the_principal_stress_angle() {
     assert!((before - 120.0).abs() > 2.0, "started at {before}");
     assert!((angle(sc) - 120.0).abs() < 0.5, "{}", angle(sc));
     assert!(rel(stress::of(sc).mean(), 2e4) < 0.01);
-    assert!(sc.cell.strain[3] != 0.0, "the servo sheared the cell");
+    assert!(sc.cell().strain[3] != 0.0, "the servo sheared the cell");
     // Continuous shear at 20 1/s: the angle is held on average at 105° (the packing alone
     // would take it to ~120–135°).
     for l in [
@@ -483,10 +490,10 @@ fn the_ring_servo_holds_the_principal_stress_angle() {
     }
     s.run_line("cycle 40000 s22 2e4 s33 2e4 ring 105").unwrap();
     let sc = s.scene.as_ref().unwrap();
-    assert_eq!(sc.cell.rate[3], 20.0, "the prescribed shear rate stays");
+    assert_eq!(sc.cell().rate[3], 20.0, "the prescribed shear rate stays");
     let cols = trubal::sim::history::COLUMNS;
     let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
-    let rows = &sc.history.rows[sc.history.rows.len() - 200..];
+    let rows = &sc.history().rows[sc.history().rows.len() - 200..];
     let (mut a, mut syy) = (0.0, 0.0);
     for r in rows {
         let t = 0.5
@@ -498,5 +505,9 @@ fn the_ring_servo_holds_the_principal_stress_angle() {
     }
     assert!((a - 105.0).abs() < 1.0, "mean angle {a}");
     assert!(rel(syy, 2e4) < 0.01, "σ22 {syy:e}");
-    assert!(sc.cell.strain[3] > 0.3, "sheared: {}", sc.cell.strain[3]);
+    assert!(
+        sc.cell().strain[3] > 0.3,
+        "sheared: {}",
+        sc.cell().strain[3]
+    );
 }

@@ -81,7 +81,7 @@ fn fixture_scene() -> Scene {
     let mut sc = session(FIXTURE_SCRIPT).scene.unwrap();
     // A periodic cell's state (format 4), set directly: at rest (the fixture has walls, which
     // a moving cell refuses), with its history.
-    sc.cell = trubal::sim::cell::Cell {
+    *sc.unchecked().cell = trubal::sim::cell::Cell {
         rate: [0.0; 6],
         strain: [-1e-3, 2e-3, 3e-4, 5e-2, 0.0, 0.0],
         shift: 0.0,
@@ -166,19 +166,19 @@ fn normal_facts(h: &trubal::sim::contacts::NormalHistory) -> Value {
 /// Everything a checkpoint holds, field by field (not through serde, so that a future format
 /// has to reproduce the values, not the layout).
 fn facts(sc: &Scene) -> Value {
-    let p = &sc.particles;
-    let mut rng = sc.rng.clone();
+    let p = &sc.particles();
+    let mut rng = sc.rng().clone();
     let rng_next: Vec<String> = (0..4).map(|_| rng.next_u64().to_string()).collect();
-    let l = &sc.ledger;
-    let st = &sc.settings;
+    let l = &sc.ledger();
+    let st = &sc.settings();
     json!({
-        "size": fs(&sc.size), "nbox": sc.nbox, "nball": sc.nball, "nwall": sc.nwall,
-        "sizes": fs(&sc.sizes),
-        "materials": sc.materials.iter().map(|m| json!({
+        "size": fs(&sc.size()), "nbox": sc.nbox(), "nball": sc.nball(), "nwall": sc.nwall(),
+        "sizes": fs(sc.sizes()),
+        "materials": sc.materials().iter().map(|m| json!({
             "density": f(m.density), "young": f(m.young), "poisson": f(m.poisson),
             "friction": f(m.friction), "gamma": f(m.gamma), "restitution": m.restitution.map(f),
         })).collect::<Vec<_>>(),
-        "regions": sc.regions.iter().map(|r| r.map(|r| json!({
+        "regions": sc.regions().iter().map(|r| r.map(|r| json!({
             "centre": fs(&r.centre), "radius": f(r.radius)
         }))).collect::<Vec<_>>(),
         "particles": {
@@ -187,22 +187,22 @@ fn facts(sc: &Scene) -> Value {
             "radius": fs(&p.radius), "mass": fs(&p.mass), "size": p.size,
             "material": p.material, "agg": p.agg, "fixed": p.fixed, "disp": v3s(&p.disp),
         },
-        "next_id": sc.next_id,
-        "walls": sc.walls.iter().map(|w| json!({
+        "next_id": sc.next_id(),
+        "walls": sc.walls().iter().map(|w| json!({
             "geom": format!("{:?}", w.geom), "vel": fs(&w.vel), "vr": f(w.vr),
             "material": w.material,
             "servo": w.servo.map(|s| fs(&[s.force, s.vmax, s.gain])),
             "force": fs(&w.force), "normal_force": f(w.normal_force), "disp": fs(&w.disp),
         })).collect::<Vec<_>>(),
-        "pairs": sc.contacts.iter().map(|c| json!({
+        "pairs": sc.contacts().iter().map(|c| json!({
             "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb, "s": contact_facts(c.s),
         })).collect::<Vec<_>>(),
-        "wall_pairs": sc.contacts.wall_pairs.iter().map(|c| json!({
+        "wall_pairs": sc.contacts().wall_pairs().iter().map(|c| json!({
             "i": c.i, "id": c.id, "wall": c.wall, "s": contact_facts(&c.s),
         })).collect::<Vec<_>>(),
         "contacts": {
-            "stale": sc.contacts.is_stale(), "remap": sc.contacts.needs_remap(), "tol": f(sc.contacts.tol()),
-            "rebuilds": sc.contacts.rebuilds(),
+            "stale": sc.contacts().is_stale(), "remap": sc.contacts().needs_remap(), "tol": f(sc.contacts().tol()),
+            "rebuilds": sc.contacts().rebuilds(),
         },
         "settings": {
             "tol": st.tol.map(f), "xres": st.xres.map(f), "smin": st.smin.map(f),
@@ -213,35 +213,35 @@ fn facts(sc: &Scene) -> Value {
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
         },
         // (Format 5's facts wrote the whole ContactLaws; its fields since are facts of their own.)
-        "laws": format!("ContactLaws {{ normal: {:?}, rolling: {:?} }}", sc.laws.normal, sc.laws.rolling),
-        "pair_values": format!("{:?}", sc.laws.pair_values),
-        "gravity": fs(&sc.gravity), "cgravity": fs(&sc.cgravity), "fmm": f(sc.fmm),
-        "zero_always": sc.zero_always,
-        "damping_pp": fs(&[sc.damping_pp.alpha, sc.damping_pp.beta]),
-        "damping_pw": fs(&[sc.damping_pw.alpha, sc.damping_pw.beta]),
-        "liquid": sc.liquid.map(|q| fs(&[q.pvol, q.gamma, q.theta, q.eta])),
-        "impact": sc.impact,
+        "laws": format!("ContactLaws {{ normal: {:?}, rolling: {:?} }}", sc.laws().normal, sc.laws().rolling),
+        "pair_values": format!("{:?}", sc.laws().pair_values),
+        "gravity": fs(&sc.gravity()), "cgravity": fs(&sc.cgravity()), "fmm": f(sc.fmm()),
+        "zero_always": sc.zero_always(),
+        "damping_pp": fs(&[sc.damping_pp().alpha, sc.damping_pp().beta]),
+        "damping_pw": fs(&[sc.damping_pw().alpha, sc.damping_pw().beta]),
+        "liquid": sc.liquid().map(|q| fs(&[q.pvol, q.gamma, q.theta, q.eta])),
+        "impact": sc.impact(),
         "rng_next": rng_next,
-        "cycle": sc.cycle, "time": f(sc.time),
+        "cycle": sc.cycle(), "time": f(sc.time()),
         "ledger": {
             "commands": f(l.commands), "gravity": f(l.gravity), "walls": f(l.walls),
             "friction": f(l.friction), "damping_mass": f(l.damping_mass),
             "damping_contact": f(l.damping_contact), "viscous": f(l.viscous),
             "adhesion": f(l.adhesion), "rupture": f(l.rupture),
         },
-        "lost": sc.lost,
-        "reference": sc.reference.as_ref().map(|r| json!({
+        "lost": sc.lost(),
+        "reference": sc.reference().as_ref().map(|r| json!({
             "cycle": r.cycle, "ids": r.ids,
             "pos": r.pos.iter().map(|x| fs(x)).collect::<Vec<_>>(),
             "rot": r.rot.iter().map(|x| fs(x)).collect::<Vec<_>>(),
             "contacts": r.contacts, "bridges": r.bridges,
         })),
-        "history": sc.history.rows.iter().map(|r| fs(r)).collect::<Vec<_>>(),
+        "history": sc.history().rows.iter().map(|r| fs(r)).collect::<Vec<_>>(),
         "cell": {
-            "rate": fs(&sc.cell.rate), "strain": fs(&sc.cell.strain), "shift": f(sc.cell.shift),
-            "gain": fs(&sc.cell.gain), "mode": sc.cell.mode, "travel": f(sc.cell.travel),
-            "work": f(sc.cell.work), "half": sc.cell.half.iter().map(|r| fs(r)).collect::<Vec<_>>(),
-            "pending": f(sc.cell.pending),
+            "rate": fs(&sc.cell().rate), "strain": fs(&sc.cell().strain), "shift": f(sc.cell().shift),
+            "gain": fs(&sc.cell().gain), "mode": sc.cell().mode, "travel": f(sc.cell().travel),
+            "work": f(sc.cell().work), "half": sc.cell().half.iter().map(|r| fs(r)).collect::<Vec<_>>(),
+            "pending": f(sc.cell().pending),
         },
     })
 }
@@ -418,11 +418,11 @@ fn fixtures_of_every_version_still_load() {
 fn the_whole_state_round_trips() {
     let sc = fixture_scene();
     // The fixture scene exercises every part of the state.
-    assert!(sc.particles.len() == 7 && sc.walls.len() == 1);
+    assert!(sc.particles().len() == 7 && sc.walls().len() == 1);
     // Format 6: a pair with LIGGGHTS' JKR (made across a gap), a pair's own friction and
     // restitution.
     let nguyen = sc
-        .contacts
+        .contacts()
         .iter()
         .map(|c| c.s)
         .find(|s| {
@@ -433,34 +433,34 @@ fn the_whole_state_round_trips() {
         })
         .expect("a Nguyen contact");
     assert!(nguyen.touching && nguyen.normal_force != 0.0);
-    assert_eq!(sc.laws.pair_values.len(), 1);
+    assert_eq!(sc.laws().pair_values.len(), 1);
     // Format 5: a Thornton–Ning wall contact, a linear one, a rolling spring.
     use trubal::sim::contacts::NormalHistory;
-    let hist = |k: usize| sc.contacts.wall_pairs[k].s.ext().laws().normal;
+    let hist = |k: usize| sc.contacts().wall_pairs()[k].s.ext().laws().normal;
     assert!(matches!(hist(0), NormalHistory::ThorntonNing { .. }));
     assert!(matches!(hist(1), NormalHistory::Linear { .. }));
-    assert!(sc.contacts.wall_pairs[0].s.ext().laws().roll.norm() > 0.0);
-    assert!(sc.walls[0].servo.is_some());
-    let pair = &sc.contacts.pair(0).s;
+    assert!(sc.contacts().wall_pairs()[0].s.ext().laws().roll.norm() > 0.0);
+    assert!(sc.walls()[0].servo.is_some());
+    let pair = &sc.contacts().pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
     let w = &pair.ext().walton;
     assert!(w.fn_prev > 0.0 && w.sense != 0 && w.stored > 0.0);
-    let wall = &sc.contacts.wall_pairs[0].s;
+    let wall = &sc.contacts().wall_pairs()[0].s;
     assert!(wall.touching && wall.bridge.is_some());
-    assert!(sc.reference.as_ref().is_some_and(|r| r.ids.len() == 4));
-    assert_eq!(sc.history.rows.len(), 10);
-    assert_eq!(sc.settings.periodic, [true, true, false]);
-    assert!(sc.settings.tol.is_some() && sc.liquid.is_some() && sc.regions[0].is_some());
-    assert!(sc.damping_pp.alpha > 0.0 && sc.materials[0].restitution.is_some());
+    assert!(sc.reference().as_ref().is_some_and(|r| r.ids.len() == 4));
+    assert_eq!(sc.history().rows.len(), 10);
+    assert_eq!(sc.settings().periodic, [true, true, false]);
+    assert!(sc.settings().tol.is_some() && sc.liquid().is_some() && sc.regions()[0].is_some());
+    assert!(sc.damping_pp().alpha > 0.0 && sc.materials()[0].restitution.is_some());
     assert!(
-        sc.rng != trubal::sim::rng::Rng::new(0),
+        *sc.rng() != trubal::sim::rng::Rng::new(0),
         "RGEnerate Seed advanced the generator"
     );
-    let l = &sc.ledger;
+    let l = &sc.ledger();
     assert!(l.friction > 0.0 && l.damping_contact > 0.0 && l.damping_mass > 0.0);
     assert!(l.gravity != 0.0 && l.commands > 0.0);
-    assert!(sc.particles.spin.iter().any(|w| w.norm() > 0.0));
+    assert!(sc.particles().spin.iter().any(|w| w.norm() > 0.0));
 
     let bytes = to_bytes(&sc).unwrap();
     let back = from_bytes(&bytes).unwrap();
@@ -468,8 +468,8 @@ fn the_whole_state_round_trips() {
     // Derived per-step buffers (forces, hot pair list, the outside-particle hint) are not
     // saved; compare without them.
     let mut sc = sc;
-    sc.contacts.clear_derived();
-    sc.derived.maybe_outside = true;
+    sc.unchecked().contacts.clear_derived();
+    sc.unchecked().derived.maybe_outside = true;
     assert_eq!(format!("{sc:?}"), format!("{back:?}"));
     assert!(to_bytes(&back).unwrap() == bytes);
 }
@@ -487,7 +487,7 @@ fn save_and_load_are_to_bytes_and_from_bytes() {
     .scene
     .unwrap();
     // More than the 43,690 vectors serde reserves up front (1 MB): the arrays grow.
-    assert_eq!(sc.particles.len(), 45000);
+    assert_eq!(sc.particles().len(), 45000);
     let dir = std::env::temp_dir().join(format!("trubal-ckpt-same-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("state.sav");
@@ -497,8 +497,8 @@ fn save_and_load_are_to_bytes_and_from_bytes() {
     let a = checkpoint::load(&path).unwrap();
     let b = from_bytes(&bytes).unwrap();
     assert_eq!(format!("{a:?}"), format!("{b:?}"));
-    let p = &a.particles;
-    assert_eq!(p.len(), sc.particles.len());
+    let p = &a.particles();
+    assert_eq!(p.len(), sc.particles().len());
     for (name, cap) in [
         ("id", p.id.capacity()),
         ("pos", p.pos.capacity()),
@@ -646,12 +646,12 @@ fn garbage_with_a_valid_checksum_never_panics() {
             match std::panic::catch_unwind(|| from_bytes(&d)) {
                 Ok(Ok(sc)) => {
                     accepted += 1;
-                    checkpoint::check_consistency(&sc).unwrap();
+                    sc.check_consistency().unwrap();
                     // What loads can cycle, or is refused before cycling with a reason: a
                     // finite step, no NaN (one damaged file used to load with `dt inf`).
                     if let Ok(model) = trubal::sim::params::build(&sc) {
                         assert!(
-                            model.dt.is_finite() || sc.particles.is_empty(),
+                            model.dt.is_finite() || sc.particles().is_empty(),
                             "byte {k} ^ {mask:#x}: dt {}",
                             model.dt
                         );
@@ -678,38 +678,50 @@ fn impossible_states_are_refused() {
     type Breaker = fn(&mut Scene);
     let breakers: &[(&str, Breaker)] = &[
         ("unequal", |s| {
-            s.particles.vel.pop();
+            s.unchecked().particles.vel.pop();
         }),
-        ("contact", |s| s.contacts.pairs_mut()[0].j = 99),
-        ("wall contact", |s| s.contacts.wall_pairs[0].wall = 5),
-        ("share an id", |s| s.particles.id[1] = s.particles.id[0]),
-        ("material", |s| s.particles.material[0] = 9),
-        ("material", |s| s.walls[0].material = 0),
+        ("contact", |s| s.unchecked().contacts.pairs_mut()[0].j = 99),
+        ("wall contact", |s| {
+            s.unchecked().contacts.wall_pairs_mut()[0].wall = 5
+        }),
+        ("share an id", |s| {
+            s.unchecked().particles.id[1] = s.particles().id[0]
+        }),
+        ("material", |s| s.unchecked().particles.material[0] = 9),
+        ("material", |s| s.unchecked().walls[0].material = 0),
         ("reference", |s| {
-            s.reference.as_mut().unwrap().pos.pop();
+            s.unchecked().reference.as_mut().unwrap().pos.pop();
         }),
-        ("history", |s| s.history.rows[0].pop().map(|_| ()).unwrap()),
-        ("next id", |s| s.next_id = 2),
+        ("history", |s| {
+            s.unchecked().history.rows[0].pop().map(|_| ()).unwrap()
+        }),
+        ("next id", |s| *s.unchecked().next_id = 2),
         // Numbers the program never writes (a damaged payload with a recomputed checksum).
         ("particle 1 has a non-finite velocity", |s| {
-            s.particles.vel[0].x = f64::NAN
+            s.unchecked().particles.vel[0].x = f64::NAN
         }),
         ("particle 2 has a non-finite position", |s| {
-            s.particles.pos[1].z = f64::INFINITY
+            s.unchecked().particles.pos[1].z = f64::INFINITY
         }),
-        ("material type 1", |s| s.materials[0].poisson = 0.7),
-        ("material type 2", |s| s.materials[1].young = -1.0),
-        ("TOL", |s| s.settings.tol = Some(f64::INFINITY)),
-        ("wall 1", |s| s.walls[0].vel[2] = f64::NAN),
+        ("material type 1", |s| {
+            s.unchecked().materials[0].poisson = 0.7
+        }),
+        ("material type 2", |s| {
+            s.unchecked().materials[1].young = -1.0
+        }),
+        ("TOL", |s| s.unchecked().settings.tol = Some(f64::INFINITY)),
+        ("wall 1", |s| s.unchecked().walls[0].vel[2] = f64::NAN),
         ("contact of particles 1 and 2", |s| {
-            s.contacts.state_mut(0).normal_force = f64::NAN
+            s.unchecked().contacts.state_mut(0).normal_force = f64::NAN
         }),
         ("contact of particle 3 and wall 1", |s| {
-            s.contacts.wall_pairs[0].s.tforce.x = f64::NAN
+            s.unchecked().contacts.wall_pairs_mut()[0].s.tforce.x = f64::NAN
         }),
-        ("ledger", |s| s.ledger.friction = f64::NAN),
-        ("time", |s| s.time = f64::INFINITY),
-        ("liquid", |s| s.liquid.as_mut().unwrap().eta = -1.0),
+        ("ledger", |s| s.unchecked().ledger.friction = f64::NAN),
+        ("time", |s| *s.unchecked().time = f64::INFINITY),
+        ("liquid", |s| {
+            s.unchecked().liquid.as_mut().unwrap().eta = -1.0
+        }),
     ];
     for (want, brk) in breakers {
         let mut sc = good.clone();
@@ -827,7 +839,7 @@ fn default_file_names() {
     assert!(out.contains("restarted from save.old at cycle 50"), "{out}");
     assert!(out.contains("saved cycle 52 to save.new"), "{out}");
     let sc = checkpoint::load(&dir.join("save.new")).unwrap();
-    assert_eq!(sc.cycle, 52);
+    assert_eq!(sc.cycle(), 52);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -861,7 +873,10 @@ fn a_failed_save_keeps_the_old_file() {
     std::fs::remove_dir(dir.join("state.sav.tmp")).unwrap();
     let (_, err) = trubal(&dir, "restart state.sav\ncycle 10\nsave state.sav\n");
     assert!(err.is_empty(), "{err}");
-    assert_eq!(checkpoint::load(&dir.join("state.sav")).unwrap().cycle, 60);
+    assert_eq!(
+        checkpoint::load(&dir.join("state.sav")).unwrap().cycle(),
+        60
+    );
     assert!(!dir.join("state.sav.tmp").exists());
     // A directory that does not exist (library API: `/` separates words in the language).
     let target = dir.join("no").join("such").join("x.sav");

@@ -38,9 +38,9 @@ fn scratch(tag: &str) -> PathBuf {
 
 /// Bitwise comparison with a readable message, then the whole serialised state.
 fn assert_same(a: &Scene, b: &Scene, what: &str) {
-    assert_eq!(a.cycle, b.cycle, "{what}: cycle");
-    assert_eq!(a.time.to_bits(), b.time.to_bits(), "{what}: time");
-    let (p, q) = (&a.particles, &b.particles);
+    assert_eq!(a.cycle(), b.cycle(), "{what}: cycle");
+    assert_eq!(a.time().to_bits(), b.time().to_bits(), "{what}: time");
+    let (p, q) = (&a.particles(), &b.particles());
     assert_eq!(p.id, q.id, "{what}: particle ids");
     for i in 0..p.len() {
         for (name, x, y) in [
@@ -62,7 +62,7 @@ fn assert_same(a: &Scene, b: &Scene, what: &str) {
             }
         }
     }
-    let (l, m) = (&a.ledger, &b.ledger);
+    let (l, m) = (&a.ledger(), &b.ledger());
     for (name, x, y) in [
         ("commands", l.commands, m.commands),
         ("gravity", l.gravity, m.gravity),
@@ -81,15 +81,16 @@ fn assert_same(a: &Scene, b: &Scene, what: &str) {
         );
     }
     assert_eq!(
-        a.contacts.iter().collect::<Vec<_>>(),
-        b.contacts.iter().collect::<Vec<_>>(),
+        a.contacts().iter().collect::<Vec<_>>(),
+        b.contacts().iter().collect::<Vec<_>>(),
         "{what}: contact history"
     );
     assert_eq!(
-        a.contacts.wall_pairs, b.contacts.wall_pairs,
+        a.contacts().wall_pairs(),
+        b.contacts().wall_pairs(),
         "{what}: wall contact history"
     );
-    assert_eq!(a.walls, b.walls, "{what}: walls");
+    assert_eq!(a.walls(), b.walls(), "{what}: walls");
     // Everything else (rng, settings, reference, history, counters): the serialised state.
     assert!(
         checkpoint::to_bytes(a).unwrap() == checkpoint::to_bytes(b).unwrap(),
@@ -109,7 +110,7 @@ fn check_continuation(tag: &str, setup: &str, total: u64, splits: &[u64]) -> usi
         // Cycle N; Cycle M in one session.
         let mut two = session_in(&dir, setup);
         run(&mut two, &format!("cycle {n}"));
-        if two.scene.as_ref().unwrap().contacts.needs_remap() {
+        if two.scene.as_ref().unwrap().contacts().needs_remap() {
             stale_splits += 1;
         }
         run(&mut two, &format!("cycle {}", total - n));
@@ -215,9 +216,9 @@ fn adhesive_scene_continues_bitwise() {
     let mut s = session_in(&dir, ADHESIVE);
     run(&mut s, "cycle 3000");
     let sc = s.scene.as_ref().unwrap();
-    assert!(sc.ledger.adhesion > 0.0, "some bonds must break");
+    assert!(sc.ledger().adhesion > 0.0, "some bonds must break");
     assert!(
-        sc.contacts
+        sc.contacts()
             .iter()
             .any(|p| p.s.touching && p.s.gamma() > 0.0),
         "the adhesive scene must have JKR contacts"
@@ -249,7 +250,7 @@ fn walton_scene_continues_bitwise() {
     run(&mut s, "cycle 3000");
     let sc = s.scene.as_ref().unwrap();
     assert!(
-        sc.contacts.iter().any(|p| p.s.touching
+        sc.contacts().iter().any(|p| p.s.touching
             && p.s.gamma() > 0.0
             && p.s.ext().walton.reversed
             && p.s.ext().walton.stored > 0.0),
@@ -281,9 +282,9 @@ fn wet_scene_continues_bitwise() {
     let mut s = session_in(&dir, WET);
     run(&mut s, "cycle 3000");
     let sc = s.scene.as_ref().unwrap();
-    assert!(sc.ledger.rupture > 0.0, "some bridges must rupture");
+    assert!(sc.ledger().rupture > 0.0, "some bridges must rupture");
     assert!(
-        sc.contacts.iter().any(|p| p.s.bridge.is_some()),
+        sc.contacts().iter().any(|p| p.s.bridge.is_some()),
         "the wet scene must have liquid bridges"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -342,7 +343,7 @@ fn a_grown_tol_changes_the_rebuilds_and_nothing_else() {
     let mut fixed = session_in(&dir, &format!("{DRY}\nset xres 1"));
     run(&mut fixed, "cycle 3000");
     let (a, b) = (grown.scene.unwrap(), fixed.scene.unwrap());
-    let (p, q) = (&a.particles, &b.particles);
+    let (p, q) = (&a.particles(), &b.particles());
     assert_eq!(p.id, q.id);
     for i in 0..p.len() {
         for (x, y) in [
@@ -355,18 +356,18 @@ fn a_grown_tol_changes_the_rebuilds_and_nothing_else() {
             }
         }
     }
-    assert_eq!(a.ledger, b.ledger);
-    let base = b.contacts.tol();
+    assert_eq!(a.ledger(), b.ledger());
+    let base = b.contacts().tol();
     assert!(
-        a.contacts.tol() > base && a.contacts.tol() <= 2.0 * base,
+        a.contacts().tol() > base && a.contacts().tol() <= 2.0 * base,
         "TOL {} (automatic {base})",
-        a.contacts.tol()
+        a.contacts().tol()
     );
     assert!(
-        a.contacts.rebuilds() < b.contacts.rebuilds(),
+        a.contacts().rebuilds() < b.contacts().rebuilds(),
         "{} rebuilds with the grown TOL, {} without",
-        a.contacts.rebuilds(),
-        b.contacts.rebuilds()
+        a.contacts().rebuilds(),
+        b.contacts().rebuilds()
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -390,24 +391,24 @@ fn a_scene_restored_from_the_blow_up_snapshot_goes_on_as_the_original() {
         let snapshot = trubal::sim::cycle::snapshot_of(&mut original);
         // The snapshot is lean (candidate pairs without a state are left out, in the dry
         // scene at least), and the list must be searched again.
-        leaner += usize::from(snapshot.contacts.len() < original.contacts.len());
+        leaner += usize::from(snapshot.contacts().len() < original.contacts().len());
         assert!(
-            snapshot.contacts.len() <= original.contacts.len(),
+            snapshot.contacts().len() <= original.contacts().len(),
             "{tag}: {} of {} pairs kept",
-            snapshot.contacts.len(),
-            original.contacts.len()
+            snapshot.contacts().len(),
+            original.contacts().len()
         );
-        assert!(snapshot.particles.disp.is_empty(), "{tag}");
-        let touching = |sc: &Scene| sc.contacts.iter().filter(|p| p.s.touching).count();
+        assert!(snapshot.particles().disp.is_empty(), "{tag}");
+        let touching = |sc: &Scene| sc.contacts().iter().filter(|p| p.s.touching).count();
         assert!(touching(&original) > 0, "{tag}");
         assert_eq!(touching(&snapshot), touching(&original), "{tag}");
         let mut restored = original.clone();
         trubal::sim::cycle::restore(&mut restored, snapshot);
-        assert!(restored.contacts.needs_remap(), "{tag}");
+        assert!(restored.contacts().needs_remap(), "{tag}");
         for sc in [&mut original, &mut restored] {
             trubal::sim::cycle::run(sc, 1500).unwrap();
         }
-        let (p, q) = (&original.particles, &restored.particles);
+        let (p, q) = (&original.particles(), &restored.particles());
         assert_eq!(p.id, q.id, "{tag}");
         for i in 0..p.len() {
             for (x, y) in [
@@ -427,17 +428,17 @@ fn a_scene_restored_from_the_blow_up_snapshot_goes_on_as_the_original() {
                 }
             }
         }
-        assert_eq!(original.ledger, restored.ledger, "{tag}");
+        assert_eq!(original.ledger(), restored.ledger(), "{tag}");
         // The same contacts with the same states (the candidate lists may differ in pairs
         // that never came within reach).
         // (Particle pairs, then particle–wall pairs with the wall's number as the second id.)
         let live = |sc: &Scene| {
             let walls = sc
-                .contacts
-                .wall_pairs
+                .contacts()
+                .wall_pairs()
                 .iter()
                 .map(|w| (w.id, u32::MAX - w.wall, &w.s));
-            sc.contacts
+            sc.contacts()
                 .iter()
                 .map(|p| (p.ida, p.idb, p.s))
                 .chain(walls)
@@ -469,7 +470,7 @@ fn fraction_auto_continues_bitwise() {
         .dt_base;
     run(&mut s, "cycle 1200");
     let sc = s.scene.as_ref().unwrap();
-    let dt = sc.settings.auto_step.unwrap();
+    let dt = sc.settings().auto_step.unwrap();
     assert!(
         dt > 0.0 && dt < first,
         "auto step {dt}, FRAction step {first}"

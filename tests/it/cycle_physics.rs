@@ -36,9 +36,9 @@ fn run_impact(sc: &mut trubal::sim::Scene, wall: bool) -> (f64, f64) {
     for _ in 0..200_000 {
         step(sc);
         let c = if wall {
-            &sc.contacts.wall_pairs[0].s
+            &sc.contacts().wall_pairs()[0].s
         } else {
-            sc.contacts.pair(0).s
+            sc.contacts().pair(0).s
         };
         fmax = fmax.max(c.normal_force + c.damp_force);
         let gap = -c.overlap;
@@ -48,9 +48,9 @@ fn run_impact(sc: &mut trubal::sim::Scene, wall: bool) -> (f64, f64) {
         if started && gap >= 0.0 {
             // The gap seen in a step is that of the positions at its start (t − Δt);
             // interpolate the zero crossing between the last two.
-            let dt = sc.time / sc.cycle as f64;
+            let dt = sc.time() / sc.cycle() as f64;
             let frac = -prev_gap / (gap - prev_gap);
-            t_end = Some(sc.time - 2.0 * dt + frac * dt);
+            t_end = Some(sc.time() - 2.0 * dt + frac * dt);
             break;
         }
         prev_gap = gap;
@@ -69,7 +69,7 @@ fn hertz_binary_impact() {
         // The contact began at t = 0 (touching).
         assert!(rel(fmax, f_th) < 0.01, "FRA {fr}: peak {fmax} vs {f_th}");
         assert!(rel(tc, t_th) < 0.01, "FRA {fr}: duration {tc} vs {t_th}");
-        let e = (sc.particles.vel[1].x - sc.particles.vel[0].x) / 20.0;
+        let e = (sc.particles().vel[1].x - sc.particles().vel[0].x) / 20.0;
         assert!((e - 1.0).abs() < 1e-3, "FRA {fr}: restitution {e}");
     }
 }
@@ -91,7 +91,7 @@ fn hertz_wall_impact() {
         let (fmax, tc) = run_impact(&mut sc, true);
         assert!(rel(fmax, f_th) < 0.01, "{fr}: peak {fmax} vs {f_th}");
         assert!(rel(tc, t_th) < 0.01, "{fr}: duration {tc} vs {t_th}");
-        let e = sc.particles.vel[0].z / 5.0;
+        let e = sc.particles().vel[0].z / 5.0;
         assert!((e - 1.0).abs() < 1e-3, "{fr}: restitution {e}");
     }
 }
@@ -105,12 +105,12 @@ fn restitution_damping_gives_e() {
         for _ in 0..10 {
             step(&mut sc);
         }
-        let got = sc.particles.vel[0].z / 2.0;
+        let got = sc.particles().vel[0].z / 2.0;
         let tol = if e == 0.1 { 0.01 } else { 0.01 * e };
         assert!((got - e).abs() < tol, "e = {e}: rebound {got}");
         // The ledger books the loss as contact damping.
-        let l = &sc.ledger;
-        let lost = 0.5 * sc.particles.mass[0] * 4.0 * (1.0 - got * got);
+        let l = &sc.ledger();
+        let lost = 0.5 * sc.particles().mass[0] * 4.0 * (1.0 - got * got);
         assert!(
             rel(l.damping_contact, lost) < 1e-2,
             "{} vs {lost}",
@@ -132,8 +132,8 @@ fn oblique_impact_regimes() {
              friction {mu} 1\ndwall p 0 0 1 0.02 m 1\ncreate 0.05 0.05 0.03 {vt} 0 -1 0 0 0 1 1\n"
         ));
         let _ = run_impact(&mut sc, true);
-        let v = sc.particles.vel[0];
-        let w = sc.particles.spin[0];
+        let v = sc.particles().vel[0];
+        let w = sc.particles().spin[0];
         let dvt = vt - v.x;
         let limit = mu * (1.0 + v.z / 1.0) * 1.0;
         if sliding {
@@ -141,8 +141,8 @@ fn oblique_impact_regimes() {
             assert!(rel(w.y.abs() * 0.01, 2.5 * dvt) < 0.01, "spin {w:?}");
             // Energy lost = friction booked, residual small.
             let res = energy::residual(&sc);
-            assert!(sc.ledger.friction > 0.0);
-            assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+            assert!(sc.ledger().friction > 0.0);
+            assert!(res.abs() < 1e-3 * sc.ledger().input(), "residual {res}");
         } else {
             assert!(dvt < 0.9 * limit, "sticking regime: Δv_t {dvt} vs {limit}");
             // Rolling-without-slip limit of the tangential velocity change: Δv_t ≤ 2/7 ... (sign reversal allowed).
@@ -171,11 +171,11 @@ fn wall_impacts_with_the_noslip_law_and_a_dashpot() {
             for _ in 0..10 {
                 step(&mut sc);
             }
-            let v = sc.particles.vel[0];
+            let v = sc.particles().vel[0];
             let got = v.z / vn;
             let tol = 0.01 * e;
             assert!((got - e).abs() < tol, "e = {e}, vt = {vt}: rebound {got}");
-            let l = &sc.ledger;
+            let l = &sc.ledger();
             assert!(l.damping_contact > 0.0, "e = {e}, vt = {vt}");
             let res = energy::residual(&sc);
             assert!(
@@ -193,14 +193,14 @@ fn wall_impacts_with_the_noslip_law_and_a_dashpot() {
                     dvt > 0.5 * limit && dvt < limit,
                     "e = {e}: Δv_t {dvt} vs μ(1+e)v_n {limit}"
                 );
-                let w = sc.particles.spin[0];
+                let w = sc.particles().spin[0];
                 assert!(
                     rel(w.y.abs() * 0.01, 2.5 * dvt) < 0.01,
                     "e = {e}: spin {w:?}"
                 );
                 assert!(l.friction > 0.0);
             } else {
-                let lost = 0.5 * sc.particles.mass[0] * vn * vn * (1.0 - got * got);
+                let lost = 0.5 * sc.particles().mass[0] * vn * vn * (1.0 - got * got);
                 assert!(
                     rel(l.damping_contact, lost) < 1e-2,
                     "{} vs {lost}",
@@ -222,10 +222,10 @@ fn gas(extra: &str) -> trubal::sim::Scene {
 fn give_random_velocities(sc: &mut trubal::sim::Scene) {
     let mut r = trubal::sim::rng::Rng::new(99);
     let before = energy::stored(sc).total();
-    for v in sc.particles.vel.iter_mut() {
+    for v in sc.unchecked().particles.vel.iter_mut() {
         *v = Vec3::new(r.uniform() - 0.5, r.uniform() - 0.5, r.uniform() - 0.5) * 2.0;
     }
-    sc.ledger.commands += energy::stored(sc).total() - before;
+    sc.unchecked().ledger.commands += energy::stored(sc).total() - before;
 }
 
 #[test]
@@ -237,7 +237,7 @@ fn elastic_gas_conserves_energy() {
     let e0 = energy::stored(&sc).total();
     trubal::sim::cycle::run(&mut sc, 100_000).unwrap();
     let e1 = energy::stored(&sc).total();
-    assert!(sc.contacts.rebuilds() > 10);
+    assert!(sc.contacts().rebuilds() > 10);
     assert!(rel(e1, e0) < 1e-4, "energy drift {}", rel(e1, e0));
 }
 
@@ -248,7 +248,7 @@ fn ledger_closes_with_friction_and_damping() {
     let mut sc = gas("fraction 0.05\nfriction 0.3 1\ndamping restitution 0.5\ngravity 0 0 -9.81");
     give_random_velocities(&mut sc);
     trubal::sim::cycle::run(&mut sc, 30_000).unwrap();
-    let l = &sc.ledger;
+    let l = &sc.ledger();
     assert!(l.friction > 0.0 && l.damping_contact > 0.0 && l.gravity > 0.0);
     let res = energy::residual(&sc);
     assert!(
@@ -271,15 +271,15 @@ fn search_runs_match_brute_force_on_narrow_grids() {
         ));
         // A few particles outside the open sides.
         for (k, i) in [(0, 3), (1, 7), (2, 11), (0, 20)] {
-            sc.particles.pos[i][k] = if i % 2 == 0 {
+            sc.unchecked().particles.pos[i][k] = if i % 2 == 0 {
                 -0.004
             } else {
-                sc.size[k] + 0.003
+                sc.size()[k] + 0.003
             };
         }
         for tol in [0.0, 1e-4, 1e-3] {
             let (pairs, _, info) = search::candidates(&sc, tol);
-            assert_eq!(info.entries, sc.particles.len(), "single-cell search");
+            assert_eq!(info.entries, sc.particles().len(), "single-cell search");
             assert!(info.n[0] <= 3, "{:?}", info.n);
             let mut got: Vec<(u32, u32)> = pairs.iter().map(|p| (p.ida, p.idb)).collect();
             got.sort_unstable();
@@ -300,8 +300,8 @@ fn search_with_a_reach_beyond_the_work_space_on_periodic_axes() {
         "start 0.01 0.01 0.01 10 400 0\nrad 5e-4 1\nrad 2e-4 2\nymd 1e7 1\npra 0.3 1\n\
          density 2500 1\nrge 20 1 1 0\nrge 10 2 1 0\n",
     );
-    assert_eq!(sc.settings.periodic, [true; 3]);
-    let mut ids = sc.particles.id.clone();
+    assert_eq!(sc.settings().periodic, [true; 3]);
+    let mut ids = sc.particles().id.clone();
     ids.sort_unstable();
     for tol in [1e99, 1e300, f64::MAX] {
         let (pairs, _, info) = search::candidates(&sc, tol);
@@ -313,7 +313,11 @@ fn search_with_a_reach_beyond_the_work_space_on_periodic_axes() {
             .collect();
         assert_eq!(got, all, "tol {tol}");
         assert_eq!(got, search::brute_force_pairs(&sc, tol), "tol {tol}");
-        assert!(info.entries <= 27 * sc.particles.len(), "{}", info.entries);
+        assert!(
+            info.entries <= 27 * sc.particles().len(),
+            "{}",
+            info.entries
+        );
     }
 }
 
@@ -337,7 +341,7 @@ fn search_matches_brute_force() {
             let (pairs, _, info) = search::candidates(&sc, tol);
             // The single-cell search enters each particle once.
             assert_eq!(
-                info.entries == sc.particles.len(),
+                info.entries == sc.particles().len(),
                 r2 > 0.001,
                 "{open} {r2}"
             );
@@ -347,14 +351,14 @@ fn search_matches_brute_force() {
         }
         // After many re-mappings of a moving gas: every touching pair is in the list.
         give_random_velocities(&mut sc);
-        for v in sc.particles.vel.iter_mut() {
+        for v in sc.unchecked().particles.vel.iter_mut() {
             *v *= 0.05;
         }
         for _ in 0..40 {
             trubal::sim::cycle::run(&mut sc, 50).unwrap();
             let touching = search::brute_force_pairs(&sc, 0.0);
             let listed: std::collections::HashSet<(u32, u32)> =
-                sc.contacts.iter().map(|p| (p.ida, p.idb)).collect();
+                sc.contacts().iter().map(|p| (p.ida, p.idb)).collect();
             for t in &touching {
                 assert!(
                     listed.contains(t),
@@ -362,7 +366,7 @@ fn search_matches_brute_force() {
                 );
             }
         }
-        assert!(sc.contacts.rebuilds() > 5, "{}", sc.contacts.rebuilds());
+        assert!(sc.contacts().rebuilds() > 5, "{}", sc.contacts().rebuilds());
     }
 }
 
@@ -385,14 +389,14 @@ fn blow_up_stops_with_a_message_and_keeps_a_good_state() {
     assert!(err.message.contains("particle"), "{}", err.message);
     assert!(err.message.contains("FRAction"), "{}", err.message);
     let sc = s.scene.as_ref().unwrap();
-    assert_eq!(sc.cycle % 100, 0, "restored to a snapshot");
+    assert_eq!(sc.cycle() % 100, 0, "restored to a snapshot");
     assert!(
-        sc.particles
+        sc.particles()
             .pos
             .iter()
             .all(|x| x.iter().all(|c| c.is_finite()))
     );
-    assert!(sc.particles.vel.iter().all(|x| x.norm() < 100.0));
+    assert!(sc.particles().vel.iter().all(|x| x.norm() < 100.0));
     // The kept state can be saved.
     let dir = std::env::temp_dir().join(format!("trubal-blowup-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -432,7 +436,7 @@ fn rgenerate_numbers_particles_along_a_morton_curve() {
         "start 0.1 0.1 0.1 1000 3000 0\nrad 0.002 1\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n\
          create 0.05 0.05 0.05 0 0 0 0 0 0 1 1\nrge 800 1 1 0\n",
     );
-    let p = &sc.particles;
+    let p = &sc.particles();
     assert_eq!(p.len(), 801);
     assert_eq!(p.id, (1..=801).collect::<Vec<u32>>());
     let lo = trubal::sim::Vec3::zeros();
@@ -469,9 +473,9 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
     // into the same agglomerate orders both halves together, so that the layers of the two
     // halves alternate in the particle list and ids (1, 2, ...) follow that order.
     let one = scene(&format!("{BCC}{SUB1}\n"));
-    let n1 = one.particles.len();
+    let n1 = one.particles().len();
     let two = scene(&format!("{BCC}{SUB1}\n{SUB2}\n"));
-    let p = &two.particles;
+    let p = &two.particles();
     let n = p.len();
     assert!(n1 > 200 && n > n1 + 200, "{n1} {n}");
     assert_eq!(p.id, (1..=n as u32).collect::<Vec<_>>());
@@ -481,7 +485,7 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
         "{BCC}{SUB1}\ncreate 1e-3 1e-3 2e-3 0 0 0 0 0 0 1 1\n{SUB2}\n"
     ));
     let mut a: Vec<[u64; 3]> = p.pos.iter().map(|x| x.map(f64::to_bits).into()).collect();
-    let mut b: Vec<[u64; 3]> = (sep.particles.pos.iter())
+    let mut b: Vec<[u64; 3]> = (sep.particles().pos.iter())
         .filter(|x| (x.z - 2e-3).abs() > 1e-9)
         .map(|x| x.map(f64::to_bits).into())
         .collect();
@@ -490,8 +494,8 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
     assert_eq!(a, b);
     // A command in between (here a CReate) ends the run: the first half keeps its ids and
     // order, the CReated particle its id, the second half follows them in its own order.
-    let q = &sep.particles;
-    assert_eq!(q.pos[..n1], one.particles.pos[..]);
+    let q = &sep.particles();
+    assert_eq!(q.pos[..n1], one.particles().pos[..]);
     assert_eq!(q.id[n1], n1 as u32 + 1);
     assert!(
         q.pos[n1 + 1..]
@@ -502,13 +506,13 @@ fn a_bcc_agglomerate_is_numbered_layer_by_layer() {
     let mut f = session(&format!("{BCC}{SUB1}\n"));
     assert!(f.run_line("agen 9 1 1 0 0 0 1e-4 1e-4 1e-4").is_err());
     f.run_line(SUB2).unwrap();
-    assert_eq!(f.scene.as_ref().unwrap().particles.pos, p.pos);
+    assert_eq!(f.scene.as_ref().unwrap().particles().pos, p.pos);
     // Once cycled (candidate pairs exist), a further AGEnerate leaves the others alone.
     let mut s = session(&format!("{BCC}{SUB1}\n"));
     s.run_line("cycle 1").unwrap();
     s.run_line(SUB2).unwrap();
-    let c = &s.scene.as_ref().unwrap().particles;
-    assert_eq!(c.pos[..n1], one.particles.pos[..]);
+    let c = &s.scene.as_ref().unwrap().particles();
+    assert_eq!(c.pos[..n1], one.particles().pos[..]);
 }
 
 /// The same agglomerate in a work-space 20 mm wide: AGEnerate examines only the sites in
@@ -523,9 +527,9 @@ fn agenerate_examines_only_the_regions_sites_and_refuses_an_absurd_lattice() {
     let small = scene(&format!("{BCC}{SUB1}\n"));
     let mut s = session(&big);
     s.run_line(SUB1).unwrap();
-    let p = &s.scene.as_ref().unwrap().particles;
+    let p = &s.scene.as_ref().unwrap().particles();
     assert!(p.len() > 200, "{}", p.len());
-    assert_eq!(p.pos, small.particles.pos);
+    assert_eq!(p.pos, small.particles().pos);
     // A step of 1e-30 m: refused, nothing added.
     let before = p.pos.clone();
     let e = s
@@ -538,12 +542,12 @@ fn agenerate_examines_only_the_regions_sites_and_refuses_an_absurd_lattice() {
     );
     let e = s.run_line("agen 1 1 0 0 0 0 1e-6 1e-6 1e-6").unwrap_err();
     assert!(e.message.contains("work-space"), "{}", e.message);
-    assert_eq!(s.scene.as_ref().unwrap().particles.pos, before);
+    assert_eq!(s.scene.as_ref().unwrap().particles().pos, before);
     // More sites than free places: refused without filling the list first.
     let mut f = session(&BCC.replace("27000 5000 2", "27000 100 2"));
     let e = f.run_line(SUB1).unwrap_err();
     assert!(e.message.contains("100 free places"), "{}", e.message);
-    assert!(f.scene.as_ref().unwrap().particles.is_empty());
+    assert!(f.scene.as_ref().unwrap().particles().is_empty());
 }
 
 /// A run of CReate commands keeps one overlap index and the kinetic total between them
@@ -580,23 +584,23 @@ fn a_run_of_creates_gives_what_creates_one_by_one_give() {
     let (a, ra) = run(None);
     let (b, rb) = run(Some("print info"));
     let (sa, sb) = (a.scene.as_ref().unwrap(), b.scene.as_ref().unwrap());
-    assert!(sa.derived.create_index.is_some() && sb.derived.create_index.is_none());
-    let n = sa.particles.len();
+    assert!(sa.derived().create_index.is_some() && sb.derived().create_index.is_none());
+    let n = sa.particles().len();
     assert!(n > 300 && ra.len() > 50, "{n} placed, {} refused", ra.len());
     assert_eq!(ra, rb);
     assert!(
         ra.iter().all(|m| m.contains("would overlap particle")),
         "{ra:?}"
     );
-    assert_eq!(sa.particles.pos, sb.particles.pos);
+    assert_eq!(sa.particles().pos, sb.particles().pos);
     assert_eq!(
-        sa.ledger.commands.to_bits(),
-        sb.ledger.commands.to_bits(),
+        sa.ledger().commands.to_bits(),
+        sb.ledger().commands.to_bits(),
         "{} {}",
-        sa.ledger.commands,
-        sb.ledger.commands
+        sa.ledger().commands,
+        sb.ledger().commands
     );
-    assert!(sa.ledger.commands > 0.0);
+    assert!(sa.ledger().commands > 0.0);
 }
 
 #[test]
@@ -611,9 +615,9 @@ fn few_particles_of_a_bcc_agglomerate_are_shared_between_two_threads() {
         .build()
         .unwrap();
     pool.install(|| (0..3).for_each(|_| step(&mut sc)));
-    let inc = &sc.contacts.step.scatter;
+    let inc = &sc.contacts().step_buffers().scatter;
     assert_eq!(inc.threads, 2);
-    let shared = inc.shared_list.len() as f64 / sc.particles.len() as f64;
+    let shared = inc.shared_list.len() as f64 / sc.particles().len() as f64;
     assert!(shared < 0.2, "shared fraction {shared}");
 }
 
@@ -624,13 +628,13 @@ fn a_cycle_leaves_the_forces_of_its_last_step() {
     // A sphere squeezed between a floor and a ceiling, stable at the default FRAction.
     let mut s = session(&wall_scene("dwall p 0 0 -1 -0.03999 m 1", 0.0));
     s.run_line("cycle 25").unwrap();
-    let f = s.scene.as_ref().unwrap().particles.force[0];
+    let f = s.scene.as_ref().unwrap().particles().force[0];
     assert!(f.norm() > 0.0, "{f:?}");
     // The same forces, bit for bit, as those of a 25th step taken in a Cycle of its own.
     let mut t = session(&wall_scene("dwall p 0 0 -1 -0.03999 m 1", 0.0));
     t.run_line("cycle 24").unwrap();
     t.run_line("cycle 1").unwrap();
-    let g = t.scene.as_ref().unwrap().particles.force[0];
+    let g = t.scene.as_ref().unwrap().particles().force[0];
     assert_eq!(f.map(f64::to_bits), g.map(f64::to_bits));
     // Nor does the step before a blow-up snapshot clear them: the state a blow-up restores
     // has the forces of its step (at FRAction 5 the energy runs away by cycle 4; with a
@@ -641,11 +645,11 @@ fn a_cycle_leaves_the_forces_of_its_last_step() {
     ));
     assert!(b.run_line("cycle 1000").is_err());
     let sc = b.scene.as_ref().unwrap();
-    assert_eq!(sc.cycle, 2);
+    assert_eq!(sc.cycle(), 2);
     assert!(
-        sc.particles.force[0].norm() > 0.0,
+        sc.particles().force[0].norm() > 0.0,
         "{:?}",
-        sc.particles.force[0]
+        sc.particles().force[0]
     );
 }
 
@@ -659,8 +663,8 @@ fn the_deep_overlap_warning_names_new_overlaps_only() {
          create 0.4 0.5 0.5 0 0 0 0 0 0 1 1\ncreate 0.7 0.5 0.5 0 0 0 0 0 0 1 1\n",
     );
     // CReate refuses overlaps; move the second sphere into one as a command would.
-    sc.particles.pos[1].x = 0.59;
-    sc.contacts.mark_stale();
+    sc.unchecked().particles.pos[1].x = 0.59;
+    sc.unchecked().contacts.mark_stale();
     let deep = |sc: &trubal::sim::Scene| {
         trubal::sim::cycle::warnings(sc)
             .iter()
@@ -671,7 +675,7 @@ fn the_deep_overlap_warning_names_new_overlaps_only() {
     assert_eq!(deep(&sc), 1);
     trubal::sim::cycle::run(&mut sc, 1).unwrap();
     assert!(
-        sc.contacts
+        sc.contacts()
             .iter()
             .any(|c| c.s.touching && c.s.overlap > 0.005)
     );
@@ -691,7 +695,7 @@ fn a_uniform_bed_gives_the_bits_of_the_general_pair_loop() {
                 dwall p 0 0 1 0\nrgenerate 1500 1 1 0\nset tangential noslip\n";
     let mut uni = scene(deck);
     let mut general = scene(deck);
-    general.particles.material[700] = 2;
+    general.unchecked().particles.material[700] = 2;
     let u = trubal::sim::params::build(&uni).unwrap().uniform;
     assert_eq!(
         u.map(|u| (u.radius, u.material)),
@@ -707,11 +711,11 @@ fn a_uniform_bed_gives_the_bits_of_the_general_pair_loop() {
                 .flat_map(|x| [x.x.to_bits(), x.y.to_bits(), x.z.to_bits()])
                 .collect()
         };
-        assert_eq!(bits(&uni.particles.pos), bits(&general.particles.pos));
-        assert_eq!(bits(&uni.particles.vel), bits(&general.particles.vel));
-        assert_eq!(bits(&uni.particles.spin), bits(&general.particles.spin));
+        assert_eq!(bits(&uni.particles().pos), bits(&general.particles().pos));
+        assert_eq!(bits(&uni.particles().vel), bits(&general.particles().vel));
+        assert_eq!(bits(&uni.particles().spin), bits(&general.particles().spin));
         let states = |s: &trubal::sim::Scene| -> Vec<u64> {
-            s.contacts
+            s.contacts()
                 .iter()
                 .flat_map(|c| {
                     let s = &c.s;
@@ -727,11 +731,14 @@ fn a_uniform_bed_gives_the_bits_of_the_general_pair_loop() {
                 })
                 .collect()
         };
-        let n = uni.contacts.iter().filter(|c| c.s.touching).count();
-        eprintln!("{n} contacts touching after {} steps", uni.cycle);
+        let n = uni.contacts().iter().filter(|c| c.s.touching).count();
+        eprintln!("{n} contacts touching after {} steps", uni.cycle());
         assert!(n >= touching, "{n} contacts touching");
         assert_eq!(states(&uni), states(&general));
-        assert_eq!(format!("{:?}", uni.ledger), format!("{:?}", general.ledger));
+        assert_eq!(
+            format!("{:?}", uni.ledger()),
+            format!("{:?}", general.ledger())
+        );
     }
 }
 
@@ -750,11 +757,11 @@ fn walton_law_oblique_impacts_close_the_ledger() {
              create 0.05 0.05 0.03 {vt} 0 -1 0 0 0 1 1\n"
         ));
         let _ = run_impact(&mut sc, true);
-        let v = sc.particles.vel[0];
-        let w = sc.particles.spin[0];
+        let v = sc.particles().vel[0];
+        let w = sc.particles().spin[0];
         let dvt = vt - v.x;
         let limit = mu * (1.0 + v.z / 1.0) * 1.0;
-        let l = &sc.ledger;
+        let l = &sc.ledger();
         assert!(l.friction > 0.0, "vt {vt}");
         let res = energy::residual(&sc);
         assert!(
@@ -795,8 +802,8 @@ fn walton_law_sliding_contact_closes_the_ledger() {
     for n in [300, 3000] {
         for law in ["md", "noslip", "walton"] {
             let sc = launched_on_a_floor(law, n);
-            let c = &sc.contacts.wall_pairs[0].s;
-            let l = &sc.ledger;
+            let c = &sc.contacts().wall_pairs()[0].s;
+            let l = &sc.ledger();
             assert!(c.touching && l.friction > 0.0, "{law} {n}");
             let res = energy::residual(&sc);
             assert!(

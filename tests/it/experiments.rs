@@ -214,14 +214,14 @@ fn dry_lattice_pairs_beyond_touching_are_not_evaluated() {
     r.lines("cycle 1");
     let sc = r.scene();
     let (mut beyond, mut evaluated) = (0, 0);
-    for c in sc.contacts.iter() {
+    for c in sc.contacts().iter() {
         let d = sc.branch(
-            &sc.particles.pos[c.i as usize],
-            &sc.particles.pos[c.j as usize],
+            &sc.particles().pos[c.i as usize],
+            &sc.particles().pos[c.j as usize],
         );
         let (ri, rj) = (
-            sc.particles.radius[c.i as usize],
-            sc.particles.radius[c.j as usize],
+            sc.particles().radius[c.i as usize],
+            sc.particles().radius[c.j as usize],
         );
         let near = d.norm() < 1.000001 * (ri + rj);
         let gap_beyond = d.norm_squared() > (ri + rj) * (ri + rj);
@@ -288,7 +288,7 @@ fn reduced_impact(base: &Session, v: f64) -> (f64, f64, f64) {
     s.scene = base.scene.clone();
     let mut r = Run { s, out };
     let h = {
-        let p = &r.scene().particles;
+        let p = &r.scene().particles();
         (0..p.len())
             .map(|i| p.pos[i].z - p.radius[i])
             .fold(f64::INFINITY, f64::min)

@@ -422,7 +422,7 @@ fn damaged_checkpoints_never_panic() {
                 let ok = catch_unwind(AssertUnwindSafe(|| {
                     let mut sc = sc;
                     if let Ok(model) = trubal::sim::params::build(&sc) {
-                        assert!(model.dt.is_finite() || sc.particles.is_empty());
+                        assert!(model.dt.is_finite() || sc.particles().is_empty());
                     }
                     let _ = trubal::sim::cycle::run(&mut sc, 2);
                 }));

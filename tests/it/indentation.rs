@@ -36,7 +36,7 @@ fn a_sphere_on_the_die_wall_gets_hertz_with_the_equivalent_radius() {
     let r1 = r * rc / (rc - r);
     let r_e = (r1 * r).sqrt();
     let want = 4.0 / 3.0 * e_star() * r_e.sqrt() * delta.powf(1.5);
-    let w = &sc.walls[0];
+    let w = &sc.walls()[0];
     assert!(
         rel(w.normal_force, want) < 1e-9,
         "{} vs {want}",
@@ -63,7 +63,7 @@ fn a_sphere_under_the_indenter_gets_hertz_with_the_convex_radius() {
     step(&mut sc);
     let r_star = r * ro / (ro + r);
     let want = 4.0 / 3.0 * e_star() * r_star.sqrt() * delta.powf(1.5);
-    let w = &sc.walls[0];
+    let w = &sc.walls()[0];
     // The particle below pushes the indenter up.
     assert!(rel(w.force[2], want) < 1e-9, "{:?} vs {want}", w.force);
     assert!(rel(w.normal_force, want) < 1e-9);
@@ -89,7 +89,7 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     let mut forces = Vec::new();
     for _ in 0..70 {
         s.run_line("cycle 500").unwrap();
-        forces.push(s.scene.as_ref().unwrap().walls[2].normal_force);
+        forces.push(s.scene.as_ref().unwrap().walls()[2].normal_force);
     }
     // The last 5000 steps: every record within 2 % of σ A.
     for f in &forces[60..] {
@@ -98,9 +98,9 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     // Now the piston pushes at constant speed (the servo's target out of reach, its speed
     // at vmax) and an indenter comes down; every joule the walls put in is booked.
     let sc = s.scene.as_mut().unwrap();
-    let before = (energy::residual(sc), sc.ledger.input());
-    let top = (0..sc.particles.len())
-        .map(|i| sc.particles.pos[i].z + sc.particles.radius[i])
+    let before = (energy::residual(sc), sc.ledger().input());
+    let top = (0..sc.particles().len())
+        .map(|i| sc.particles().pos[i].z + sc.particles().radius[i])
         .fold(0.0, f64::max);
     let z_ind = top + 1.5e-3 + 1e-4;
     s.run_line(&format!(
@@ -109,10 +109,10 @@ fn the_piston_servo_reaches_10_kpa_and_the_books_close_with_piston_and_indenter(
     .unwrap();
     s.run_line("cycle 4000").unwrap();
     let sc = s.scene.as_ref().unwrap();
-    let input = sc.ledger.input() - before.1;
-    let walls = sc.ledger.walls;
+    let input = sc.ledger().input() - before.1;
+    let walls = sc.ledger().walls;
     let res = energy::residual(sc) - before.0;
-    assert!(sc.walls[3].force[2] > 0.0, "the indenter is in the bed");
+    assert!(sc.walls()[3].force[2] > 0.0, "the indenter is in the bed");
     assert!(walls > 0.0, "the walls did work: {walls}");
     assert!(
         res.abs() < 2e-3 * input.abs().max(walls),
@@ -144,11 +144,11 @@ fn table_sizes_come_out_in_the_table_frequencies() {
         "start 0.1 0.1 0.1 10 {n} 0\nrad 5e-4 1 table {}\nrge {n} 1 1 0\n",
         tab.join(" ")
     ));
-    assert_eq!(sc.particles.len(), n);
+    assert_eq!(sc.particles().len(), n);
     let total: f64 = table.iter().map(|t| t.1).sum();
     for (d, f) in table {
         let k = sc
-            .particles
+            .particles()
             .radius
             .iter()
             .filter(|&&r| r == d * 0.5e-3)
@@ -163,7 +163,7 @@ fn table_sizes_come_out_in_the_table_frequencies() {
     }
     // Every radius is one of the table's.
     assert!(
-        sc.particles
+        sc.particles()
             .radius
             .iter()
             .all(|r| table.iter().any(|t| t.0 * 0.5e-3 == *r))
@@ -224,8 +224,8 @@ fn bad_dies_indenters_tables_and_servos() {
         assert!(e.message.contains(want), "{line}: {}", e.message);
     }
     let sc = s.scene.as_ref().unwrap();
-    assert!(sc.walls.is_empty(), "{:?}", sc.walls);
-    assert_eq!(sc.sizes[1], 0.0, "{:?}", sc.sizes);
+    assert!(sc.walls().is_empty(), "{:?}", sc.walls());
+    assert_eq!(sc.sizes()[1], 0.0, "{:?}", sc.sizes());
     // A bed, then an indenter that starts inside it: refused (a particle's centre inside
     // the indenter), nothing changed; one that only cuts the top particles: a warning.
     s.run_line("create 0.01 0.01 0.0005 0 0 0 0 0 0 1 1")
@@ -241,7 +241,7 @@ fn bad_dies_indenters_tables_and_servos() {
         "{}",
         e.message
     );
-    assert!(s.scene.as_ref().unwrap().walls.is_empty());
+    assert!(s.scene.as_ref().unwrap().walls().is_empty());
     // The same die around particles outside it: refused.
     let e = s
         .run_line("dwall cylinder 0.0105 0.01 0 0 0 1 0.0004")
@@ -265,7 +265,7 @@ fn bad_dies_indenters_tables_and_servos() {
     ));
     let e = s.run_line("rge 10 1 1 0 walls").expect_err("no room");
     assert!(e.message.contains("leave no room"), "{}", e.message);
-    assert!(s.scene.as_ref().unwrap().particles.is_empty());
+    assert!(s.scene.as_ref().unwrap().particles().is_empty());
     // Servos that cannot reach their targets: warned about before the Cycle.
     let run = trubal_json(
         &format!(
@@ -348,4 +348,132 @@ fn a_hunting_piston_is_warned_about_before_it_touches() {
         "{}",
         run.stderr
     );
+}
+
+/// The stress in bins (`PRint Stress` with a `Window`; Pasha 2013 (5.1)) in a column of five
+/// equal spheres resting on the floor under gravity, settled. Each sphere is in equilibrium
+/// with the weight w of those above it pressing on its top and w + m g on its bottom, so a
+/// bin holding one sphere has σ_zz V = 2 R (w + m g / 2) — the weight above the bin's middle
+/// times the sphere's height, computed here from the masses, not from the contact forces.
+/// A bin holding the whole column gives ∫σ_zz dV = g Σ m z (the weight times the height of
+/// the centre of mass), the floor's contact included. No horizontal stress without friction
+/// or lateral neighbours, and no particle-less bin.
+#[test]
+fn bin_stresses_in_a_settled_column_carry_the_weight_above() {
+    let (r, n) = (5e-4f64, 5usize);
+    let mut lines = format!(
+        "start 0.004 0.004 0.008 10 10 2\nset open all\nrad {r} 1\n{MATS}\
+         damping restitution 0.05 1\ndamping restitution 0.05 2\ndwall p 0 0 1 0 m 2\ngravity 0 0 -9.81\n"
+    );
+    for k in 0..n {
+        lines += &format!(
+            "create 2e-3 2e-3 {} 0 0 0 0 0 0 1 1\n",
+            r + 2.0 * r * k as f64 + 1e-9
+        );
+    }
+    let mut s = session(&lines);
+    s.run_line("cycle 40000").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    let g = 9.81;
+    let m = sc.particles().mass[0];
+    assert!(rel(m, 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)) < 1e-12);
+    // The column at rest: the kinetic energy a tiny part of the weight's work.
+    let kin: f64 = (0..n)
+        .map(|i| 0.5 * m * sc.particles().vel[i].norm_squared())
+        .sum();
+    assert!(kin < 1e-9 * m * g * r, "still moving: {kin}");
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| sc.particles().pos[a].z.total_cmp(&sc.particles().pos[b].z));
+    let (lx, ly) = (1e-3, 1.5e-3);
+    for (k, &i) in order.iter().enumerate() {
+        let z = sc.particles().pos[i].z;
+        let b = [
+            2e-3 - lx / 2.0,
+            2e-3 + lx / 2.0,
+            2e-3 - ly / 2.0,
+            2e-3 + ly / 2.0,
+            z - r,
+            z + r,
+        ];
+        let vol = lx * ly * 2.0 * r;
+        let (st, count) = trubal::sim::stress::in_box(sc, &b);
+        assert_eq!(count, 1, "bin {k}");
+        let above = (n - 1 - k) as f64 * m * g;
+        let want = 2.0 * r * (above + 0.5 * m * g) / vol;
+        let t = st.total();
+        assert!(rel(t[2][2], want) < 2e-3, "bin {k}: {} vs {want}", t[2][2]);
+        for (a, row) in t.iter().enumerate() {
+            for (c, x) in row.iter().enumerate() {
+                if (a, c) != (2, 2) {
+                    assert!(x.abs() < 1e-9 * want, "bin {k}: σ[{a}][{c}] = {x}");
+                }
+            }
+        }
+    }
+    let all = [0.0, 0.004, 0.0, 0.004, 0.0, 0.008];
+    let (st, count) = trubal::sim::stress::in_box(sc, &all);
+    assert_eq!(count, n);
+    let moment: f64 = (0..n).map(|i| m * g * sc.particles().pos[i].z).sum();
+    let vol = 0.004 * 0.004 * 0.008;
+    assert!(
+        rel(st.total()[2][2] * vol, moment) < 2e-3,
+        "{} vs {moment}",
+        st.total()[2][2] * vol
+    );
+    let (st, count) = trubal::sim::stress::in_box(sc, &[0.0, 0.004, 0.0, 0.004, 0.007, 0.008]);
+    assert_eq!((count, st), (0, Default::default()));
+    // The same through PRint Stress with a Window (JSON: the bin beside the average).
+    s.run_line(&format!("window 0 0.004 0 0.004 0 {}", 2.0 * r))
+        .unwrap();
+    let (_, j) = trubal::output::print::item(
+        s.scene.as_ref().unwrap(),
+        trubal::lang::command::PrintItem::Stress,
+    );
+    let w = &j["window"];
+    assert_eq!(w["particles"], 1);
+    let want = 2.0 * r * ((n as f64 - 0.5) * m * g) / (0.004 * 0.004 * 2.0 * r);
+    assert!(rel(w["stress"][2][2].as_f64().unwrap(), want) < 2e-3, "{w}");
+    assert!(rel(w["hydrostatic"].as_f64().unwrap(), want / 3.0) < 2e-3);
+}
+
+/// `AWAll n V ...` takes a servo off: the piston then moves at the velocity given (before,
+/// the servo set its velocity again at the next step and the V was lost).
+#[test]
+fn awall_velocity_takes_the_servo_off() {
+    let mut s = session(&format!(
+        "start 0.01 0.01 0.01 10 10 4\nset open all\nrad 5e-4 1\n{MATS}\
+         create 5e-3 5e-3 1e-3 0 0 0 0 0 0 1 1\n\
+         dwall p 0 0 -1 -0.008 m 2 se 1.0 0.01 0.01\ncycle 10\n"
+    ));
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls()[0].servo.is_some());
+    // The servo pushes down at vmax (no force on the piston yet).
+    assert!(
+        rel(sc.walls()[0].vel[2], -0.01) < 1e-12,
+        "{:?}",
+        sc.walls()[0].vel
+    );
+    s.run_line("awall 1 v 0 0 0.02").unwrap();
+    let z0 = match s.scene.as_ref().unwrap().walls()[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    s.run_line("cycle 100").unwrap();
+    let sc = s.scene.as_ref().unwrap();
+    assert!(sc.walls()[0].servo.is_none());
+    assert_eq!(sc.walls()[0].vel, [0.0, 0.0, 0.02]);
+    let z1 = match sc.walls()[0].geom {
+        trubal::sim::model::WallGeom::Plane { d, .. } => -d,
+        _ => unreachable!(),
+    };
+    let dt = sc.time() / sc.cycle() as f64;
+    assert!(
+        rel(z1 - z0, 0.02 * 100.0 * dt) < 1e-6,
+        "{} vs {}",
+        z1 - z0,
+        0.02 * 100.0 * dt
+    );
+    // SE again puts a servo on.
+    s.run_line("awall 1 se 1.0 0.01 0.01").unwrap();
+    assert!(s.scene.as_ref().unwrap().walls()[0].servo.is_some());
 }

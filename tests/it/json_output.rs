@@ -202,6 +202,8 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
     script.push_str("print contacts all\nprint contacts gap\n");
     // Several items on one command: one line each.
     script.push_str("print info balls energy\n");
+    // PRint Stress with a Window adds the stress in that bin.
+    script.push_str("window 0 1 0 1 0 1\nprint stress\n");
     let out = run_json(&script);
     let lines = json_lines(&out);
     let mut expected: Vec<String> = vec!["bonds".into()];
@@ -212,7 +214,8 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
         };
         expected.push(json_name(items[0]).into());
     }
-    expected.extend(["contacts", "contacts", "info", "balls", "energy"].map(String::from));
+    expected
+        .extend(["contacts", "contacts", "info", "balls", "energy", "stress"].map(String::from));
     let got: Vec<String> = lines
         .iter()
         .map(|v| v["print"].as_str().unwrap().to_string())
@@ -287,10 +290,10 @@ fn same3(v: &Value, x: &Vec3, what: &str) {
 #[test]
 fn numbers_round_trip_exactly() {
     let sc = scene();
-    let p = &sc.particles;
+    let p = &sc.particles();
 
     let b = json_of(&sc, PrintItem::Balls);
-    assert_eq!(bits(&b["time"]), sc.time.to_bits());
+    assert_eq!(bits(&b["time"]), sc.time().to_bits());
     let arr = b["balls"].as_array().unwrap();
     assert_eq!(arr.len(), p.len());
     for (i, ball) in arr.iter().enumerate() {
@@ -304,7 +307,7 @@ fn numbers_round_trip_exactly() {
 
     let e = json_of(&sc, PrintItem::Energy);
     let st = energy::stored(&sc);
-    let l = &sc.ledger;
+    let l = &sc.ledger();
     for (key, x) in [
         ("kinetic_translation", st.kinetic_translation),
         ("kinetic_rotation", st.kinetic_rotation),
@@ -336,10 +339,10 @@ fn numbers_round_trip_exactly() {
     let c = json_of(&sc, PrintItem::Contacts(ContactsFilter::All));
     let cs = c["contacts"].as_array().unwrap();
     let all: Vec<_> = sc
-        .contacts
+        .contacts()
         .iter()
         .map(|x| x.s)
-        .chain(sc.contacts.wall_pairs.iter().map(|x| &x.s))
+        .chain(sc.contacts().wall_pairs().iter().map(|x| &x.s))
         .collect();
     assert_eq!(cs.len(), all.len());
     let mut bridges = 0;
@@ -360,7 +363,7 @@ fn numbers_round_trip_exactly() {
     assert!(bridges > 0);
 
     let w = json_of(&sc, PrintItem::Walls);
-    for (k, wall) in sc.walls.iter().enumerate() {
+    for (k, wall) in sc.walls().iter().enumerate() {
         let j = &w["walls"][k];
         assert_eq!(bits(&j["normal_force"]), wall.normal_force.to_bits());
         same3(&j["force"], &Vec3::from(wall.force), "wall force");
@@ -369,8 +372,8 @@ fn numbers_round_trip_exactly() {
 
     let h = json_of(&sc, PrintItem::History);
     let rows = h["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), sc.history.rows.len());
-    for (r, row) in rows.iter().zip(&sc.history.rows) {
+    assert_eq!(rows.len(), sc.history().rows.len());
+    for (r, row) in rows.iter().zip(&sc.history().rows) {
         for (x, y) in r.as_array().unwrap().iter().zip(row) {
             assert_eq!(bits(x), y.to_bits());
         }
@@ -397,7 +400,7 @@ fn binary_json_equals_the_saved_state() {
     let sc = trubal::checkpoint::load(&dir.join("now.sav")).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     let lines = json_lines(&String::from_utf8(out.stdout).unwrap());
-    let p = &sc.particles;
+    let p = &sc.particles();
     for (i, ball) in lines[0]["balls"].as_array().unwrap().iter().enumerate() {
         same3(&ball["pos"], &p.pos[i], "pos");
         same3(&ball["vel"], &p.vel[i], "vel");
@@ -405,9 +408,9 @@ fn binary_json_equals_the_saved_state() {
     }
     assert_eq!(
         bits(&lines[1]["dissipated"]["friction"]),
-        sc.ledger.friction.to_bits()
+        sc.ledger().friction.to_bits()
     );
-    assert_eq!(bits(&lines[1]["time"]), sc.time.to_bits());
+    assert_eq!(bits(&lines[1]["time"]), sc.time().to_bits());
 }
 
 /// A scene without particles: every item still gives one valid JSON object on its own line.

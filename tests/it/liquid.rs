@@ -24,9 +24,12 @@ fn pair(liq: &str, extra: &str) -> trubal::sim::Scene {
 fn stretched_bridge_follows_lian_and_ruptures_at_sc() {
     let mut sc = pair("liquid 0.1 0.025 0 0", "");
     step(&mut sc);
-    assert!(sc.contacts.pair(0).s.bridge.is_some(), "bridge on contact");
+    assert!(
+        sc.contacts().pair(0).s.bridge.is_some(),
+        "bridge on contact"
+    );
     let v = 0.01;
-    sc.particles.fixed = vec![0b111111, 0b111111];
+    sc.unchecked().particles.fixed = vec![0b111111, 0b111111];
     set_velocity(&mut sc, 1, Vec3::new(v, 0.0, 0.0));
     let s_c = 4.836e-6;
     let table = [
@@ -39,19 +42,19 @@ fn stretched_bridge_follows_lian_and_ruptures_at_sc() {
     let mut trace = Vec::new();
     let mut rupture_gap = None;
     for _ in 0..200_000 {
-        let before = sc.contacts.pair(0).s.bridge.clone();
+        let before = sc.contacts().pair(0).s.bridge.clone();
         step(&mut sc);
-        match &sc.contacts.pair(0).s.bridge {
+        match &sc.contacts().pair(0).s.bridge {
             Some(b) => trace.push((b.gap, b.f_static)),
             None => {
-                rupture_gap = Some(-sc.contacts.pair(0).s.overlap);
+                rupture_gap = Some(-sc.contacts().pair(0).s.overlap);
                 assert!(before.is_some());
                 break;
             }
         }
     }
     let rupture_gap = rupture_gap.expect("ruptured");
-    let dx = v * sc.time / sc.cycle as f64;
+    let dx = v * sc.time() / sc.cycle() as f64;
     assert!(
         rupture_gap > s_c * 0.995 - dx && rupture_gap < s_c * 1.005 + dx,
         "rupture at {rupture_gap} vs {s_c}"
@@ -72,9 +75,9 @@ fn stretched_bridge_follows_lian_and_ruptures_at_sc() {
         .map(|p| 0.5 * (p[0].1 + p[1].1) * (p[1].0 - p[0].0))
         .sum();
     assert!(
-        rel(sc.ledger.rupture, w) < 0.01,
+        rel(sc.ledger().rupture, w) < 0.01,
         "rupture energy {} vs ∫F dS {w}",
-        sc.ledger.rupture
+        sc.ledger().rupture
     );
 }
 
@@ -85,27 +88,27 @@ fn viscous_approach_matches_the_analytic_decay() {
     let eta = 0.01;
     let mut sc = pair("liquid 0.1 1e-9 0 0.01", "set smin 1e-9");
     step(&mut sc);
-    assert!(sc.contacts.pair(0).s.bridge.is_some());
+    assert!(sc.contacts().pair(0).s.bridge.is_some());
     let s0 = 3e-6;
-    sc.particles.pos[1].x = 4e-4 + 2.0 * R + s0;
-    sc.particles.fixed = vec![0b111111, 0];
+    sc.unchecked().particles.pos[1].x = 4e-4 + 2.0 * R + s0;
+    sc.unchecked().particles.fixed = vec![0b111111, 0];
     let v0 = -0.05;
     set_velocity(&mut sc, 1, Vec3::new(v0, 0.0, 0.0));
-    sc.contacts.mark_stale();
+    sc.unchecked().contacts.mark_stale();
     let m = 2650.0 * 4.0 / 3.0 * PI * R.powi(3);
     let c = 6.0 * PI * eta * (R / 2.0).powi(2) / m;
     let mut checked = 0;
     for _ in 0..100_000 {
         step(&mut sc);
-        let gap = sc.particles.pos[1].x - sc.particles.pos[0].x - 2.0 * R;
+        let gap = sc.particles().pos[1].x - sc.particles().pos[0].x - 2.0 * R;
         if gap < 0.1e-6 {
             break;
         }
         // Half-step velocity belongs to the mid-step gap.
-        let s_mid = gap - 0.5 * sc.particles.vel[1].x * sc.time / sc.cycle as f64;
+        let s_mid = gap - 0.5 * sc.particles().vel[1].x * sc.time() / sc.cycle() as f64;
         let v_th = v0 + c * (s0 / s_mid).ln();
-        let v = sc.particles.vel[1].x;
-        if sc.cycle.is_multiple_of(50) {
+        let v = sc.particles().vel[1].x;
+        if sc.cycle().is_multiple_of(50) {
             assert!(
                 (v - v_th).abs() < 0.01 * v0.abs(),
                 "S {s_mid}: v {v} vs {v_th}"
@@ -140,7 +143,7 @@ fn strongest_dashpots_stay_stable() {
         let mut sign_changes = 0;
         for _ in 0..3000 {
             step(sc);
-            let v = sc.particles.vel[1].x - sc.particles.vel[0].x;
+            let v = sc.particles().vel[1].x - sc.particles().vel[0].x;
             assert!(v.is_finite());
             if prev.is_finite() && prev.signum() != v.signum() {
                 sign_changes += 1;
@@ -153,10 +156,10 @@ fn strongest_dashpots_stay_stable() {
         );
         let res = energy::residual(sc);
         assert!(
-            res.abs() < 1e-3 * sc.ledger.input(),
+            res.abs() < 1e-3 * sc.ledger().input(),
             "η {eta}: residual {res}"
         );
-        assert!(sc.ledger.viscous > 0.0);
+        assert!(sc.ledger().viscous > 0.0);
     }
 }
 
@@ -186,11 +189,11 @@ fn conserving_mode_keeps_the_liquid() {
         "liquid {} vs {total0}",
         f1 + b1
     );
-    assert!(sc.particles.liquid.iter().all(|&l| l >= 0.0));
+    assert!(sc.particles().liquid.iter().all(|&l| l >= 0.0));
     let res = energy::residual(&sc);
-    assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+    assert!(res.abs() < 1e-3 * sc.ledger().input(), "residual {res}");
     // Re-issuing `LIQuid` with another viscosity (same content) adds no liquid.
-    if let Some(l) = sc.liquid.as_mut() {
+    if let Some(l) = sc.unchecked().liquid.as_mut() {
         l.eta *= 0.5;
     }
     liquid::reissue(&mut sc);
@@ -206,7 +209,7 @@ fn conserving_mode_keeps_the_liquid() {
 fn lian_mode_books_rupture_and_viscous_losses() {
     let mut sc = two_agglomerates("");
     trubal::sim::cycle::run(&mut sc, 3000).unwrap();
-    let l = &sc.ledger;
+    let l = &sc.ledger();
     assert!(l.viscous > 0.0);
     let res = energy::residual(&sc);
     assert!(
@@ -227,7 +230,7 @@ fn liquid_bad_input() {
     ] {
         let e = s.run_line(cmd).unwrap_err();
         assert!(e.message.contains(want), "{cmd}: {}", e.message);
-        assert!(s.scene.as_ref().unwrap().liquid.is_none());
+        assert!(s.scene.as_ref().unwrap().liquid().is_none());
     }
     // Outside the fitted range of Lian's polynomials: a warning names the range.
     let mut out = Vec::new();
@@ -244,7 +247,7 @@ fn liquid_bad_input() {
             s2.run_line(l).unwrap();
         }
         s2.run_line("liquid 30 0.025 0 0").unwrap();
-        out.push(s2.scene.unwrap().liquid.is_some());
+        out.push(s2.scene.unwrap().liquid().is_some());
     }
     assert_eq!(out, [true]);
 }
@@ -263,12 +266,12 @@ fn goldman_tangential_viscosity() {
         );
         step(&mut sc);
         let s0 = 1e-6;
-        sc.particles.pos[1].x = 4e-4 + 2.0 * R + s0;
-        sc.particles.fixed = vec![0b111111, 0];
+        sc.unchecked().particles.pos[1].x = 4e-4 + 2.0 * R + s0;
+        sc.unchecked().particles.fixed = vec![0b111111, 0];
         set_velocity(&mut sc, 1, Vec3::new(0.0, 0.01, 0.0));
-        sc.contacts.mark_stale();
+        sc.unchecked().contacts.mark_stale();
         trubal::sim::cycle::run(&mut sc, 2).unwrap();
-        let ft = sc.contacts.pair(0).s.bridge.as_ref().unwrap().f_tang;
+        let ft = sc.contacts().pair(0).s.bridge.as_ref().unwrap().f_tang;
         if on {
             let rs = R / 2.0;
             let t_th = (8.0 / 15.0 * (rs / s0).ln() + 0.9588) * 6.0 * PI * eta * rs * 0.01;
@@ -277,14 +280,14 @@ fn goldman_tangential_viscosity() {
             assert_eq!(ft, Vec3::zeros());
         }
         trubal::sim::cycle::run(&mut sc, 2000).unwrap();
-        let vy = sc.particles.vel[1].y;
+        let vy = sc.particles().vel[1].y;
         if on {
-            assert!(vy < 0.01 && sc.ledger.viscous > 0.0, "vy {vy}");
+            assert!(vy < 0.01 && sc.ledger().viscous > 0.0, "vy {vy}");
         } else {
             assert!((vy - 0.01).abs() < 1e-6, "vy {vy}");
         }
         let res = energy::residual(&sc);
-        assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+        assert!(res.abs() < 1e-3 * sc.ledger().input(), "residual {res}");
     }
 }
 
@@ -322,7 +325,7 @@ fn rabinovich_bridge_pulled_apart() {
         ));
         step(&mut sc);
         let b = sc
-            .contacts
+            .contacts()
             .pair(0)
             .s
             .bridge
@@ -331,7 +334,7 @@ fn rabinovich_bridge_pulled_apart() {
         let cap = 2.0 * PI * rh * g * t.cos();
         assert!(rel(b.f_static, cap) < 1e-12, "{} vs cap {cap}", b.f_static);
         assert!(rel(b.s_c, s_c) < 1e-9, "S_c {} vs Willett {s_c}", b.s_c);
-        sc.particles.fixed = vec![0b111111, 0b111111];
+        sc.unchecked().particles.fixed = vec![0b111111, 0b111111];
         let speed = 0.01;
         set_velocity(&mut sc, 0, Vec3::zeros());
         set_velocity(&mut sc, 1, Vec3::new(speed, 0.0, 0.0));
@@ -339,10 +342,10 @@ fn rabinovich_bridge_pulled_apart() {
         let mut rupture_gap = None;
         for _ in 0..200_000 {
             step(&mut sc);
-            match &sc.contacts.pair(0).s.bridge {
+            match &sc.contacts().pair(0).s.bridge {
                 Some(b) => trace.push((b.gap, b.f_static)),
                 None => {
-                    rupture_gap = Some(-sc.contacts.pair(0).s.overlap);
+                    rupture_gap = Some(-sc.contacts().pair(0).s.overlap);
                     break;
                 }
             }
@@ -351,10 +354,10 @@ fn rabinovich_bridge_pulled_apart() {
         let gap = rupture_gap.unwrap_or_else(|| {
             panic!(
                 "η {eta}: no rupture, last {last:?}, S_c {s_c}, t {}",
-                sc.time
+                sc.time()
             )
         });
-        let dx = speed * sc.time / sc.cycle as f64;
+        let dx = speed * sc.time() / sc.cycle() as f64;
         assert!(
             gap > s_c && gap <= s_c + 1.01 * dx,
             "rupture at {gap} vs {s_c}"
@@ -371,16 +374,16 @@ fn rabinovich_bridge_pulled_apart() {
             .map(|p| 0.5 * (p[0].1 + p[1].1) * (p[1].0 - p[0].0))
             .sum();
         assert!(
-            rel(sc.ledger.rupture, w) < 0.01,
+            rel(sc.ledger().rupture, w) < 0.01,
             "rupture {} vs ∫F dS {w}",
-            sc.ledger.rupture
+            sc.ledger().rupture
         );
-        assert_eq!(sc.ledger.viscous > 0.0, eta > 0.0);
+        assert_eq!(sc.ledger().viscous > 0.0, eta > 0.0);
         let res = energy::residual(&sc);
         assert!(
-            res.abs() < 1e-3 * sc.ledger.input(),
+            res.abs() < 1e-3 * sc.ledger().input(),
             "η {eta}: residual {res} of {}",
-            sc.ledger.input()
+            sc.ledger().input()
         );
     }
 }
@@ -434,7 +437,7 @@ fn rabinovich_wall_bridge_pulled_off() {
         4e-4 + r
     ));
     step(&mut sc);
-    let b = sc.contacts.wall_pairs[0]
+    let b = sc.contacts().wall_pairs()[0]
         .s
         .bridge
         .as_ref()
@@ -442,7 +445,7 @@ fn rabinovich_wall_bridge_pulled_off() {
     let cap = 4.0 * PI * r * g * t.cos();
     assert!(rel(b.f_static, cap) < 1e-12, "{} vs cap {cap}", b.f_static);
     assert!(rel(b.s_c, s_c) < 1e-9, "S_c {} vs Willett {s_c}", b.s_c);
-    sc.particles.fixed = vec![0b111111];
+    sc.unchecked().particles.fixed = vec![0b111111];
     let speed = 0.01;
     set_velocity(&mut sc, 0, Vec3::new(0.0, 0.0, speed));
     let mut trace = Vec::new();
@@ -450,8 +453,8 @@ fn rabinovich_wall_bridge_pulled_off() {
     for _ in 0..200_000 {
         step(&mut sc);
         match sc
-            .contacts
-            .wall_pairs
+            .contacts()
+            .wall_pairs()
             .first()
             .and_then(|c| c.s.bridge.as_ref())
         {
@@ -463,8 +466,8 @@ fn rabinovich_wall_bridge_pulled_off() {
         }
     }
     assert!(ruptured, "no rupture, last {:?}, S_c {s_c}", trace.last());
-    let gap = sc.particles.pos[0].z - r - 4e-4;
-    let dx = speed * sc.time / sc.cycle as f64;
+    let gap = sc.particles().pos[0].z - r - 4e-4;
+    let dx = speed * sc.time() / sc.cycle() as f64;
     assert!(
         gap > s_c && gap <= s_c + 2.01 * dx,
         "rupture at {gap} vs {s_c}"
@@ -476,7 +479,7 @@ fn rabinovich_wall_bridge_pulled_off() {
             .unwrap();
         assert!(rel(f, f33(h)) < 1e-9, "S/Sc {x}: F {f} vs (33) {}", f33(h));
     }
-    assert!(sc.ledger.rupture > 0.0 && sc.ledger.viscous > 0.0);
+    assert!(sc.ledger().rupture > 0.0 && sc.ledger().viscous > 0.0);
     let res = energy::residual(&sc);
-    assert!(res.abs() < 1e-3 * sc.ledger.input(), "residual {res}");
+    assert!(res.abs() < 1e-3 * sc.ledger().input(), "residual {res}");
 }

@@ -47,7 +47,12 @@ fn run(s: &mut Session, lines: &str) {
 /// `SET OUTdir` by hand: the language splits words at slashes, so an absolute path cannot be
 /// typed (a relative name without slashes can).
 fn set_out(s: &mut Session, dir: &std::path::Path) {
-    s.scene.as_mut().expect("a scene").settings.out_dir = dir.display().to_string();
+    s.scene
+        .as_mut()
+        .expect("a scene")
+        .unchecked()
+        .settings
+        .out_dir = dir.display().to_string();
 }
 
 fn tmp(tag: &str) -> std::path::PathBuf {

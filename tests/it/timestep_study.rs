@@ -16,21 +16,21 @@ fn hertz_binary(fraction: f64) -> (f64, f64, f64, u64) {
     let mut tc = f64::NAN;
     for _ in 0..100_000 {
         step(&mut sc);
-        let c = &sc.contacts.pair(0).s;
+        let c = &sc.contacts().pair(0).s;
         fmax = fmax.max(c.normal_force);
         let gap = -c.overlap;
         if gap < 0.0 {
             started = true;
         }
         if started && gap >= 0.0 {
-            let dt = sc.time / sc.cycle as f64;
-            tc = sc.time - 2.0 * dt + (-prev / (gap - prev)) * dt;
+            let dt = sc.time() / sc.cycle() as f64;
+            tc = sc.time() - 2.0 * dt + (-prev / (gap - prev)) * dt;
             break;
         }
         prev = gap;
     }
-    let e = (sc.particles.vel[1].x - sc.particles.vel[0].x) / 20.0;
-    (e, tc, fmax, sc.cycle)
+    let e = (sc.particles().vel[1].x - sc.particles().vel[0].x) / 20.0;
+    (e, tc, fmax, sc.cycle())
 }
 
 fn jkr_threshold(fraction: f64) -> f64 {
@@ -44,7 +44,7 @@ fn jkr_threshold(fraction: f64) -> f64 {
             -v / 2.0
         ));
         trubal::sim::cycle::run(&mut sc, (2000.0 / fraction) as u64).unwrap();
-        !sc.contacts.iter().any(|c| c.s.touching)
+        !sc.contacts().iter().any(|c| c.s.touching)
     };
     let (mut lo, mut hi) = (0.01, 0.1);
     for _ in 0..14 {

@@ -62,9 +62,9 @@ pub(super) fn force_list(
     index: &HashMap<u32, usize>,
     set: ForceSet,
 ) -> Vec<ForceLine> {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let mut list = Vec::new();
-    for c in scene.contacts.iter() {
+    for c in scene.contacts().iter() {
         let (Some(&i), Some(&j)) = (index.get(&c.ida), index.get(&c.idb)) else {
             continue;
         };
@@ -78,8 +78,8 @@ pub(super) fn force_list(
             });
         }
     }
-    for c in &scene.contacts.wall_pairs {
-        let (Some(&i), Some(w)) = (index.get(&c.id), scene.walls.get(c.wall as usize)) else {
+    for c in scene.contacts().wall_pairs() {
+        let (Some(&i), Some(w)) = (index.get(&c.id), scene.walls().get(c.wall as usize)) else {
             continue;
         };
         if let Some(f) = contact_force(&c.s, set) {
@@ -119,7 +119,7 @@ pub(super) fn forces(
     sets: &[ForceSet],
     pic: &mut Picture,
 ) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let lists: Vec<(ForceSet, Vec<ForceLine>)> = sets
         .iter()
         .map(|&s| (s, force_list(scene, index, s)))
@@ -211,10 +211,10 @@ pub(super) fn cnd(
     set: BondSet,
     pic: &mut Picture,
 ) {
-    let Some(r) = &scene.reference else { return };
-    let p = &scene.particles;
+    let Some(r) = &scene.reference() else { return };
+    let p = &scene.particles();
     let bridges = set == BondSet::Bridges;
-    let now = scene.contacts.bonded_pairs(p, bridges);
+    let now = scene.contacts().bonded_pairs(p, bridges);
     let reference = if bridges { &r.bridges } else { &r.contacts };
     let classes = classify_bonds(reference, &now);
     let mut counts = [0usize; 3];

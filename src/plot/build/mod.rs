@@ -151,7 +151,7 @@ pub fn check_items(scene: &Scene, items: &[PlotItem]) -> Result<(), String> {
             "CLUster and LCLuster both colour the particles: give one of them per PLot".into(),
         );
     }
-    if scene.reference.is_none() {
+    if scene.reference().is_none() {
         let need: Vec<&str> = items
             .iter()
             .filter(|it| {
@@ -238,8 +238,8 @@ pub fn format_length(x: f64) -> String {
 /// not a scene item).
 pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
     check_items(scene, items)?;
-    let proj = Projection::of(scene.settings.view, scene.settings.two_d);
-    let p = &scene.particles;
+    let proj = Projection::of(scene.settings().view, scene.settings().two_d);
+    let p = &scene.particles();
     let n = p.len();
     let index: HashMap<u32, usize> = p.id.iter().enumerate().map(|(k, &id)| (id, k)).collect();
     let r_mean = if n > 0 {
@@ -251,8 +251,8 @@ pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
     let mut pic = Picture {
         title: format!(
             "trubal   cycle {}   t = {:.4e} s   view {}   plot {}",
-            scene.cycle,
-            scene.time,
+            scene.cycle(),
+            scene.time(),
             proj.name,
             names.join(" ")
         ),
@@ -267,7 +267,7 @@ pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
         notes: vec![format!("view {}: {}", proj.name, proj.description)],
         scale_bar: None,
     };
-    if scene.settings.two_d {
+    if scene.settings().two_d {
         pic.notes.push("2-D mode: the x-y plane".into());
     }
     let has = |it: PlotItem| items.contains(&it);
@@ -312,7 +312,7 @@ pub fn picture(scene: &Scene, items: &[PlotItem]) -> Result<Picture, String> {
     if pic.bounds.is_empty() {
         pic.bounds.add([0.0, 0.0], 0.0);
         pic.bounds
-            .add([scene.size[proj.right], scene.size[proj.up]], 0.0);
+            .add([scene.size()[proj.right], scene.size()[proj.up]], 0.0);
     }
     add_margin(&mut pic.bounds);
     for pl in planes {
@@ -348,7 +348,7 @@ fn add_margin(b: &mut Bounds) {
 
 /// Particles as discs, far first.
 fn discs(scene: &Scene, proj: &Projection, items: &[PlotItem], pic: &mut Picture) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let shade = if items.contains(&PlotItem::Ball) || !items.contains(&PlotItem::Disks) {
         Shade::Sphere
     } else {
@@ -363,7 +363,7 @@ fn discs(scene: &Scene, proj: &Projection, items: &[PlotItem], pic: &mut Picture
     };
     let fills: Vec<_> = match cluster {
         Some(bridges) => {
-            let bonds = scene.contacts.bonded_pairs(p, bridges);
+            let bonds = scene.contacts().bonded_pairs(p, bridges);
             // Label = a particle index of the cluster; size per label.
             let labels = crate::analysis::cluster_labels(&p.id, &bonds);
             let mut sizes = vec![0usize; labels.len()];
@@ -435,8 +435,8 @@ fn boundary(scene: &Scene, proj: &Projection, pic: &mut Picture) {
     if pic.segments.iter().any(|s| s.layer == Layer::Boundary) {
         return; // BOU and GRId together: once.
     }
-    let (lu, lv) = (scene.size[proj.right], scene.size[proj.up]);
-    let per = scene.settings.periodic;
+    let (lu, lv) = (scene.size()[proj.right], scene.size()[proj.up]);
+    let per = scene.settings().periodic;
     let mark = |periodic: bool| if periodic { Mark::Dashed } else { Mark::Plain };
     let sides = [
         ([0.0, 0.0], [lu, 0.0], mark(per[proj.up])),

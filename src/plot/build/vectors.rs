@@ -9,13 +9,13 @@ pub(super) fn vectors(
     kind: VectorKind,
     pic: &mut Picture,
 ) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let mut v: Vec<(usize, Vec3)> = Vec::new();
     let mut missing = 0;
     match kind {
         VectorKind::Velocity => v.extend(p.vel.iter().copied().enumerate()),
         VectorKind::Displacement => {
-            let Some(r) = &scene.reference else { return };
+            let Some(r) = &scene.reference() else { return };
             let at: HashMap<u32, usize> =
                 r.ids.iter().enumerate().map(|(k, &id)| (id, k)).collect();
             for k in 0..p.len() {
@@ -64,7 +64,7 @@ pub(super) fn vectors(
             value: m,
         });
     }
-    let since = match (&scene.reference, kind) {
+    let since = match (&scene.reference(), kind) {
         (Some(r), VectorKind::Displacement) => format!(" since cycle {}", r.cycle),
         _ => String::new(),
     };
@@ -79,13 +79,13 @@ pub(super) fn vectors(
 }
 
 pub(super) fn arcs(scene: &Scene, proj: &Projection, kind: ArcKind, pic: &mut Picture) {
-    let p = &scene.particles;
+    let p = &scene.particles();
     let toward = proj.toward();
     let mut vals: Vec<(usize, f64)> = Vec::new();
     match kind {
         ArcKind::Couple => vals.extend(p.moment.iter().map(|m| m.dot(&toward)).enumerate()),
         ArcKind::Rotation => {
-            let Some(r) = &scene.reference else { return };
+            let Some(r) = &scene.reference() else { return };
             let at: HashMap<u32, usize> =
                 r.ids.iter().enumerate().map(|(k, &id)| (id, k)).collect();
             for k in 0..p.len() {
@@ -126,7 +126,7 @@ pub(super) fn arcs(scene: &Scene, proj: &Projection, kind: ArcKind, pic: &mut Pi
             value: val,
         });
     }
-    let since = match (&scene.reference, kind) {
+    let since = match (&scene.reference(), kind) {
         (Some(r), ArcKind::Rotation) => format!(" since cycle {}", r.cycle),
         _ => String::new(),
     };

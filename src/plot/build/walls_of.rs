@@ -17,14 +17,14 @@ pub(super) fn walls_of(
     pic: &mut Picture,
     planes: &mut Vec<PlaneLine>,
 ) {
-    if scene.walls.is_empty() {
+    if scene.walls().is_empty() {
         pic.notes.push("no walls".into());
         return;
     }
-    let p = &scene.particles;
+    let p = &scene.particles();
     // The plane walls are cut at mid-depth of the particles (or of the work-space).
     let c0 = if p.is_empty() {
-        0.5 * scene.size[proj.depth_axis]
+        0.5 * scene.size()[proj.depth_axis]
     } else {
         let (lo, hi) = p
             .pos
@@ -34,7 +34,7 @@ pub(super) fn walls_of(
             });
         0.5 * (lo + hi)
     };
-    for (k, w) in scene.walls.iter().enumerate() {
+    for (k, w) in scene.walls().iter().enumerate() {
         match w.geom {
             WallGeom::Plane { normal, d } => {
                 let nv = Vec3::from(normal);

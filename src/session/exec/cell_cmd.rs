@@ -6,16 +6,16 @@ use super::*;
 pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
     match cmd {
         Command::Grid { rates } => {
-            if let Some(m) = crate::sim::cell::grid_refusal(rates, scene.settings.periodic) {
+            if let Some(m) = crate::sim::cell::grid_refusal(rates, scene.settings().periodic) {
                 return Err(m);
             }
-            if !scene.walls.is_empty() && rates.iter().any(|&r| r != 0.0) {
+            if !scene.walls().is_empty() && rates.iter().any(|&r| r != 0.0) {
                 return Err(format!(
                     "GRID: the scene has {} wall(s), which would not follow the cell's deformation",
-                    scene.walls.len()
+                    scene.walls().len()
                 ));
             }
-            scene.cell.rate = *rates;
+            scene.set_strain_rates(*rates);
             Ok(String::new())
         }
         Command::Gain { g, edmax } => {
@@ -24,7 +24,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                     "GAIN g edmax: both must be positive numbers (g in 1/(s Pa), edmax in 1/s); got {g} {edmax}"
                 ));
             }
-            scene.cell.gain = [*g, *edmax];
+            scene.set_servo_gain(*g, *edmax);
             Ok(String::new())
         }
         Command::Mode { n } => {
@@ -33,7 +33,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                     "Mode {n}: the servo mode is 0 (velocity-increment control) or 1 (velocity control)"
                 ));
             }
-            scene.cell.mode = *n as u8;
+            scene.set_servo_mode(*n as u8);
             Ok(String::new())
         }
         other => Err(not_here(other)),
@@ -62,15 +62,15 @@ pub fn probe(
             return Err("PRObe E23/E31: the cell shears only in x-y (ed12; ed23 and ed31 are not used, as in TRUBAL); probe E12".into());
         }
     };
-    if scene.particles.is_empty() {
+    if scene.particles().is_empty() {
         return Err("PRObe: no particles to probe".into());
     }
-    if !scene.walls.is_empty() {
+    if !scene.walls().is_empty() {
         return Err(
             "PRObe: the scene has walls, which would not follow the cell's deformation".into(),
         );
     }
-    if let Some(m) = crate::sim::cell::grid_refusal(&dir, scene.settings.periodic) {
+    if let Some(m) = crate::sim::cell::grid_refusal(&dir, scene.settings().periodic) {
         return Err(format!("PRObe {name}: {m}"));
     }
     let m = crate::sim::cell::probe(scene, dir).map_err(|e| e.message)?;
@@ -94,6 +94,6 @@ pub fn probe(
         m[2][2]
     );
     let j = serde_json::json!({"print": "probe", "probe": name, "modulus": modulus,
-        "dstress_per_strain": m, "strain": crate::sim::cell::PROBE_STRAIN, "cycle": scene.cycle});
+        "dstress_per_strain": m, "strain": crate::sim::cell::PROBE_STRAIN, "cycle": scene.cycle()});
     Ok((text, j))
 }

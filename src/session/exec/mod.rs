@@ -2,9 +2,8 @@
 //! and leaves the scene as it was (the caller works on a copy for multi-step changes).
 
 use crate::lang::command::*;
-use crate::sim::generate::sphere_mass;
 use crate::sim::place;
-use crate::sim::scene::{MAX_MATERIALS, MAX_SIZES, Material, Rayleigh, Scene, Vec3, Wall};
+use crate::sim::scene::{Rayleigh, Scene, Vec3, Wall};
 use crate::sim::walls;
 
 mod cell_cmd;
@@ -14,20 +13,8 @@ mod model;
 mod motion;
 mod walls_cmd;
 
-fn material_mut(scene: &mut Scene, m: usize) -> Result<&mut Material, String> {
-    if m > MAX_MATERIALS {
-        return Err(format!(
-            "material type {m} is beyond the limit of {MAX_MATERIALS}"
-        ));
-    }
-    if m > scene.materials.len() {
-        scene.materials.resize(m, Material::default());
-    }
-    Ok(&mut scene.materials[m - 1])
-}
-
 fn existing_material(scene: &Scene, m: usize) -> Result<(), String> {
-    if m == 0 || m > scene.materials.len() || scene.materials[m - 1] == Material::default() {
+    if !scene.material_defined(m) {
         return Err(format!(
             "material type {m} is not defined: give it YMD, PRA and Density first"
         ));

@@ -16,36 +16,18 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 alpha: if *mass_off { 0.0 } else { frac * w },
                 beta: if *stiff_off { 0.0 } else { frac / w },
             };
-            if *ball_ball {
-                scene.damping_pp = r;
-            } else {
-                scene.damping_pw = r;
-            }
+            scene.set_rayleigh(*ball_ball, r);
             Ok(String::new())
         }
         Command::Damping(DampingSpec::Restitution { e, material }) => {
-            match material {
-                Some(m) => {
-                    existing_material(scene, *m)?;
-                    scene.materials[m - 1].restitution = Some(*e);
-                }
-                None => {
-                    for m in scene.materials.iter_mut() {
-                        m.restitution = Some(*e);
-                    }
-                }
+            if let Some(m) = material {
+                existing_material(scene, *m)?;
             }
+            scene.set_restitution(*material, *e);
             Ok(String::new())
         }
         Command::Fraction { f } => {
-            match f {
-                Some(f) => {
-                    scene.settings.fraction = Some(*f);
-                    scene.settings.auto_step = None;
-                }
-                // (0: worked out at the next Cycle.)
-                None => scene.settings.auto_step = Some(0.0),
-            }
+            scene.set_fraction(*f);
             Ok(String::new())
         }
         Command::Liquid {
@@ -58,11 +40,11 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
             if bounds[0] > bounds[1] || bounds[2] > bounds[3] || bounds[4] > bounds[5] {
                 return Err("Window needs x1 <= x2, y1 <= y2, z1 <= z2".into());
             }
-            scene.settings.window = Some(*bounds);
+            scene.set_window(*bounds);
             Ok(String::new())
         }
         Command::TwoD => {
-            scene.settings.two_d = true;
+            scene.set_two_d();
             Ok(String::new())
         }
         Command::Set(s) => set(scene, s),
@@ -80,11 +62,7 @@ fn liquid(
     eta: f64,
 ) -> Result<String, String> {
     if pvol == 0.0 {
-        scene.liquid = None;
-        scene.contacts.for_each_state_mut(|_, s| s.bridge = None);
-        for c in scene.contacts.wall_pairs.iter_mut() {
-            c.s.bridge = None;
-        }
+        scene.remove_liquid();
         return Ok("all liquid bridges removed".into());
     }
     let l = crate::sim::scene::Liquid {
@@ -94,11 +72,8 @@ fn liquid(
         eta,
     };
     let warn =
-        liquid_warnings(scene, scene.settings.bridge, &l).map_err(|e| format!("LIQuid: {e}"))?;
-    scene.liquid = Some(l);
-    // Existing bridges take the new parameters (rupture distance recomputed).
-    crate::sim::liquid::reissue(scene);
-    scene.contacts.mark_stale();
+        liquid_warnings(scene, scene.settings().bridge, &l).map_err(|e| format!("LIQuid: {e}"))?;
+    scene.set_liquid(l);
     Ok(warn)
 }
 
@@ -111,7 +86,7 @@ fn liquid_warnings(
     l: &crate::sim::scene::Liquid,
 ) -> Result<String, String> {
     let model = crate::sim::interact::bridge_model(choice);
-    let mut radii: Vec<f64> = scene.particles.radius.clone();
+    let mut radii: Vec<f64> = scene.particles().radius.clone();
     radii.sort_by(f64::total_cmp);
     let (rmin, rmax) = (
         radii.first().copied().unwrap_or(1.0),
@@ -145,29 +120,27 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         for m in mats {
             super::existing_material(scene, m as usize)?;
         }
-        match s {
-            Setting::Normal { law, .. } => scene.laws.set_normal(*pairs, *law),
-            Setting::Rolling { mu_r, .. } => scene.laws.set_rolling(*pairs, *mu_r),
+        scene.edit_laws(|laws| match s {
+            Setting::Normal { law, .. } => laws.set_normal(*pairs, *law),
+            Setting::Rolling { mu_r, .. } => laws.set_rolling(*pairs, *mu_r),
             _ => {}
-        }
-        scene.contacts.mark_stale();
+        });
         return Ok(String::new());
     }
     if let Setting::Pair { m1, m2, values } = s {
         super::existing_material(scene, *m1 as usize)?;
         super::existing_material(scene, *m2 as usize)?;
-        scene.laws.set_pair_values(*m1, *m2, *values);
-        scene.contacts.mark_stale();
+        scene.edit_laws(|laws| laws.set_pair_values(*m1, *m2, *values));
         return Ok(String::new());
     }
     if let Setting::Boundary { axes, periodic } = s {
-        let mut want = scene.settings.periodic;
+        let mut want = scene.settings().periodic;
         for k in 0..3 {
             if axes[k] {
                 want[k] = *periodic;
             }
         }
-        for (w, wall) in scene.walls.iter().enumerate() {
+        for (w, wall) in scene.walls().iter().enumerate() {
             let crossed = walls::crossed_axes(&wall.geom, &want);
             if crossed != [false; 3] {
                 return Err(format!(
@@ -181,12 +154,11 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
     // A new bridge model is checked against the liquid in place, as `LIQuid` checks it.
     let mut warn = String::new();
     if let Setting::Bridge(b) = s
-        && let Some(l) = scene.liquid
+        && let Some(l) = scene.liquid()
     {
         warn = liquid_warnings(scene, *b, &l).map_err(|e| format!("SET BRIdge: {e}"))?;
     }
-    let st = &mut scene.settings;
-    match s {
+    scene.edit_settings(|st| match s {
         Setting::Tol(v) => st.tol = *v,
         Setting::Xres(v) => st.xres = *v,
         Setting::Smin(v) => st.smin = *v,
@@ -209,7 +181,6 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
         Setting::Normal { .. } | Setting::Rolling { .. } | Setting::Pair { .. } => {}
-    }
-    scene.contacts.mark_stale();
+    });
     Ok(warn)
 }

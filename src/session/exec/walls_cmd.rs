@@ -5,19 +5,19 @@ use super::*;
 pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
     match cmd {
         Command::Dwall(opts) => {
-            if scene.walls.len() >= scene.nwall {
-                return Err(format!(
-                    "too many walls: nwall = {} given to Start",
-                    scene.nwall
-                ));
-            }
             let geom = unit_axis(opts.geom.expect("DWAll parser requires a geometry"));
             check_geom(&geom)?;
             let material = opts.material.unwrap_or(1);
             existing_material(scene, material)?;
-            let overlap = particles_against(scene, &geom, scene.walls.len() + 1)?;
+            if scene.walls().len() >= scene.nwall() {
+                return Err(format!(
+                    "too many walls: nwall = {} given to Start",
+                    scene.nwall()
+                ));
+            }
+            let overlap = particles_against(scene, &geom, scene.walls().len() + 1)?;
             let (vel, vr) = opts.vel.unwrap_or(([0.0; 3], 0.0));
-            scene.walls.push(Wall {
+            let opened = scene.add_wall(Wall {
                 geom,
                 vel,
                 vr,
@@ -27,19 +27,18 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 normal_force: 0.0,
                 disp: [0.0; 3],
                 travel: 0.0,
-            });
-            scene.contacts.mark_stale();
-            let opened = open_crossed_axes(scene);
+            })?;
             Ok(format!(
-                "wall {} defined{opened}{overlap}",
-                scene.walls.len()
+                "wall {} defined{}{overlap}",
+                scene.walls().len(),
+                opened_message(opened)
             ))
         }
         Command::Awall { n, opts } => {
-            if *n == 0 || *n > scene.walls.len() {
+            if *n == 0 || *n > scene.walls().len() {
                 return Err(format!(
                     "wall {n} does not exist ({} walls)",
-                    scene.walls.len()
+                    scene.walls().len()
                 ));
             }
             if let Some(m) = opts.material {
@@ -53,32 +52,36 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 Some(g) => particles_against(scene, g, *n)?,
                 None => String::new(),
             };
-            let w = &mut scene.walls[n - 1];
-            if let Some(g) = geom {
-                w.geom = g;
-            }
-            if let Some((v, vr)) = opts.vel {
-                w.vel = v;
-                w.vr = vr;
-            }
-            if let Some(m) = opts.material {
-                w.material = m;
-            }
-            if opts.servo.is_some() {
-                w.servo = opts.servo;
-            }
-            scene.contacts.mark_stale();
-            let opened = open_crossed_axes(scene);
-            Ok(format!("{}{overlap}", opened.trim_start_matches("; ")))
+            let opened = scene.edit_wall(*n, |w| {
+                if let Some(g) = geom {
+                    w.geom = g;
+                }
+                if let Some((v, vr)) = opts.vel {
+                    w.vel = v;
+                    w.vr = vr;
+                }
+                if let Some(m) = opts.material {
+                    w.material = m;
+                }
+                // A velocity without SE takes the servo off (the servo would set the
+                // velocity again at the next step); SE alone keeps the velocity until the
+                // servo sets it.
+                if opts.servo.is_some() || opts.vel.is_some() {
+                    w.servo = opts.servo;
+                }
+            });
+            Ok(format!(
+                "{}{overlap}",
+                opened_message(opened).trim_start_matches("; ")
+            ))
         }
         other => Err(not_here(other)),
     }
 }
 
-/// Makes open every periodic axis that a plane wall crosses (doc/limits.md, "Walls and
-/// periodic axes"); returns what it did, as "; the z axis is now open (...)" or "".
-fn open_crossed_axes(scene: &mut Scene) -> String {
-    let opened = walls::open_crossed(&scene.walls, &mut scene.settings.periodic);
+/// What opening the periodic axes a plane wall crosses did (doc/limits.md, "Walls and
+/// periodic axes"), as "; the z axis is now open (...)" or "".
+fn opened_message(opened: [bool; 3]) -> String {
     if opened == [false; 3] {
         return String::new();
     }
@@ -130,7 +133,7 @@ fn unit_axis(g: WallGeom) -> WallGeom {
 /// surface give a warning (returned as "\nwarning: ..." or "").
 fn particles_against(scene: &Scene, geom: &WallGeom, number: usize) -> Result<String, String> {
     let shape = walls::WallShape::of(geom);
-    let p = &scene.particles;
+    let p = scene.particles();
     let mut behind = None;
     let mut nbehind = 0;
     let mut cut = 0;
@@ -145,7 +148,7 @@ fn particles_against(scene: &Scene, geom: &WallGeom, number: usize) -> Result<St
             deepest = deepest.max(-gap / p.radius[i]);
         }
     }
-    let tunnel_stop = scene.settings.tunnel == crate::sim::scene::TunnelAction::Stop;
+    let tunnel_stop = scene.settings().tunnel == crate::sim::scene::TunnelAction::Stop;
     if let Some(i) = behind
         && tunnel_stop
     {

@@ -167,7 +167,7 @@ pub struct StepParts<'a> {
 pub struct ContactStore {
     pairs: Vec<Pair>,
     blocks: Vec<Vec<ContactState>>,
-    pub wall_pairs: Vec<WallPair>,
+    pub(in crate::sim) wall_pairs: Vec<WallPair>,
     /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
     /// states at the current positions (`cycle::prime`) before the next step.
     stale: bool,
@@ -181,7 +181,7 @@ pub struct ContactStore {
     /// Number of rebuilds so far (for PRint Entries).
     rebuilds: u64,
     /// Per-step working buffers (derived, never saved; see [`StepBuffers`]).
-    pub step: StepBuffers,
+    pub(in crate::sim) step: StepBuffers,
 }
 
 /// The contact store's per-step working buffers: derived from the pairs and the particles,
@@ -359,6 +359,19 @@ impl ContactStore {
     /// The candidate pairs, sorted by ids.
     pub fn pairs(&self) -> &[Pair] {
         &self.pairs
+    }
+    /// The particle–wall pairs within reach, in particle then wall order.
+    pub fn wall_pairs(&self) -> &[WallPair] {
+        &self.wall_pairs
+    }
+    /// The particle–wall pairs, mutable, for tests and tools that build states no command
+    /// can (the pairs must stay in particle then wall order, one per particle and wall).
+    pub fn wall_pairs_mut(&mut self) -> &mut Vec<WallPair> {
+        &mut self.wall_pairs
+    }
+    /// The per-step working buffers (read by tests of the scheduling).
+    pub fn step_buffers(&self) -> &StepBuffers {
+        &self.step
     }
     /// The candidate pairs, to change their indices (not their number or order).
     pub fn pairs_mut(&mut self) -> &mut [Pair] {

@@ -1,0 +1,396 @@
+//! The commands' changes to a [`Scene`]. The session checks a command's input and calls one
+//! of these; each keeps the scene's invariants:
+//!
+//! * a change to what the contacts see (sizes, cohesion, walls, liquid, laws, settings) marks
+//!   the contact store stale (`ContactStore::mark_stale`): the next `Cycle` rebuilds the
+//!   candidate list and re-evaluates the contact states at the current positions
+//!   (`cycle::prime`);
+//! * a density change re-computes the masses of that material's particles;
+//! * a plane wall across a periodic axis opens that axis (doc/limits.md);
+//! * the kinetic energy a command adds or removes is booked in the ledger
+//!   ([`Scene::booked_edit`]).
+//!
+//! None of these does I/O; errors are messages for the user.
+
+use super::*;
+use crate::sim::generate::sphere_mass;
+use crate::sim::model::{ContactLaws, SizeDist};
+
+impl Scene {
+    /// `RAdius r n [dist]`: size type `size` (1-based) gets radius `r` and distribution
+    /// `dist`; particles of that type with a fixed radius take the new radius (their density
+    /// kept).
+    pub fn set_size_type(&mut self, size: usize, r: f64, dist: SizeDist) -> Result<(), String> {
+        if size > MAX_SIZES {
+            return Err(format!(
+                "size type {size} is beyond the limit of {MAX_SIZES}"
+            ));
+        }
+        if size > self.sizes.len() {
+            self.sizes.resize(size, 0.0);
+            self.size_dist.resize(size, Default::default());
+        }
+        self.sizes[size - 1] = r;
+        let fixed = dist == SizeDist::Fixed;
+        self.size_dist[size - 1] = dist;
+        let p = &mut self.particles;
+        for i in 0..p.len() {
+            if fixed && p.size[i] as usize == size {
+                let rho = p.mass[i] / sphere_mass(1.0, p.radius[i]);
+                p.radius[i] = r;
+                p.mass[i] = sphere_mass(rho, r);
+            }
+        }
+        self.contacts.mark_stale();
+        Ok(())
+    }
+
+    /// Material `m` (1-based), the table grown to hold it.
+    fn material_entry(&mut self, m: usize) -> Result<&mut Material, String> {
+        if m > MAX_MATERIALS {
+            return Err(format!(
+                "material type {m} is beyond the limit of {MAX_MATERIALS}"
+            ));
+        }
+        if m > self.materials.len() {
+            self.materials.resize(m, Material::default());
+        }
+        Ok(&mut self.materials[m - 1])
+    }
+
+    /// Material `m` has been given its elastic constants and density.
+    pub fn material_defined(&self, m: usize) -> bool {
+        m != 0 && m <= self.materials.len() && self.materials[m - 1] != Material::default()
+    }
+
+    /// `Density rho m`: the masses of the material's particles follow.
+    pub fn set_density(&mut self, m: usize, rho: f64) -> Result<(), String> {
+        self.material_entry(m)?.density = rho;
+        let p = &mut self.particles;
+        for i in 0..p.len() {
+            if p.material[i] as usize == m {
+                p.mass[i] = sphere_mass(rho, p.radius[i]);
+            }
+        }
+        Ok(())
+    }
+
+    /// `YMD e m`.
+    pub fn set_young(&mut self, m: usize, e: f64) -> Result<(), String> {
+        self.material_entry(m)?.young = e;
+        Ok(())
+    }
+
+    /// `PRA nu m`.
+    pub fn set_poisson(&mut self, m: usize, nu: f64) -> Result<(), String> {
+        self.material_entry(m)?.poisson = nu;
+        Ok(())
+    }
+
+    /// `FRiction mu m`.
+    pub fn set_friction(&mut self, m: usize, mu: f64) -> Result<(), String> {
+        self.material_entry(m)?.friction = mu;
+        Ok(())
+    }
+
+    /// `COHesion gamma m [base]`: surface energy per surface, and the one of contacts made
+    /// after an impact (`VELocity ... 1`).
+    pub fn set_cohesion(&mut self, m: usize, gamma: f64, base: f64) -> Result<(), String> {
+        let mat = self.material_entry(m)?;
+        mat.gamma = gamma;
+        mat.gamma_base = base;
+        self.contacts.mark_stale();
+        Ok(())
+    }
+
+    /// `DAmping REStitution e [m]`: the restitution of material `m`, or of every material.
+    pub fn set_restitution(&mut self, m: Option<usize>, e: f64) {
+        match m {
+            Some(m) => self.materials[m - 1].restitution = Some(e),
+            None => self
+                .materials
+                .iter_mut()
+                .for_each(|x| x.restitution = Some(e)),
+        }
+    }
+
+    /// `DAmping` (Rayleigh) of particle–particle (`ball_ball`) or particle–wall contacts.
+    pub fn set_rayleigh(&mut self, ball_ball: bool, r: Rayleigh) {
+        if ball_ball {
+            self.damping_pp = r;
+        } else {
+            self.damping_pw = r;
+        }
+    }
+
+    /// `FRAction f` (`Some`), or `FRAction AUTO` (`None`: the step follows the fastest
+    /// approach, worked out at the next `Cycle`).
+    pub fn set_fraction(&mut self, f: Option<f64>) {
+        match f {
+            Some(f) => {
+                self.settings.fraction = Some(f);
+                self.settings.auto_step = None;
+            }
+            None => self.settings.auto_step = Some(0.0),
+        }
+    }
+
+    /// `Window x1 x2 y1 y2 z1 z2`: the plots' window.
+    pub fn set_window(&mut self, bounds: [f64; 6]) {
+        self.settings.window = Some(bounds);
+    }
+
+    /// `2-D`: motion in the x–z plane only.
+    pub fn set_two_d(&mut self) {
+        self.settings.two_d = true;
+    }
+
+    /// A `SET` of the settings: the contacts are re-evaluated before the next step.
+    pub fn edit_settings(&mut self, f: impl FnOnce(&mut Settings)) {
+        f(&mut self.settings);
+        self.contacts.mark_stale();
+    }
+
+    /// `SET NORmal`, `SET ROLling`: the contact laws per material pair.
+    pub fn edit_laws(&mut self, f: impl FnOnce(&mut ContactLaws)) {
+        f(&mut self.laws);
+        self.contacts.mark_stale();
+    }
+
+    /// `LIQuid`: the binder of every bridge; existing bridges take the new parameters (their
+    /// rupture distance recomputed).
+    pub fn set_liquid(&mut self, l: Liquid) {
+        self.liquid = Some(l);
+        crate::sim::liquid::reissue(self);
+        self.contacts.mark_stale();
+    }
+
+    /// `LIQuid 0`: no binder; every bridge removed.
+    pub fn remove_liquid(&mut self) {
+        self.liquid = None;
+        self.contacts.for_each_state_mut(|_, s| s.bridge = None);
+        for c in self.contacts.wall_pairs.iter_mut() {
+            c.s.bridge = None;
+        }
+    }
+
+    /// `DWAll`: a new wall at rest in the given state, with capacity checked. Returns the
+    /// periodic axes it opened (a plane wall across a periodic axis).
+    pub fn add_wall(&mut self, wall: Wall) -> Result<[bool; 3], String> {
+        if self.walls.len() >= self.nwall {
+            return Err(format!(
+                "too many walls: nwall = {} given to Start",
+                self.nwall
+            ));
+        }
+        self.walls.push(wall);
+        self.contacts.mark_stale();
+        Ok(self.open_crossed_axes())
+    }
+
+    /// `AWAll n`: wall `n` (1-based, checked by the caller) changed by `f`. Returns the
+    /// periodic axes it opened.
+    pub fn edit_wall(&mut self, n: usize, f: impl FnOnce(&mut Wall)) -> [bool; 3] {
+        f(&mut self.walls[n - 1]);
+        self.contacts.mark_stale();
+        self.open_crossed_axes()
+    }
+
+    /// Opens every periodic axis that a plane wall crosses (doc/limits.md, "Walls and
+    /// periodic axes").
+    fn open_crossed_axes(&mut self) -> [bool; 3] {
+        crate::sim::walls::open_crossed(&self.walls, &mut self.settings.periodic)
+    }
+
+    /// `GRID`: the cell's strain rates.
+    pub fn set_strain_rates(&mut self, rates: [f64; 6]) {
+        self.cell.rate = rates;
+    }
+
+    /// `GAIN g edmax`: the stress servo's gain and largest strain rate.
+    pub fn set_servo_gain(&mut self, g: f64, edmax: f64) {
+        self.cell.gain = [g, edmax];
+    }
+
+    /// `Mode n`: the stress servo's mode (0 or 1, checked by the caller).
+    pub fn set_servo_mode(&mut self, n: u8) {
+        self.cell.mode = n;
+    }
+
+    /// The stress servo of the `Cycle` about to run (`None` after it).
+    pub fn set_servo(&mut self, servo: Option<crate::sim::cell::Servo>) {
+        self.derived.servo = servo;
+    }
+
+    /// What the last `Cycle` had to tell that is not an error; the list is emptied.
+    pub fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.derived.notes)
+    }
+
+    /// Forgets the overlap index of a run of `CReate` commands (any other command).
+    pub fn end_create_run(&mut self) {
+        self.derived.create_index = None;
+    }
+
+    /// Forgets the lattice of the last `AGEnerate` (any other command).
+    pub fn end_lattice_run(&mut self) {
+        self.derived.lattice_run = None;
+    }
+
+    /// Runs a command's change `f` and books the kinetic energy it adds or removes (new
+    /// particles, `VELocity`, `Zero`, ...) in the ledger; strain energy of new overlaps is
+    /// booked when the next Cycle evaluates the contacts (`cycle::prime`). A `CReate`
+    /// (`create`) appends one particle: the total after it is the total before plus its
+    /// term, the same bits as the sum over all (`energy::kinetic_of`), and a run of `CReate`s
+    /// keeps the total between them (`generate::CreateIndex`). `f` must change nothing when
+    /// it fails.
+    pub fn booked_edit<T>(
+        &mut self,
+        create: bool,
+        f: impl FnOnce(&mut Scene) -> Result<T, String>,
+    ) -> Result<T, String> {
+        use crate::sim::energy;
+        let n0 = self.particles.len();
+        let before = match &self.derived.create_index {
+            Some(c) if create && c.n == n0 => c.kinetic,
+            _ => None,
+        }
+        .unwrap_or_else(|| energy::kinetic(self));
+        let out = f(self)?;
+        let after = if create {
+            let after = before + energy::kinetic_of(self, n0);
+            if let Some(c) = self.derived.create_index.as_mut() {
+                c.kinetic = Some(after);
+            }
+            after
+        } else {
+            energy::kinetic(self)
+        };
+        self.ledger.commands += after - before;
+        Ok(out)
+    }
+
+    /// `PLot SAve`: the reference state for displacement and bond plots. Contacts of a scene
+    /// that changed since the last cycle are evaluated first, so that the reference holds
+    /// its bonds.
+    pub fn take_reference(&mut self) {
+        crate::sim::cycle::prime_if_stale(self);
+        self.reference = Some(crate::sim::reference::Reference::take(self));
+    }
+
+    /// Frees the spare capacity of the particle arrays (a decoded checkpoint's arrays grew by
+    /// doubling).
+    pub fn shrink_to_fit(&mut self) {
+        self.particles.shrink_to_fit();
+    }
+
+    /// Pads history rows of an older checkpoint to the current columns (the missing ones
+    /// read as 0).
+    pub fn pad_history_rows(&mut self) {
+        for row in &mut self.history.rows {
+            row.resize(crate::sim::history::COLUMNS.len(), 0.0);
+        }
+    }
+}
+
+/// `Fix`, `FMM`, `FRO`, `GRAvity`, `CGRavity`, `VELocity`, `VMU`, `Zero`, `RESet`: the
+/// particles' motion.
+impl Scene {
+    /// `Fix`: the fixed degrees of freedom (bit k for x y z rx ry rz) of particle index `i`,
+    /// or of every particle.
+    pub fn fix(&mut self, bits: u8, i: Option<usize>) {
+        match i {
+            Some(i) => self.particles.fixed[i] = bits,
+            None => self.particles.fixed.iter_mut().for_each(|f| *f = bits),
+        }
+    }
+
+    /// `FMM r`: the mass multiplier scaled by `r`.
+    pub fn scale_fmm(&mut self, r: f64) {
+        self.fmm *= r;
+    }
+
+    /// `FRO`: every spin zeroed.
+    pub fn stop_spins(&mut self) {
+        self.particles
+            .spin
+            .iter_mut()
+            .for_each(|w| *w = Vec3::zeros());
+    }
+
+    /// `GRAvity gx gy gz`.
+    pub fn set_gravity(&mut self, g: [f64; 3]) {
+        self.gravity = g;
+    }
+
+    /// `CGRavity nagg g`: centripetal gravity towards agglomerate region `nagg` (1 or 2).
+    pub fn set_cgravity(&mut self, nagg: usize, g: f64) -> Result<(), String> {
+        if self.regions[nagg - 1].is_none() {
+            return Err(format!("agglomerate region {nagg} is not defined"));
+        }
+        self.cgravity[nagg - 1] = g;
+        Ok(())
+    }
+
+    /// `VELocity v1 [v2] [ivd]`: the velocity of every particle of agglomerate 1 (and 2);
+    /// `ivd`: contacts made from now on take the materials' `gamma_base`.
+    pub fn set_agglomerate_velocity(
+        &mut self,
+        v1: [f64; 3],
+        v2: Option<[f64; 3]>,
+        ivd: bool,
+    ) -> Result<(), String> {
+        let p = &mut self.particles;
+        if p.agg.iter().all(|&a| a != 1) {
+            return Err("agglomerate 1 has no particles".into());
+        }
+        if v2.is_some() && p.agg.iter().all(|&a| a != 2) {
+            return Err("agglomerate 2 has no particles".into());
+        }
+        for i in 0..p.len() {
+            match (p.agg[i], v2) {
+                (1, _) => p.vel[i] = Vec3::from(v1),
+                (2, Some(v)) => p.vel[i] = Vec3::from(v),
+                _ => {}
+            }
+        }
+        self.impact = ivd;
+        Ok(())
+    }
+
+    /// `VMU r`: the prescribed (fixed) velocity and spin components scaled by `r`.
+    pub fn scale_fixed_velocities(&mut self, r: f64) {
+        let p = &mut self.particles;
+        for i in 0..p.len() {
+            for k in 0..3 {
+                if p.fixed[i] & (1 << k) != 0 {
+                    p.vel[i][k] *= r;
+                }
+                if p.fixed[i] & (8 << k) != 0 {
+                    p.spin[i][k] *= r;
+                }
+            }
+        }
+    }
+
+    /// `Zero [1]`: velocities and spins zeroed (at every step with `always`).
+    pub fn zero_velocities(&mut self, always: bool) {
+        self.particles
+            .vel
+            .iter_mut()
+            .for_each(|v| *v = Vec3::zeros());
+        self.particles
+            .spin
+            .iter_mut()
+            .for_each(|v| *v = Vec3::zeros());
+        self.zero_always = always;
+    }
+
+    /// `RESet`: the accumulated rotations zeroed.
+    pub fn reset_rotations(&mut self) {
+        self.particles
+            .rot
+            .iter_mut()
+            .for_each(|v| *v = Vec3::zeros());
+    }
+}
