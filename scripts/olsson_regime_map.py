@@ -10,7 +10,7 @@ fragments besides the largest) and singles + binaries (Table 4:2's numbers in pa
 the particles in no fragment), the capture ratio and Delta (PRint BONds `delta`, his (67):
 incident kinetic energy over the summed bond energy of the initial contacts). The PNG has
 two panels: total fragmentation against impact velocity, ours against his Table 4:1, with
-the regime borders 3, 20 and 50 %; and the regime map, liquid content against Delta, each
+the regime borders 3, 20 and 50 % (PNG_fragmentation.png); and the regime map (PNG), liquid content against Delta, each
 run coloured by its regime, with the borders interpolated linearly in Delta as he drew them,
 and his border velocities (Table 4:1 interpolated in v^2) placed on our Delta axis (Delta is
 proportional to v^2 for one agglomerate).
@@ -21,6 +21,7 @@ import glob
 import json
 import math
 import os
+import sys
 
 N = 4000
 LIQUIDS = ["dry", "0.01", "0.1", "1"]
@@ -40,7 +41,6 @@ OLSSON_FRAGMENTS = {
 }
 BORDERS = [3.0, 20.0, 50.0]
 REGIME_NAMES = ["1 minor deformation", "2 minor fragmentation", "3 major fragmentation", "4 disintegration"]
-COLOURS = ["#4c9be8", "#f2c14e", "#f08a4b", "#c0392b"]
 
 
 def olsson_pct(liquid, v):
@@ -137,66 +137,72 @@ def main():
     for r in rows:
         print(",".join(str(round(r[k], 4) if isinstance(r[k], float) else r[k]) for k in keys))
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # The PNGs with run_table.py's small PNG writer (no plotting library on this machine).
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import run_table as rt
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.2))
-    markers = {"dry": "o", "0.01": "s", "0.1": "^", "1": "D"}
-    colours = {"dry": "#333333", "0.01": "#1f77b4", "0.1": "#2ca02c", "1": "#d62728"}
+    names = {"dry": "DRY", "0.01": "0.01 %", "0.1": "0.1 %", "1": "1 %"}
+    series, refs = [], []
     for liq in LIQUIDS:
-        ours = [r for r in rows if r["liquid"] == liq]
-        label = "dry" if liq == "dry" else f"{liq} %"
+        ours = [(r["v"], r["fragmented_pct"]) for r in rows if r["liquid"] == liq]
         if ours:
-            ax1.plot([r["v"] for r in ours], [r["fragmented_pct"] for r in ours], "-", marker=markers[liq],
-                     color=colours[liq], label=f"trubal, {label}")
-        vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
-        ax1.plot(vs, [olsson_pct(liq, v) for v in vs], "--", marker=markers[liq], mfc="none",
-                 color=colours[liq], alpha=0.7, label=f"Olsson Table 4:1, {label}")
-    for b in BORDERS:
-        ax1.axhline(b, color="grey", lw=0.8, ls=":")
-        ax1.text(0.45, b * 1.08, f"{b:g} %", color="grey", fontsize=8)
-    ax1.set_yscale("symlog", linthresh=1.0)
-    ax1.set_xlabel("impact velocity (m/s)")
-    ax1.set_ylabel("total fragmentation (% of 4000)")
-    ax1.set_title("Total fragmentation: trubal (solid) vs Olsson 2017 Table 4:1 (dashed)")
-    ax1.legend(fontsize=7, ncol=2)
+            series.append((names[liq], ours))
+            vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
+            refs.append((f"OLSSON {names[liq]}", [(v, olsson_pct(liq, v)) for v in vs]))
+    rt.chart(a.png.replace(".png", "_fragmentation.png"),
+             "TOTAL FRAGMENTATION (%): TRUBAL (SOLID), OLSSON TABLE 4:1 (DASHED); BORDERS 3, 20, 50 %",
+             series, "V (M/S)", "%", refs=refs, cap=False)
 
-    ypos = {liq: k for k, liq in enumerate(LIQUIDS)}
-    for r in rows:
-        ax2.scatter(r["delta"], ypos[r["liquid"]], s=90, color=COLOURS[regime(r["fragmented_pct"])],
-                    edgecolor="black", zorder=3)
-        ax2.annotate(f"{r['v']:g} m/s\n{r['fragmented_pct']:.1f} %", (r["delta"], ypos[r["liquid"]]),
-                     textcoords="offset points", xytext=(0, 9), ha="center", fontsize=7)
-    for liq in LIQUIDS:
-        ours = [r for r in rows if r["liquid"] == liq]
+    # The regime map: liquid content (rows) against log10 Delta; each run a box coloured by
+    # its regime; our borders (interpolated in Delta) as tall black ticks, Olsson's (Table
+    # 4:1 interpolated in v^2, placed at our Delta = k v^2) as grey ones.
+    W, H, L, R, T, B = 1000, 520, 110, 250, 60, 80
+    cv = rt.Canvas(W, H)
+    ds = [r["delta"] for r in rows if r["delta"] > 0]
+    lo, hi = math.floor(math.log10(min(ds))) - 0.2, math.ceil(math.log10(max(ds))) + 0.2
+    X = lambda d: round(L + (math.log10(d) - lo) / (hi - lo) * (W - L - R))
+    Y = lambda k: round(T + (k + 0.5) * (H - T - B) / len(LIQUIDS))
+    regime_rgb = [(76, 155, 232), (242, 193, 78), (240, 138, 75), (192, 57, 43)]
+    cv.line(L, H - B, W - R, H - B, (0, 0, 0))
+    cv.line(L, T, L, H - B, (0, 0, 0))
+    for e in range(int(math.ceil(lo)), int(math.floor(hi)) + 1):
+        x = X(10.0**e)
+        cv.line(x, T, x, H - B + 5, (200, 200, 200))
+        cv.text(x - 12, H - B + 10, f"1E{e}")
+    cv.text(L, 8, "REGIME MAP (CF. OLSSON FIG. 4:7): LIQUID CONTENT VS DELTA")
+    cv.text(L + 150, H - 30, "DELTA = INCIDENT KE / BOND ENERGY (67)")
+    for k, liq in enumerate(LIQUIDS):
+        y = Y(k)
+        cv.text(8, y - 7, names[liq])
+        ours = [r for r in rows if r["liquid"] == liq and r["delta"] > 0]
+        for r in ours:
+            cv.box(X(r["delta"]), y, 7, regime_rgb[regime(r["fragmented_pct"])])
+            cv.text(X(r["delta"]) - 14, y + 12, f"{r['v']:g}", (60, 60, 60), 1)
+            cv.text(X(r["delta"]) - 14, y + 22, f"{r['fragmented_pct']:.1f}%", (60, 60, 60), 1)
         if len(ours) >= 2:
-            xs = [r["delta"] for r in ours]
-            ps = [r["fragmented_pct"] for r in ours]
-            for b, x in zip(BORDERS, borders_in(xs, ps)):
+            for b, x in zip(BORDERS, borders_in([r["delta"] for r in ours], [r["fragmented_pct"] for r in ours])):
                 if x:
-                    ax2.plot([x, x], [ypos[liq] - 0.3, ypos[liq] + 0.3], color="black", lw=2)
-                    ax2.text(x, ypos[liq] - 0.42, f"{b:g}%", ha="center", fontsize=7)
-            # Olsson's borders (Table 4:1 interpolated in v^2) on our Delta axis: Delta = k v^2.
-            k = sum(r["delta"] / r["v"] ** 2 for r in ours) / len(ours)
+                    cv.line(X(x), y - 22, X(x), y + 22, (0, 0, 0), 3)
+                    cv.text(X(x) - 5, y - 32, f"{b:g}", (0, 0, 0), 1)
+            kk = sum(r["delta"] / r["v"] ** 2 for r in ours) / len(ours)
             vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
             for b, x in zip(BORDERS, borders_in([v * v for v in vs], [olsson_pct(liq, v) for v in vs])):
                 if x:
-                    ax2.plot([k * x] * 2, [ypos[liq] - 0.3, ypos[liq] + 0.3], color="black", lw=1.2, ls="--")
-    ax2.set_xscale("log")
-    ax2.set_yticks(range(len(LIQUIDS)))
-    ax2.set_yticklabels(["dry", "0.01 %", "0.1 %", "1 %"])
-    ax2.set_ylim(-0.6, len(LIQUIDS) - 0.3)
-    ax2.set_xlabel("Δ = incident kinetic energy / summed bond energy (Olsson (67))")
-    ax2.set_ylabel("liquid content")
-    ax2.set_title("Regime map (cf. Olsson Fig. 4:7): borders ours (solid), his (dashed)")
-    from matplotlib.patches import Patch
-    ax2.legend(handles=[Patch(color=c, label=n) for c, n in zip(COLOURS, REGIME_NAMES)], fontsize=7,
-               loc="lower right")
-    fig.tight_layout()
+                    cv.line(X(kk * x), y - 22, X(kk * x), y + 22, (150, 150, 150), 3)
+                    cv.text(X(kk * x) - 5, y - 32, f"{b:g}", (150, 150, 150), 1)
+    ly = T
+    for c, n in zip(regime_rgb, REGIME_NAMES):
+        cv.box(W - R + 20, ly + 7, 6, c)
+        cv.text(W - R + 34, ly, n.upper(), (0, 0, 0), 1)
+        ly += 18
+    cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (0, 0, 0), 3)
+    cv.text(W - R + 34, ly + 3, "BORDER 3/20/50 %, TRUBAL", (0, 0, 0), 1)
+    ly += 18
+    cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (150, 150, 150), 3)
+    cv.text(W - R + 34, ly + 3, "BORDER, OLSSON (AT OUR DELTA/V2)", (0, 0, 0), 1)
     os.makedirs(os.path.dirname(a.png) or ".", exist_ok=True)
-    fig.savefig(a.png, dpi=110)
-    print(f"wrote {a.png} and {a.csv}")
+    cv.png(a.png)
+    print(f"wrote {a.png}, {a.png.replace('.png', '_fragmentation.png')} and {a.csv}")
 
 
 if __name__ == "__main__":

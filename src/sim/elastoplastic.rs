@@ -114,7 +114,7 @@ pub fn normal(
         NormalLaw::ThorntonNing { p_y } => {
             thornton_ning_step(k, pc, p_y, (alpha, was_touching, s.a), hist, &mut out)
         }
-        NormalLaw::Nguyen => nguyen_step(k, pc, laws.wall, alpha, s.a, &mut out),
+        NormalLaw::Nguyen => nguyen_step(k, pc, pl.wall, alpha, s.a, &mut out),
         ref law => linear_step(k, pc, law, (alpha, was_touching), hist, &mut out),
     };
     match now {

@@ -61,15 +61,9 @@ pub struct Laws<'a> {
     /// (`physics::dashpot`): Δt times a bound of the relative speeds; 0 without a dashpot.
     pub margin: f64,
     /// The normal laws of `SET NORmal` the pairs use (`PairConst::law`, `params::Model::laws`).
+    /// (For particle–wall contacts `params::Model::wall_laws`: the same laws, marked as a
+    /// wall's.)
     pub pair_laws: &'a [super::params::PairLaw],
-    /// These are the laws of particle–wall contacts (LIGGGHTS' JKR acts at a wall only at a
-    /// positive overlap, `physics::jkr_nguyen`).
-    pub wall: bool,
-    /// With adhesion or liquid, a particle pair is evaluated while its centres are closer
-    /// than this times the sum of the radii (`cycle::reach`): `1 + 1e-6` (the round-off
-    /// allowance of snap-in and bridge formation), more when a law of `SET NORmal` attracts
-    /// across a gap (`params::Model::reach`).
-    pub reach: f64,
 }
 
 impl Laws<'static> {
@@ -89,8 +83,6 @@ impl Laws<'static> {
             goldman: false,
             margin: 0.0,
             pair_laws: &[],
-            wall: false,
-            reach: 1.0 + 1e-6,
         }
     }
 }

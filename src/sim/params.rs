@@ -34,6 +34,9 @@ pub struct PairLaw {
     /// Restitution coefficient of the linear laws' dashpot (Pasha 2013 (4.24)–(4.25); 0:
     /// none). The other laws keep the pair's Hertzian dashpot (`PairConst::zeta`).
     pub restitution: f64,
+    /// The law as particle–wall contacts use it ([`Model::wall_laws`]; LIGGGHTS' JKR acts at
+    /// a wall only at a positive overlap, `physics::jkr_nguyen`).
+    pub wall: bool,
 }
 
 /// All particles have the same radius, mass and material, bit for bit (a monodisperse bed,
@@ -73,6 +76,8 @@ pub struct Model {
     /// The normal laws of `SET NORmal` other than Hertz/JKR that pairs in use follow
     /// (`PairConst::law`); a scene with any goes through the adhesive kernel.
     pub laws: Vec<PairLaw>,
+    /// The same, as particle–wall contacts use them (`PairLaw::wall`; the same indices).
+    pub wall_laws: Vec<PairLaw>,
     /// Particle pairs are evaluated while their centres are closer than this times the sum
     /// of their radii in the adhesive and liquid kernels (`interact::Laws::reach`): 1 + 1e-6,
     /// or enough for the largest gap across which a pair with LIGGGHTS' JKR attracts.
@@ -225,6 +230,7 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
                 let l = PairLaw {
                     law,
                     restitution: if linear { e.unwrap_or(0.0) } else { 0.0 },
+                    wall: false,
                 };
                 match laws.iter().position(|x| *x == l) {
                     Some(k) => k + 1,
@@ -359,8 +365,10 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         .fraction
         .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
     let dt = step_limits(scene, fraction * dt_r, dt_r, fraction, (k_lin, all_linear))?;
+    let wall_laws = laws.iter().map(|l| PairLaw { wall: true, ..*l }).collect();
     Ok(Model {
         reach: reach_of(scene, &table, &laws),
+        wall_laws,
         nmat,
         table,
         rotation,

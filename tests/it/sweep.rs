@@ -456,6 +456,11 @@ fn the_shipped_sweeps_expand() {
             6,
             "bridge=laplace frac=0.05 n=40063",
         ),
+        (
+            "olsson_regime.sweep",
+            16,
+            "state=olsson_0.1.sav n=12500 v=5.2 smin=0.44e-6 law=nguyen",
+        ),
     ] {
         let path = root.join("scripts/sweeps").join(file);
         let o = sweep(&d, &[path.to_str().unwrap(), "--out", "x", "--dry-run"]);

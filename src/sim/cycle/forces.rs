@@ -61,8 +61,6 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
             .then_some(crate::sim::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
         pair_laws: &model.laws,
-        wall: false,
-        reach: model.reach,
         // (Only in a step, with the margins of its particles: not while priming.)
         margin: if dt > 0.0
             && scene.derived.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP)
@@ -78,7 +76,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
     // particle–wall set.
     let laws_pw = Laws {
         beta: scene.damping_pw.beta,
-        wall: true,
+        pair_laws: &model.wall_laws,
         margin: if laws_pp.margin > 0.0 {
             scene.contacts.step.margins[1]
         } else {
@@ -153,6 +151,7 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         stress: scene.cell.needs_stress() || scene.derived.servo.is_some(),
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&scene.derived.reach_ext[..]),
+        reach: model.reach,
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,

@@ -381,6 +381,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         stress: false,
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&derived.reach_ext[..]),
+        reach: model.reach,
     };
     let wall_ctx = PairCtx {
         laws: laws_pw,

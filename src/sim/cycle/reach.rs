@@ -46,7 +46,7 @@ pub(super) fn separation(h: &HotPair, c: &PairCtx) -> Vec3 {
 /// !(d² > reach²) (so also when d² is NaN, whose force then shows the blow-up). With
 /// adhesion or liquid the reach includes the round-off allowance of bridge formation and of
 /// JKR snap-in (gap ≤ 1e-6 R, interact.rs), so pairs that touch exactly (lattices) are
-/// evaluated. Without them the reach is the touching distance: a pair with a gap gets no
+/// evaluated, and the gap across which LIGGGHTS' JKR attracts (`PairCtx::reach`). Without them the reach is the touching distance: a pair with a gap gets no
 /// force from the dry non-adhesive laws (Hertz needs α > 0), and a contact that just opened
 /// is still evaluated once, being live. `UNI`: every radius is the scene's common one.
 #[inline(never)]
@@ -59,7 +59,7 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
 ) -> usize {
     let hots = &hots[..hots.len().min(SUB)];
     let ur = c.uni.map_or(0.0, |u| u.r);
-    let allow = if ADH || LIQ { c.laws.reach } else { 1.0 };
+    let allow = if ADH || LIQ { c.reach } else { 1.0 };
     let radius = (!UNI).then_some(c.radius);
     let scalar = || {
         if c.periodic == [false; 3] {
@@ -407,6 +407,7 @@ mod tests {
                 stress: false,
                 uni: UniPair::of(&model),
                 ext: None,
+                reach: model.reach,
             };
             let mut near = 0;
             for len in 1..=SUB {
