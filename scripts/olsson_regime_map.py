@@ -23,6 +23,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import run_table as rt  # noqa: E402
+
 N = 4000
 LIQUIDS = ["dry", "0.01", "0.1", "1"]
 # Table 4:1 (fragmented particles) and 4:2 (fragments, singles + binaries), olsson2017.md §4.
@@ -67,14 +70,7 @@ def read_runs(sweep):
         st = os.path.join(d, "status.json")
         if not os.path.exists(st) or json.load(open(st)).get("exit") != 0:
             continue
-        objs = []
-        for line in open(out):
-            line = line.strip()
-            if line.startswith("{"):
-                try:
-                    objs.append(json.loads(line))
-                except json.JSONDecodeError:
-                    pass
+        objs = rt.json_lines(out)
         c, b, info = last(objs, "clusters"), last(objs, "bonds"), last(objs, "info")
         name = os.path.basename(d)
         # The run's name (the `run` column of olsson_regime.csv): <liquid>_v<v>.
@@ -138,8 +134,6 @@ def main():
         print(",".join(str(round(r[k], 4) if isinstance(r[k], float) else r[k]) for k in keys))
 
     # The PNGs with run_table.py's small PNG writer (no plotting library on this machine).
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import run_table as rt
 
     names = {"dry": "DRY", "0.01": "0.01 %", "0.1": "0.1 %", "1": "1 %"}
     series, refs = [], []

@@ -451,32 +451,30 @@ fn report_collect(store: &Store, m: &Manifest) -> ExitCode {
     }
 }
 
-/// `--collect --out DIR` without a file: the sweep in DIR as its manifest describes it.
-fn collect_only(spec: &Spec) -> Result<ExitCode, Vec<String>> {
+/// The sweep already in `--out DIR`, as its manifest describes it.
+fn existing_sweep(spec: &Spec) -> Result<(Store, Manifest), Vec<String>> {
     let out = spec.out.clone().expect("checked");
     let store = Store::new(&out);
-    let Some(m) = one(store.load())? else {
-        return Err(vec![format!(
+    match one(store.load())? {
+        Some(m) => Ok((store, m)),
+        None => Err(vec![format!(
             "{} holds no sweep ({})",
             out.display(),
             store::MANIFEST
-        )]);
-    };
+        )]),
+    }
+}
+
+/// `--collect --out DIR` without a file: the sweep in DIR as its manifest describes it.
+fn collect_only(spec: &Spec) -> Result<ExitCode, Vec<String>> {
+    let (store, m) = existing_sweep(spec)?;
     let _lock = one(Lock::take(&store.dir))?;
     Ok(report_collect(&store, &m))
 }
 
 /// One SLURM array task, or the prepare job.
 fn task(spec: &Spec) -> Result<ExitCode, Vec<String>> {
-    let out = spec.out.clone().expect("checked");
-    let store = Store::new(&out);
-    let Some(m) = one(store.load())? else {
-        return Err(vec![format!(
-            "{} holds no sweep ({})",
-            out.display(),
-            store::MANIFEST
-        )]);
-    };
+    let (store, m) = existing_sweep(spec)?;
     let exe = one(exe())?;
     let (name, r) = if spec.mode == Mode::TaskPrepare {
         ("prepare".to_string(), store.prepare(&m, &exe))
