@@ -28,10 +28,13 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                                [--hmax H/R] [--seed K] [--tag T] [--frac F]
                                [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
                                [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
+                               [--Gamma J/M2]
   --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
                  from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
   --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
                  rolling friction (SET ROLling; Pasha: mjkr, 0.1)
+  --Gamma G      Pasha's interface energy (work of adhesion) Gamma (0.5 J/m^2; COHesion
+                 Gamma/2), scaled with --scale; 1.0 reads his 0.5 as EDEM's surface energy
   --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
   --servo-div K  the piston servo's gain v / (K F) (5; more if the log warns of hunting)
   --hold 0       Pasha's procedure: the piston reverses at the target force and unloads at
@@ -151,6 +154,9 @@ def bed_top(balls):
 
 def main():
     argv = sys.argv[1:]
+    if "--help" in argv or "-h" in argv:
+        print(__doc__)
+        return
     if argv and argv[0] == "--compare":
         # --compare [--out NAME.png] TAG...
         rest = argv[1:]
@@ -177,6 +183,7 @@ def main():
     servo_div = arg(argv, "--servo-div", 5.0)
     hold = arg(argv, "--hold", 1)
     unload_rate = arg(argv, "--unload-rate", 0.0)
+    big_gamma = arg(argv, "--Gamma", 0.5)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     diam, d_mean, d3 = sizes(scale)
@@ -193,7 +200,7 @@ def main():
     hgen = vsolid / 0.25 / area
     side = die + 2e-3
     c = side / 2
-    gamma_w = 0.5 * scale  # Pasha's Gamma = 0.5 J/m^2, scaled with d_p
+    gamma_w = big_gamma * scale  # Pasha's Gamma = 0.5 J/m^2, scaled with d_p
     sets = {
         "side": side, "zmax": hgen + d_ind + 0.02, "c": c, "rdie": rdie, "hgen": hgen,
         "np": np_, "nball": np_ + 10,
@@ -207,7 +214,7 @@ def main():
     t0 = time.time()
     tr = Trubal(sets, log, work)
     out = {"particles": np_, "scale": scale, "soften": soften, "d": d_ind, "die": die,
-           "law": law, "mur": mur, "d_over_dp": d_ind / d_mean, "die_over_dp": die / d_mean,
+           "law": law, "mur": mur, "Gamma": gamma_w, "d_over_dp": d_ind / d_mean, "die_over_dp": die / d_mean,
            "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
     if from_unloaded:
         # Indent the unloaded bed of run TAG (its set-up: the same --scale, --die, --bed, ...).
@@ -234,6 +241,7 @@ def main():
             tr.send(f"ymd {55e9 / soften!r} 1\nymd {182e9 / soften!r} 2\nymd {55e9 / soften!r} 3")
             # The law and the rolling friction of this run (from the consolidation on).
             tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1")
+            tr.send(f"cohesion {gamma_w / 2!r} 1")
             out["from_settled"] = from_settled
             try:
                 with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:

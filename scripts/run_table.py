@@ -51,10 +51,10 @@ def trubal_binary():
     # states); the command line at the top of every log names the binary used.
     if os.environ.get("TRUBAL_BIN"):
         return os.environ["TRUBAL_BIN"]
-    exe = os.path.join(ROOT, "target", "release", "trubal")
-    if not os.path.exists(exe):
-        subprocess.run(["cargo", "build", "--release"], cwd=ROOT, check=True)
-    return exe
+    # Always through cargo: a release binary left from an older checkout would otherwise run
+    # silently (cargo returns at once when it is up to date).
+    subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
+    return os.path.join(ROOT, "target", "release", "trubal")
 
 
 # ---------------------------------------------------------------------------------------------

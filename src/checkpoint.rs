@@ -40,7 +40,9 @@
 //! without rolling friction from older files); version 6 adds the friction and restitution
 //! of single material pairs (`SET PAIr`, `ContactLaws::pair_values`, read as none from
 //! older files), and may hold the new last variants `NormalLaw::Nguyen` (`SET NORmal
-//! NGUYEN`) and `NormalHistory::Nguyen`, which older files never hold. Versions 1 to 5
+//! NGUYEN`) and `NormalHistory::Nguyen`, which older files never hold; version 7 may hold
+//! the new last variant `NormalLaw::ModifiedJkrEdem` (`SET NORmal MJKR EDEM`), which older
+//! files never hold, and reads version 6 with the same types. Versions 1 to 5
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -54,7 +56,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 6;
+pub const VERSION: u32 = 7;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -214,7 +216,8 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
-        VERSION => decode_all::<Scene, R>(r, version),
+        // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`.
+        6 | VERSION => decode_all::<Scene, R>(r, version),
         // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2

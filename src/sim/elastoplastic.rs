@@ -110,7 +110,9 @@ pub fn normal(
     };
     let hist = s.ext().laws().normal;
     let (now, history) = match pl.law {
-        NormalLaw::ModifiedJkr => modified_jkr_step(k, pc, alpha, s.a, &mut out),
+        NormalLaw::ModifiedJkr | NormalLaw::ModifiedJkrEdem => {
+            modified_jkr_step(k, pc, alpha, s.a, &mut out)
+        }
         NormalLaw::ThorntonNing { p_y } => {
             thornton_ning_step(k, pc, p_y, (alpha, was_touching, s.a), hist, &mut out)
         }

@@ -9,7 +9,7 @@ use super::contacts::ContactState;
 use super::params::Model;
 use super::scene::{Scene, Vec3, nearest_image};
 use super::walls::WallShape;
-use crate::physics::{rolling, tangential};
+use crate::physics::{rolling, tangential, walton};
 use crate::sim::model::NormalLaw;
 
 /// The normal stiffness of a touching contact, for the rolling stiffness: `k_e` of the
@@ -26,18 +26,30 @@ fn normal_stiffness(model: &Model, pc: &super::params::PairConst, s: &ContactSta
     2.0 * pc.e_star * s.a
 }
 
+/// The normal force of a touching contact that bounds its rolling moment: the contact force
+/// `P`, or under `SET NORmal MJKR EDEM` the Hertzian part `4E*a³/(3R*)` (`walton::
+/// friction_normal_force`), as for its sliding; `r_star` is the contact's R*.
+fn limit_force(model: &Model, pc: &super::params::PairConst, s: &ContactState, r_star: f64) -> f64 {
+    if pc.law > 0 && model.laws[pc.law as usize - 1].law.hertz_friction() {
+        walton::friction_normal_force(pc.e_star, r_star, s.a)
+    } else {
+        s.normal_force
+    }
+}
+
 /// One contact's rolling spring and dashpot for the relative spin `w` of A with respect to
-/// B, the normal `n` and the equivalent inertia `i_r`: returns the moment on A and adds the
-/// losses (friction, damping) to `loss`.
+/// B, the normal `n`, the equivalent inertia `i_r` and the normal force `f_n` of its limit:
+/// returns the moment on A and adds the losses (friction, damping) to `loss`.
 fn contact(
     s: &mut ContactState,
     (w, n, r_r, mu_r, k_n, i_r, dt): (Vec3, Vec3, f64, f64, f64, f64, f64),
+    f_n: f64,
     loss: &mut [f64; 2],
 ) -> Vec3 {
     let wt = w - n * w.dot(&n);
     let dtheta = wt * dt;
     let k_r = rolling::stiffness(k_n, mu_r, r_r);
-    let cap = rolling::limit(mu_r, r_r, s.normal_force);
+    let cap = rolling::limit(mu_r, r_r, f_n);
     let e = s.ext_mut().laws_mut();
     let m_old = tangential::rotate_into_plane_lazy(e.roll.into(), n.into());
     let st = rolling::step(m_old, dtheta.into(), k_r, cap);
@@ -87,11 +99,15 @@ pub fn moments(scene: &mut Scene, model: &Model, dt: f64) -> [f64; 2] {
         let d = nearest_image(p.pos[j] - p.pos[i], size, periodic, shift);
         let n = d / d.norm();
         let r_r = rolling::radius(p.radius[i], p.radius[j]);
-        let k_n = normal_stiffness(model, model.pair(mi, mj), s);
+        let pc = model.pair(mi, mj);
+        let k_n = normal_stiffness(model, pc, s);
+        let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+        let f_n = limit_force(model, pc, s, r_star);
         let i_r = rolling::inertia(p.mass[i], p.radius[i], p.mass[j], p.radius[j]);
         let m = contact(
             s,
             (p.spin[i] - p.spin[j], n, r_r, mu_r, k_n, i_r, dt),
+            f_n,
             &mut loss,
         );
         roll[i] += m;
@@ -109,12 +125,15 @@ pub fn moments(scene: &mut Scene, model: &Model, dt: f64) -> [f64; 2] {
             continue;
         }
         let (_, n) = WallShape::of(&w.geom).gap(&p.pos[i], p.radius[i]);
-        let k_n = normal_stiffness(model, model.pair(mi, w.material), &wp.s);
+        let pc = model.pair(mi, w.material);
+        let k_n = normal_stiffness(model, pc, &wp.s);
         let r_r = rolling::radius(p.radius[i], f64::INFINITY);
+        let f_n = limit_force(model, pc, &wp.s, p.radius[i]);
         let i_r = rolling::inertia(p.mass[i], p.radius[i], f64::INFINITY, 0.0);
         roll[i] += contact(
             &mut wp.s,
             (p.spin[i], n, r_r, mu_r, k_n, i_r, dt),
+            f_n,
             &mut loss,
         );
     }

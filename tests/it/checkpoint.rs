@@ -612,6 +612,17 @@ fn flipped_bytes_are_refused() {
         for mask in [0x01u8, 0x80, 0xff] {
             let mut d = data.clone();
             d[k] ^= mask;
+            if (8..12).contains(&k) && u32::from_le_bytes(d[8..12].try_into().unwrap()) == 6 {
+                // Version 6 has the layout of version 7 (it never holds `MJKR EDEM`): the
+                // file is a valid version-6 checkpoint of the same scene.
+                assert_eq!(VERSION, 7);
+                let sc = from_bytes(&d).unwrap();
+                assert_eq!(
+                    format!("{sc:?}"),
+                    format!("{:?}", from_bytes(&data).unwrap())
+                );
+                continue;
+            }
             let e = refused(&d);
             let ok = match k {
                 0..8 => e.contains("not a trubal checkpoint"),

@@ -204,3 +204,95 @@ fn rolling_friction_decelerates_a_rolling_sphere() {
         .unwrap();
     assert!((v - v0).abs() < 1e-9, "{v}");
 }
+
+/// A sphere (R = 1 mm, E = 100 MPa, ν = 0.25, Γ = 2γ = 0.5 J/m²) held at an overlap of 5 µm
+/// on a plane wall of its own material under the modified JKR, `law` (`mjkr` or `mjkr
+/// edem`), created with the velocities `create`, then given the commands `extra` (FIX);
+/// returns the script.
+fn held_sphere(law: &str, extra: &str, create: &str, cycles: u32) -> String {
+    format!(
+        "start 0.01 0.01 0.01 10 10 2\nset open all\nset tangential noslip\nrad 1e-3 1\n\
+         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\ncohesion 0.25 1\nset normal {law} 1\n\
+         create 0.005 0.005 0.005 {create} 1 1\n{extra}\ndwall p 0 0 1 0.004005 m 1\n\
+         cycle {cycles}\nsave held.sav\nnew\nrestart held.sav\ncycle {cycles}\nprint walls balls\n"
+    )
+}
+
+/// The JKR contact of that sphere by its closed form, Pasha (3.41)–(3.42) solved for a by
+/// bisection: (a, the Hertzian part 4E*a³/(3R*), the force P, the pull-off force P_c).
+fn held_sphere_jkr() -> (f64, f64, f64, f64) {
+    let pi = std::f64::consts::PI;
+    let (e_star, r, big_gamma, alpha) = (1e8 / (2.0 * (1.0 - 0.25f64.powi(2))), 1e-3, 0.5, 5e-6);
+    let f = |a: f64| a * a / r - (2.0 * pi * big_gamma * a / e_star).sqrt() - alpha;
+    let (mut lo, mut hi) = (1e-9, 1e-3);
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if f(m) > 0.0 { hi = m } else { lo = m }
+    }
+    let a = lo;
+    let f_h = 4.0 * e_star * a.powi(3) / (3.0 * r);
+    let p = f_h - (8.0 * pi * big_gamma * e_star * a.powi(3)).sqrt();
+    (a, f_h, p, 1.5 * pi * r * big_gamma)
+}
+
+/// `SET NORmal MJKR EDEM`: the sliding force of a sphere dragged over a wall at a fixed
+/// overlap saturates at μ times the Hertzian part of the JKR force, 4E*a³/(3R*) (EDEM's
+/// "Hertz-Mindlin with JKR"), against μ(P + 2P_c) under plain MJKR; the normal force is the
+/// JKR curve's in both; across SAve/Restart.
+#[test]
+fn edem_friction_limits_sliding_on_the_hertz_part() {
+    let (_, f_h, p, p_c) = held_sphere_jkr();
+    let mu = 0.3;
+    for (law, limit) in [("mjkr edem", mu * f_h), ("mjkr", mu * (p + 2.0 * p_c))] {
+        let extra = format!("friction {mu} 1\nfix 1 1 1 1 1 1 all");
+        let run = trubal_json(&held_sphere(law, &extra, "1e-3 0 0 0 0 0", 1500), &[]);
+        assert!(run.ok, "{}", run.stderr);
+        let w = &printed(&run, "walls")[0]["walls"][0];
+        let (ft, fz) = (
+            w["force"][0].as_f64().unwrap(),
+            w["normal_force"].as_f64().unwrap(),
+        );
+        assert!((fz / p - 1.0).abs() < 1e-9, "{law}: normal {fz}, JKR {p}");
+        assert!(
+            (ft / limit - 1.0).abs() < 1e-9,
+            "{law}: sliding {ft}, limit {limit}"
+        );
+    }
+}
+
+/// `SET NORmal MJKR EDEM` with `SET ROLling μ_r`: a sphere held in place on a wall spinning
+/// without sliding friction slows at I dω/dt = μ_r R F_n, with F_n the Hertzian part of the
+/// force (EDEM) or the force P (plain MJKR), Newton's law for the sphere.
+#[test]
+fn edem_friction_limits_rolling_on_the_hertz_part() {
+    let (_, f_h, p, _) = held_sphere_jkr();
+    let (mu_r, w0, r): (f64, f64, f64) = (0.1, 1e4, 1e-3);
+    let inertia = 0.4 * 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(5);
+    for (law, f_n) in [("mjkr edem", f_h), ("mjkr", p)] {
+        let extra = format!("friction 0 1\nset rolling {mu_r} 1\nfix 1 1 1 0 0 0 all");
+        let run = trubal_json(
+            &held_sphere(law, &extra, &format!("0 0 0 0 {w0} 0"), 500),
+            &[],
+        );
+        assert!(run.ok, "{}", run.stderr);
+        let b = &printed(&run, "balls")[0];
+        let t = b["time"].as_f64().unwrap();
+        let w = b["balls"][0]["spin"][1].as_f64().unwrap();
+        let want = w0 - mu_r * r * f_n * t / inertia;
+        assert!(
+            (w - want).abs() < 1e-9 * w0,
+            "{law}: spin {w}, Newton {want}"
+        );
+    }
+}
+
+#[test]
+fn edem_option_belongs_to_mjkr_only() {
+    for line in ["set normal tning 1e8 edem", "set normal hertz edem"] {
+        let run = trubal_json(
+            &format!("start 1 1 1 10 10 2\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\n{line}\n"),
+            &[],
+        );
+        assert!(run.stderr.contains("error"), "{line}: {}", run.stderr);
+    }
+}
