@@ -7,6 +7,7 @@ use serde_json::{Value, json};
 use crate::analysis;
 use crate::lang::command::{ContactsFilter, PrintItem, WallGeom};
 use crate::sim::contacts::ContactState;
+use crate::sim::model::{ContactLaws, NormalLaw, Pairs};
 use crate::sim::scene::Scene;
 use crate::sim::{cycle, energy, params, search};
 
@@ -466,8 +467,11 @@ fn settings(scene: &Scene) -> (String, Value) {
             .unwrap_or_else(|| { "default (0.2, or 0.1 with adhesion)".into() }),
         st.two_d
     );
+    let (rules_text, rules) = contact_rules(scene.laws());
+    let s = s + &rules_text;
     let j = json!({
         "print": "settings", "tol": tol, "xres": xres, "smin": st.smin,
+        "contact_rules": rules,
         "bridge": format!("{:?}", st.bridge).to_lowercase(),
         "tangential": format!("{:?}", st.tangential).to_lowercase(),
         "liquid_mode": format!("{:?}", st.liquid_mode).to_lowercase(),
@@ -476,6 +480,68 @@ fn settings(scene: &Scene) -> (String, Value) {
         "two_d": st.two_d,
     });
     (s, j)
+}
+
+/// The material pairs a rule covers, as the command takes them.
+fn pairs_text(p: &Pairs) -> String {
+    match *p {
+        Pairs::All => String::new(),
+        Pairs::With(m) => format!(" {m}"),
+        Pairs::Pair(a, b) => format!(" {a} {b}"),
+    }
+}
+
+/// A normal law as `SET NORmal` takes it.
+fn normal_law_text(l: &NormalLaw) -> String {
+    match *l {
+        NormalLaw::Hertz => "HERTZ".into(),
+        NormalLaw::ModifiedJkr => "MJKR".into(),
+        NormalLaw::ModifiedJkrEdem => "MJKR EDEM".into(),
+        NormalLaw::ThorntonNing { p_y } => format!("TNING {p_y}"),
+        NormalLaw::PashaFull { k_e, k_p, k_t } => format!("PFULL {k_e} {k_p} KT {k_t}"),
+        NormalLaw::PashaSimplified {
+            k_e,
+            k_p,
+            k_cp,
+            f_0p,
+            k_t,
+        } => {
+            format!("PASHA {k_e} {k_p} {k_cp} {f_0p} KT {k_t}")
+        }
+        NormalLaw::Nguyen => "NGUYEN".into(),
+    }
+}
+
+/// The rules of `SET NORmal`, `SET ROLling` and `SET PAIr` in force, in the order given (the
+/// last that covers a pair decides), as the commands that would make them.
+fn contact_rules(laws: &ContactLaws) -> (String, Vec<String>) {
+    let mut rules: Vec<String> = Vec::new();
+    for (p, l) in &laws.normal {
+        rules.push(format!(
+            "SET NORmal {}{}",
+            normal_law_text(l),
+            pairs_text(p)
+        ));
+    }
+    for (p, mu_r) in &laws.rolling {
+        rules.push(format!("SET ROLling {mu_r}{}", pairs_text(p)));
+    }
+    for (p, v) in &laws.pair_values {
+        let mut r = format!("SET PAIr{}", pairs_text(p));
+        if let Some(mu) = v.friction {
+            r += &format!(" FRIction {mu}");
+        }
+        if let Some(e) = v.restitution {
+            r += &format!(" RESTitution {e}");
+        }
+        rules.push(r);
+    }
+    let text = if rules.is_empty() {
+        "contact laws: HERTZ (JKR with COHesion) for all pairs, no rolling friction\n".to_string()
+    } else {
+        format!("contact laws: {}\n", rules.join("; "))
+    };
+    (text, rules)
 }
 
 fn walls(scene: &Scene) -> (String, Value) {
