@@ -45,8 +45,9 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
   --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
                  this run's --soften, --law and --mur
-       scripts/pasha_indent.py --compare [--out NAME.png] TAG...   (H against h/d of the runs
-                               TAG ("" = the default run) in doc/img/pasha_indent_compare.png)
+       scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
+                               the runs TAG ("" = the default run) in doc/img/NAME.png, the
+                               legend saying LABEL)
 """
 import csv
 import json
@@ -112,7 +113,9 @@ def say(text):
 def compare(tags, out="pasha_indent_compare.png"):
     """One chart of H against h/d from doc/data/pasha_indent<tag>.csv and .json."""
     series = []
-    for tag in tags:
+    for spec in tags:
+        # TAG or TAG=LABEL (the legend's label; default from the run's parameters).
+        tag, _, given = spec.partition("=")
         base = os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}")
         with open(base + ".json") as fh:
             o = json.load(fh)
@@ -121,6 +124,7 @@ def compare(tags, out="pasha_indent_compare.png"):
         label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
         if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
             label = f"D{o['d'] * 1e3:.0f} E/{o['soften']:.0f} MUR{o['mur']:g}"
+        label = given or label
         # From a penetration of one particle radius on (Pasha plots from one diameter).
         dp = o["d"] / o["d_over_dp"]
         series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))

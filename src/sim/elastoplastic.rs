@@ -15,9 +15,9 @@ use super::scene::Vec3;
 use crate::physics::jkr::Jkr;
 use crate::physics::jkr_nguyen::NguyenJkr;
 use crate::physics::pasha_linear::{self, Lin, Linear, Version};
-use crate::physics::tangential;
 use crate::physics::thornton_ning::{ThorntonNing, Tn};
 use crate::physics::{modified_jkr, pasha_linear::LinState, thornton_ning::TnState};
+use crate::physics::{tangential, walton};
 use crate::sim::model::NormalLaw;
 
 /// What the normal law of one step gives the rest of the contact: the surface energy in use
@@ -110,8 +110,18 @@ pub fn normal(
     };
     let hist = s.ext().laws().normal;
     let (now, history) = match pl.law {
-        NormalLaw::ModifiedJkr | NormalLaw::ModifiedJkrEdem => {
-            modified_jkr_step(k, pc, alpha, s.a, &mut out)
+        NormalLaw::ModifiedJkr => modified_jkr_step(k, pc, alpha, s.a, &mut out),
+        NormalLaw::ModifiedJkrEdem => {
+            let step = modified_jkr_step(k, pc, alpha, s.a, &mut out);
+            if let Some((_, a, _)) = step.0 {
+                // EDEM's friction: Mindlin's no-slip spring 8G*a capped at μ times the
+                // Hertzian part 4E*a³/(3R*) of the force (doc/contact_laws.md).
+                out.linear = Some(LinearShear {
+                    k_t: 8.0 * pc.g_star * a,
+                    limit: pc.mu * walton::friction_normal_force(pc.e_star, k.r_star, a),
+                });
+            }
+            step
         }
         NormalLaw::ThorntonNing { p_y } => {
             thornton_ning_step(k, pc, p_y, (alpha, was_touching, s.a), hist, &mut out)

@@ -696,17 +696,8 @@ fn tangential_step(
     let kt0 = 8.0 * pc.g_star * s.a;
     match laws.tangential {
         TangentialChoice::NoSlip => {
-            // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form):
-            // P_e = P + 2P_c, or the Hertzian part 4E*a³/(3R*) under `MJKR EDEM`.
-            let pe = if pc.law != 0
-                && super::elastoplastic::pair_law(laws, pc)
-                    .law
-                    .hertz_friction()
-            {
-                walton::friction_normal_force(pc.e_star, k.r_star, s.a)
-            } else {
-                p_new + 2.0 * pcrit
-            };
+            // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
+            let pe = p_new + 2.0 * pcrit;
             let step = tangential::noslip_spring(s.tforce.into(), dd.into(), kt0, pc.mu, pe);
             // Energy: work done on the spring minus the change of its stored energy.
             acc.friction += step.work - (step.energy - s.tang_energy);
