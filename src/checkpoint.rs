@@ -41,7 +41,7 @@
 //! of single material pairs (`SET PAIr`, `ContactLaws::pair_values`, read as none from
 //! older files), and may hold the new last variants `NormalLaw::Nguyen` (`SET NORmal
 //! NGUYEN`) and `NormalHistory::Nguyen`, which older files never hold; version 7 may hold
-//! the new last variant `NormalLaw::ModifiedJkrEdem` (`SET NORmal MJKR EDEM`), which older
+//! the new last variant `NormalLaw::ModifiedJkrEdem` (`SET NORmal MJKR EDEM [ROLling]`), which older
 //! files never hold, and reads version 6 with the same types. Versions 1 to 5
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and

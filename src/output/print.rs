@@ -496,7 +496,8 @@ fn normal_law_text(l: &NormalLaw) -> String {
     match *l {
         NormalLaw::Hertz => "HERTZ".into(),
         NormalLaw::ModifiedJkr => "MJKR".into(),
-        NormalLaw::ModifiedJkrEdem => "MJKR EDEM".into(),
+        NormalLaw::ModifiedJkrEdem { rolling: false } => "MJKR EDEM".into(),
+        NormalLaw::ModifiedJkrEdem { rolling: true } => "MJKR EDEM ROLLING".into(),
         NormalLaw::ThorntonNing { p_y } => format!("TNING {p_y}"),
         NormalLaw::PashaFull { k_e, k_p, k_t } => format!("PFULL {k_e} {k_p} KT {k_t}"),
         NormalLaw::PashaSimplified {

@@ -111,7 +111,7 @@ pub fn normal(
     let hist = s.ext().laws().normal;
     let (now, history) = match pl.law {
         NormalLaw::ModifiedJkr => modified_jkr_step(k, pc, alpha, s.a, &mut out),
-        NormalLaw::ModifiedJkrEdem => {
+        NormalLaw::ModifiedJkrEdem { .. } => {
             let step = modified_jkr_step(k, pc, alpha, s.a, &mut out);
             if let Some((_, a, _)) = step.0 {
                 // EDEM's friction: Mindlin's no-slip spring 8G*a capped at μ times the

@@ -123,17 +123,18 @@ pub enum NormalLaw {
     /// adhesion hysteresis; at a wall only while `α > 0`; Mindlin's tangential spring capped
     /// at μ times the Hertz force. Appended last (checkpoint format).
     Nguyen,
-    /// The modified JKR with EDEM's friction (`SET NORmal MJKR EDEM`): the Coulomb limits of
-    /// sliding and rolling taken on the repulsive (Hertzian) part of the force,
-    /// `4E*a³/(3R*)`, instead of `P + 2P_c` and `P`. Appended last (checkpoint format 7).
-    ModifiedJkrEdem,
+    /// The modified JKR with EDEM's friction (`SET NORmal MJKR EDEM [ROLling]`): the
+    /// Coulomb limit of sliding taken on the repulsive (Hertzian) part of the force,
+    /// `4E*a³/(3R*)`, instead of `P + 2P_c`; with `rolling`, the rolling moment's limit too,
+    /// instead of `P`. Appended last (checkpoint format 7).
+    ModifiedJkrEdem { rolling: bool },
 }
 
 impl NormalLaw {
-    /// Whether the Coulomb limits of sliding and rolling are on the Hertzian part of the
-    /// force (`SET NORmal MJKR EDEM`).
-    pub fn hertz_friction(self) -> bool {
-        self == NormalLaw::ModifiedJkrEdem
+    /// Whether the rolling moment's limit is on the Hertzian part of the force (`SET NORmal
+    /// MJKR EDEM ROLling`).
+    pub fn hertz_rolling(self) -> bool {
+        self == NormalLaw::ModifiedJkrEdem { rolling: true }
     }
 }
 

@@ -27,10 +27,10 @@ fn normal_stiffness(model: &Model, pc: &super::params::PairConst, s: &ContactSta
 }
 
 /// The normal force of a touching contact that bounds its rolling moment: the contact force
-/// `P`, or under `SET NORmal MJKR EDEM` the Hertzian part `4E*a³/(3R*)` (`walton::
+/// `P`, or under `SET NORmal MJKR EDEM ROLling` the Hertzian part `4E*a³/(3R*)` (`walton::
 /// friction_normal_force`), as for its sliding; `r_star` is the contact's R*.
 fn limit_force(model: &Model, pc: &super::params::PairConst, s: &ContactState, r_star: f64) -> f64 {
-    if pc.law > 0 && model.laws[pc.law as usize - 1].law.hertz_friction() {
+    if pc.law > 0 && model.laws[pc.law as usize - 1].law.hertz_rolling() {
         walton::friction_normal_force(pc.e_star, r_star, s.a)
     } else {
         s.normal_force

@@ -235,15 +235,19 @@ fn held_sphere_jkr() -> (f64, f64, f64, f64) {
     (a, f_h, p, 1.5 * pi * r * big_gamma)
 }
 
-/// `SET NORmal MJKR EDEM`: the sliding force of a sphere dragged over a wall at a fixed
-/// overlap saturates at μ times the Hertzian part of the JKR force, 4E*a³/(3R*) (EDEM's
+/// `SET NORmal MJKR EDEM [ROLling]`: the sliding force of a sphere dragged over a wall at a
+/// fixed overlap saturates at μ times the Hertzian part of the JKR force, 4E*a³/(3R*) (EDEM's
 /// "Hertz-Mindlin with JKR"), against μ(P + 2P_c) under plain MJKR; the normal force is the
 /// JKR curve's in both; across SAve/Restart.
 #[test]
 fn edem_friction_limits_sliding_on_the_hertz_part() {
     let (_, f_h, p, p_c) = held_sphere_jkr();
     let mu = 0.3;
-    for (law, limit) in [("mjkr edem", mu * f_h), ("mjkr", mu * (p + 2.0 * p_c))] {
+    for (law, limit) in [
+        ("mjkr edem", mu * f_h),
+        ("mjkr edem rolling", mu * f_h),
+        ("mjkr", mu * (p + 2.0 * p_c)),
+    ] {
         let extra = format!("friction {mu} 1\nfix 1 1 1 1 1 1 all");
         let run = trubal_json(&held_sphere(law, &extra, "1e-3 0 0 0 0 0", 1500), &[]);
         assert!(run.ok, "{}", run.stderr);
@@ -260,15 +264,15 @@ fn edem_friction_limits_sliding_on_the_hertz_part() {
     }
 }
 
-/// `SET NORmal MJKR EDEM` with `SET ROLling μ_r`: a sphere held in place on a wall spinning
-/// without sliding friction slows at I dω/dt = μ_r R F_n, with F_n the Hertzian part of the
-/// force (EDEM) or the force P (plain MJKR), Newton's law for the sphere.
+/// `SET NORmal MJKR EDEM ROLling` with `SET ROLling μ_r`: a sphere held in place on a wall
+/// spinning without sliding friction slows at I dω/dt = μ_r R F_n, with F_n the Hertzian part
+/// of the force, or the force P (`MJKR EDEM`, plain MJKR), Newton's law for the sphere.
 #[test]
 fn edem_friction_limits_rolling_on_the_hertz_part() {
     let (_, f_h, p, _) = held_sphere_jkr();
     let (mu_r, w0, r): (f64, f64, f64) = (0.1, 1e4, 1e-3);
     let inertia = 0.4 * 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(5);
-    for (law, f_n) in [("mjkr edem", f_h), ("mjkr", p)] {
+    for (law, f_n) in [("mjkr edem rolling", f_h), ("mjkr edem", p), ("mjkr", p)] {
         let extra = format!("friction 0 1\nset rolling {mu_r} 1\nfix 1 1 1 0 0 0 all");
         let run = trubal_json(
             &held_sphere(law, &extra, &format!("0 0 0 0 {w0} 0"), 500),
@@ -288,7 +292,11 @@ fn edem_friction_limits_rolling_on_the_hertz_part() {
 
 #[test]
 fn edem_option_belongs_to_mjkr_only() {
-    for line in ["set normal tning 1e8 edem", "set normal hertz edem"] {
+    for line in [
+        "set normal tning 1e8 edem",
+        "set normal hertz edem",
+        "set normal mjkr rolling",
+    ] {
         let run = trubal_json(
             &format!("start 1 1 1 10 10 2\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\n{line}\n"),
             &[],
@@ -303,7 +311,7 @@ fn edem_option_belongs_to_mjkr_only() {
 fn print_settings_lists_the_contact_rules_as_commands() {
     let head = "start 1 1 1 10 10 2\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\nymd 1e9 2\npra 0.3 2\n\
                 density 1000 2\n";
-    let rules = "set normal mjkr edem 1\nset rolling 0.1 1 1\nset pair 1 2 friction 0.35 \
+    let rules = "set normal mjkr edem rolling 1\nset rolling 0.1 1 1\nset pair 1 2 friction 0.35 \
                  restitution 0.3\nset normal nguyen 2\nset normal pasha 1500 210 20 4e-6 1 2\n";
     let listed = |script: &str| -> Vec<String> {
         let run = trubal_json(&format!("{head}{script}print settings\n"), &[]);
@@ -320,7 +328,7 @@ fn print_settings_lists_the_contact_rules_as_commands() {
     assert_eq!(
         first,
         [
-            "SET NORmal MJKR EDEM 1",
+            "SET NORmal MJKR EDEM ROLLING 1",
             "SET NORmal NGUYEN 2",
             "SET NORmal PASHA 1500 210 20 0.000004 KT 1500 1 2",
             "SET ROLling 0.1 1 1",
