@@ -128,7 +128,12 @@ pub fn moments(scene: &mut Scene, model: &Model, dt: f64) -> [f64; 2] {
         let pc = model.pair(mi, w.material);
         let k_n = normal_stiffness(model, pc, &wp.s);
         let r_r = rolling::radius(p.radius[i], f64::INFINITY);
-        let f_n = limit_force(model, pc, &wp.s, p.radius[i]);
+        let f_n = limit_force(
+            model,
+            pc,
+            &wp.s,
+            super::walls::wall_r_star(&w.geom, p.radius[i]),
+        );
         let i_r = rolling::inertia(p.mass[i], p.radius[i], f64::INFINITY, 0.0);
         roll[i] += contact(
             &mut wp.s,

@@ -210,19 +210,34 @@ fn rolling_friction_decelerates_a_rolling_sphere() {
 /// edem`), created with the velocities `create`, then given the commands `extra` (FIX);
 /// returns the script.
 fn held_sphere(law: &str, extra: &str, create: &str, cycles: u32) -> String {
+    held_sphere_on(law, extra, create, cycles, PLANE)
+}
+
+/// The plane wall 5 µm into the sphere, and an obstacle sphere of radius 2 mm as far in.
+const PLANE: &str = "dwall p 0 0 1 0.004005 m 1";
+const OBSTACLE: &str = "dwall ob 0.005 0.005 0.002005 0.002 m 1";
+
+/// As [`held_sphere`] on the wall `wall`.
+fn held_sphere_on(law: &str, extra: &str, create: &str, cycles: u32, wall: &str) -> String {
     format!(
         "start 0.01 0.01 0.01 10 10 2\nset open all\nset tangential noslip\nrad 1e-3 1\n\
          ymd 1e8 1\npra 0.25 1\ndensity 2500 1\ncohesion 0.25 1\nset normal {law} 1\n\
-         create 0.005 0.005 0.005 {create} 1 1\n{extra}\ndwall p 0 0 1 0.004005 m 1\n\
+         create 0.005 0.005 0.005 {create} 1 1\n{extra}\n{wall}\n\
          cycle {cycles}\nsave held.sav\nnew\nrestart held.sav\ncycle {cycles}\nprint walls balls\n"
     )
 }
 
-/// The JKR contact of that sphere by its closed form, Pasha (3.41)–(3.42) solved for a by
-/// bisection: (a, the Hertzian part 4E*a³/(3R*), the force P, the pull-off force P_c).
+/// The JKR contact of that sphere on the plane by its closed form, Pasha (3.41)–(3.42)
+/// solved for a by bisection: (a, the Hertzian part 4E*a³/(3R*), the force P, the pull-off
+/// force P_c).
 fn held_sphere_jkr() -> (f64, f64, f64, f64) {
+    jkr_contact(1e-3)
+}
+
+/// The same for the effective radius `r` (on the obstacle, R* = R r_o/(R + r_o)).
+fn jkr_contact(r: f64) -> (f64, f64, f64, f64) {
     let pi = std::f64::consts::PI;
-    let (e_star, r, big_gamma, alpha) = (1e8 / (2.0 * (1.0 - 0.25f64.powi(2))), 1e-3, 0.5, 5e-6);
+    let (e_star, big_gamma, alpha) = (1e8 / (2.0 * (1.0 - 0.25f64.powi(2))), 0.5, 5e-6);
     let f = |a: f64| a * a / r - (2.0 * pi * big_gamma * a / e_star).sqrt() - alpha;
     let (mut lo, mut hi) = (1e-9, 1e-3);
     for _ in 0..200 {
@@ -272,12 +287,17 @@ fn edem_friction_limits_rolling_on_the_hertz_part() {
     let (_, f_h, p, _) = held_sphere_jkr();
     let (mu_r, w0, r): (f64, f64, f64) = (0.1, 1e4, 1e-3);
     let inertia = 0.4 * 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(5);
-    for (law, f_n) in [("mjkr edem rolling", f_h), ("mjkr edem", p), ("mjkr", p)] {
+    // On the obstacle (R* = 2/3 mm) the moment arm is still R; P_H is that contact's.
+    let (_, f_h_ob, _, _) = jkr_contact(1e-3 * 2e-3 / 3e-3);
+    for (law, f_n, wall) in [
+        ("mjkr edem rolling", f_h, PLANE),
+        ("mjkr edem", p, PLANE),
+        ("mjkr", p, PLANE),
+        ("mjkr edem rolling", f_h_ob, OBSTACLE),
+    ] {
         let extra = format!("friction 0 1\nset rolling {mu_r} 1\nfix 1 1 1 0 0 0 all");
-        let run = trubal_json(
-            &held_sphere(law, &extra, &format!("0 0 0 0 {w0} 0"), 500),
-            &[],
-        );
+        let create = format!("0 0 0 0 {w0} 0");
+        let run = trubal_json(&held_sphere_on(law, &extra, &create, 500, wall), &[]);
         assert!(run.ok, "{}", run.stderr);
         let b = &printed(&run, "balls")[0];
         let t = b["time"].as_f64().unwrap();
@@ -285,7 +305,7 @@ fn edem_friction_limits_rolling_on_the_hertz_part() {
         let want = w0 - mu_r * r * f_n * t / inertia;
         assert!(
             (w - want).abs() < 1e-9 * w0,
-            "{law}: spin {w}, Newton {want}"
+            "{law} ({wall}): spin {w}, Newton {want}"
         );
     }
 }
