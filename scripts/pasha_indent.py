@@ -28,7 +28,7 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                                [--hmax H/R] [--seed K] [--tag T] [--frac F]
                                [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
                                [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
-                               [--Gamma J/M2]
+                               [--Gamma J/M2] [--settle-mu MU] [--ball-mur MU]
   --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
                  from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
   --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
@@ -36,6 +36,10 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --Gamma G      Pasha's interface energy (work of adhesion) Gamma (0.5 J/m^2; COHesion
                  Gamma/2), scaled with --scale; 1.0 reads his 0.5 as EDEM's surface energy
   --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
+  --ball-mur MU  rolling friction between the particles and the indenter (0; Pasha's indenter
+                 is his material 1, whose rolling friction is 0.1)
+  --settle-mu MU settle with the particles' sliding friction MU and no rolling friction (a
+                 denser bed; Table 5.3's 0.15 and --mur from the consolidation on)
   --servo-div K  the piston servo's gain v / (K F) (5; more if the log warns of hunting)
   --hold 0       Pasha's procedure: the piston reverses at the target force and unloads at
                  constant speed (no servo; the default 1 holds the target with the servo first)
@@ -184,6 +188,8 @@ def main():
     from_unloaded = arg(argv, "--from", "")
     from_settled = arg(argv, "--from-settled", "")
     gsettle = arg(argv, "--gsettle", 1.0)
+    settle_mu = arg(argv, "--settle-mu", -1.0)
+    ball_mur = arg(argv, "--ball-mur", 0.0)
     servo_div = arg(argv, "--servo-div", 5.0)
     hold = arg(argv, "--hold", 1)
     unload_rate = arg(argv, "--unload-rate", 0.0)
@@ -266,6 +272,9 @@ def main():
             # --gsettle k the bed settles under k g (a shorter fall), then under g again.
             if gsettle != 1.0:
                 tr.send(f"gravity 0 0 {-G * gsettle!r}")
+            if settle_mu >= 0:
+                tr.send(f"friction {settle_mu!r} 1\nset rolling 0 1 1")
+                out["settle_mu"] = settle_mu
             chunk = 5000
             settle = 0
             while True:
@@ -283,6 +292,10 @@ def main():
                 tr.cycle(5000)
                 settle += 5000
             out["gsettle"] = gsettle
+            if settle_mu >= 0:
+                # Table 5.3's friction and the run's rolling friction from here on (the
+                # settled bed is saved with them).
+                tr.send(f"friction 0.15 1\nset rolling {mur!r} 1 1")
             tr.send(f"save settled{tag}.sav")
             out["settle_cycles"] = settle
         balls = tr.print("balls")["balls"]
@@ -388,6 +401,9 @@ def main():
     under = [b["pos"][2] + b["radius"] for b in balls
              if math.hypot(b["pos"][0] - c, b["pos"][1] - c) < d_ind / 2]
     z0 = max(under) + 0.2 * d_mean + d_ind / 2
+    if ball_mur > 0:
+        tr.send(f"set rolling {ball_mur!r} 1 3")
+        out["ball_mur"] = ball_mur
     tr.send(f"dwall ob {c!r} {c!r} {z0!r} {d_ind / 2!r} v 0 0 {-v!r} m 3")
     nwall = len(tr.print("walls")["walls"])
     travel = hmax * d_ind / 2 + 0.2 * d_mean
