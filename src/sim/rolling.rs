@@ -9,7 +9,7 @@ use super::contacts::ContactState;
 use super::params::Model;
 use super::scene::{Scene, Vec3, nearest_image};
 use super::walls::WallShape;
-use crate::physics::{rolling, tangential, walton};
+use crate::physics::{hertz, rolling, tangential, walton};
 use crate::sim::model::NormalLaw;
 
 /// The normal stiffness of a touching contact, for the rolling stiffness: `k_e` of the
@@ -28,10 +28,16 @@ fn normal_stiffness(model: &Model, pc: &super::params::PairConst, s: &ContactSta
 
 /// The normal force of a touching contact that bounds its rolling moment: the contact force
 /// `P`, or under `SET NORmal MJKR EDEM ROLling` the Hertzian part `4E*a³/(3R*)` (`walton::
-/// friction_normal_force`), as for its sliding; `r_star` is the contact's R*.
-fn limit_force(model: &Model, pc: &super::params::PairConst, s: &ContactState, r_star: f64) -> f64 {
+/// friction_normal_force`), as for its sliding; `r_star` gives the contact's R* (worked out
+/// only then).
+fn limit_force(
+    model: &Model,
+    pc: &super::params::PairConst,
+    s: &ContactState,
+    r_star: impl FnOnce() -> f64,
+) -> f64 {
     if pc.law > 0 && model.laws[pc.law as usize - 1].law.hertz_rolling() {
-        walton::friction_normal_force(pc.e_star, r_star, s.a)
+        walton::friction_normal_force(pc.e_star, r_star(), s.a)
     } else {
         s.normal_force
     }
@@ -101,8 +107,7 @@ pub fn moments(scene: &mut Scene, model: &Model, dt: f64) -> [f64; 2] {
         let r_r = rolling::radius(p.radius[i], p.radius[j]);
         let pc = model.pair(mi, mj);
         let k_n = normal_stiffness(model, pc, s);
-        let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-        let f_n = limit_force(model, pc, s, r_star);
+        let f_n = limit_force(model, pc, s, || hertz::r_star(p.radius[i], p.radius[j]));
         let i_r = rolling::inertia(p.mass[i], p.radius[i], p.mass[j], p.radius[j]);
         let m = contact(
             s,
@@ -128,12 +133,9 @@ pub fn moments(scene: &mut Scene, model: &Model, dt: f64) -> [f64; 2] {
         let pc = model.pair(mi, w.material);
         let k_n = normal_stiffness(model, pc, &wp.s);
         let r_r = rolling::radius(p.radius[i], f64::INFINITY);
-        let f_n = limit_force(
-            model,
-            pc,
-            &wp.s,
-            super::walls::wall_r_star(&w.geom, p.radius[i]),
-        );
+        let f_n = limit_force(model, pc, &wp.s, || {
+            super::walls::wall_r_star(&w.geom, p.radius[i])
+        });
         let i_r = rolling::inertia(p.mass[i], p.radius[i], f64::INFINITY, 0.0);
         roll[i] += contact(
             &mut wp.s,
