@@ -28,11 +28,13 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                                [--hmax H/R] [--seed K] [--tag T] [--frac F]
                                [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
                                [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
-                               [--Gamma J/M2] [--settle-mu MU] [--ball-mur MU]
+                               [--Gamma J/M2] [--settle-mu MU] [--ball-mur MU] [--tang T]
   --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
                  from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
   --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
                  rolling friction (SET ROLling; Pasha: mjkr, 0.1)
+  --tang T       the tangential law (SET TANgential: noslip, the default, or hm, EDEM's
+                 Hertz-Mindlin with its tangential dashpot)
   --Gamma G      Pasha's interface energy (work of adhesion) Gamma (0.5 J/m^2; COHesion
                  Gamma/2), scaled with --scale; 1.0 reads his 0.5 as EDEM's surface energy
   --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
@@ -194,6 +196,7 @@ def main():
     hold = arg(argv, "--hold", 1)
     unload_rate = arg(argv, "--unload-rate", 0.0)
     big_gamma = arg(argv, "--Gamma", 0.5)
+    tang = arg(argv, "--tang", "noslip")
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     diam, d_mean, d3 = sizes(scale)
@@ -216,7 +219,7 @@ def main():
         "np": np_, "nball": np_ + 10,
         "rnom": d_mean / 2, "rtab": " ".join(f"{d / 2:.6e} {f}" for d, f in diam),
         "E": 55e9 / soften, "Ew": 182e9 / soften, "gamma": gamma_w / 2, "frac": frac,
-        "seed": seed, "law": law, "mur": mur,
+        "seed": seed, "law": law, "mur": mur, "tang": tang,
     }
     work = os.path.join(ROOT, "target", "pasha_indent")
     os.makedirs(work, exist_ok=True)
@@ -226,6 +229,8 @@ def main():
     out = {"particles": np_, "scale": scale, "soften": soften, "d": d_ind, "die": die,
            "law": law, "mur": mur, "Gamma": gamma_w, "d_over_dp": d_ind / d_mean, "die_over_dp": die / d_mean,
            "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
+    if tang != "noslip":
+        out["tangential"] = tang
     if from_unloaded:
         # Indent the unloaded bed of run TAG (its set-up: the same --scale, --die, --bed, ...).
         with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_unloaded}.json")) as fh:
@@ -237,6 +242,7 @@ def main():
                 out[k] = prev[k]
         out["from"] = from_unloaded
         tr.send(f"restart unloaded{from_unloaded}.sav")
+        tr.send(f"set tangential {tang}")
         tr.cycle(0)
         info = tr.print("info")
         dt = info["dt"] or 0.0
@@ -247,10 +253,28 @@ def main():
     else:
         if from_settled:
             tr.send(f"restart settled{from_settled}.sav")
-            # The moduli of this run (the settled bed was made with other ones).
-            tr.send(f"ymd {55e9 / soften!r} 1\nymd {182e9 / soften!r} 2\nymd {55e9 / soften!r} 3")
+            # The moduli of this run (the settled bed was made with other ones). A bed made
+            # much softer is stiffened in steps of at most x 3.2 with 2000 cycles each: at
+            # fixed overlaps the contact forces grow with E, and a x 100 jump would blow the
+            # bed apart.
+            try:
+                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
+                    s_prev = float(json.load(fh).get("soften", soften))
+            except OSError:
+                s_prev = soften
+            ramp = []
+            s_k = s_prev
+            while s_k / soften > 3.5:
+                s_k /= 3.2
+                ramp.append(s_k)
+            for s_k in ramp + [soften]:
+                tr.send(f"ymd {55e9 / s_k!r} 1\nymd {182e9 / s_k!r} 2\nymd {55e9 / s_k!r} 3")
+                if s_k != soften:
+                    tr.cycle(2000)
+            if ramp:
+                out["stiffened_from"] = s_prev
             # The law and the rolling friction of this run (from the consolidation on).
-            tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1")
+            tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1\nset tangential {tang}")
             tr.send(f"cohesion {gamma_w / 2!r} 1")
             out["from_settled"] = from_settled
             try:

@@ -42,7 +42,9 @@
 //! older files), and may hold the new last variants `NormalLaw::Nguyen` (`SET NORmal
 //! NGUYEN`) and `NormalHistory::Nguyen`, which older files never hold; version 7 may hold
 //! the new last variant `NormalLaw::ModifiedJkrEdem` (`SET NORmal MJKR EDEM [ROLling]`), which older
-//! files never hold, and reads version 6 with the same types. Versions 1 to 5
+//! files never hold, and reads version 6 with the same types; version 8 may hold the new last
+//! variant `TangentialChoice::HertzMindlin` (`SET TANgential HM`), and reads 6 and 7 with
+//! the same types. Versions 1 to 5
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -56,7 +58,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 7;
+pub const VERSION: u32 = 8;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -216,8 +218,9 @@ fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
 
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
-        // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`.
-        6 | VERSION => decode_all::<Scene, R>(r, version),
+        // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
+        // never holding `TangentialChoice::HertzMindlin`.
+        6 | 7 | VERSION => decode_all::<Scene, R>(r, version),
         // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2

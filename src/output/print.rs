@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 use crate::analysis;
 use crate::lang::command::{ContactsFilter, PrintItem, WallGeom};
 use crate::sim::contacts::ContactState;
-use crate::sim::model::{ContactLaws, NormalLaw, Pairs};
+use crate::sim::model::{ContactLaws, NormalLaw, Pairs, TangentialChoice};
 use crate::sim::scene::Scene;
 use crate::sim::{cycle, energy, params, search};
 
@@ -432,6 +432,16 @@ fn partitions(scene: &Scene) -> (String, Value) {
     )
 }
 
+/// The tangential law as `SET TANgential` names it.
+fn tangential_name(t: TangentialChoice) -> &'static str {
+    match t {
+        TangentialChoice::Md => "Md",
+        TangentialChoice::NoSlip => "NoSlip",
+        TangentialChoice::Walton => "Walton",
+        TangentialChoice::HertzMindlin => "HM",
+    }
+}
+
 fn settings(scene: &Scene) -> (String, Value) {
     let st = &scene.settings();
     let (tol, xres) = match params::build(scene) {
@@ -439,7 +449,7 @@ fn settings(scene: &Scene) -> (String, Value) {
         Err(_) => (0.0, 0.0),
     };
     let s = format!(
-        "TOL {:.4e} m ({})  XRES {:.4e} m ({})  SMIN {}\nBRIdge {:?}  TANgential {:?}  LIQuid {:?}\n\
+        "TOL {:.4e} m ({})  XRES {:.4e} m ({})  SMIN {}\nBRIdge {:?}  TANgential {}  LIQuid {:?}\n\
          periodic x {} y {} z {}  OUTdir {}  VIEw {:?}  SNApshot {}  HIStory {}  FRAction {}  2-D {}\n",
         tol,
         if st.tol.is_some() { "set" } else { "automatic" },
@@ -453,7 +463,7 @@ fn settings(scene: &Scene) -> (String, Value) {
             .map(|x| format!("{x:.4e} m"))
             .unwrap_or_else(|| "automatic (R*/100)".into()),
         st.bridge,
-        st.tangential,
+        tangential_name(st.tangential),
         st.liquid_mode,
         st.periodic[0],
         st.periodic[1],
@@ -473,7 +483,7 @@ fn settings(scene: &Scene) -> (String, Value) {
         "print": "settings", "tol": tol, "xres": xres, "smin": st.smin,
         "contact_rules": rules,
         "bridge": format!("{:?}", st.bridge).to_lowercase(),
-        "tangential": format!("{:?}", st.tangential).to_lowercase(),
+        "tangential": tangential_name(st.tangential).to_lowercase(),
         "liquid_mode": format!("{:?}", st.liquid_mode).to_lowercase(),
         "periodic": st.periodic, "out_dir": st.out_dir, "view": format!("{:?}", st.view).to_lowercase(),
         "snapshot": st.snapshot_every, "history": st.history_every, "fraction": st.fraction,

@@ -142,6 +142,19 @@ pub fn viscous_step(x: &ViscousIn) -> (f64, f64) {
     (coef, vn)
 }
 
+/// The tangential dashpot of the Hertz–Mindlin law as EDEM and LIGGGHTS write it (`SET
+/// TANgential HM`): `C_t = ζ (2/3 m* k_t)^{1/2}` (N·s/m), with `ζ` the restitution dashpot's
+/// constant of the pair ([`super::restitution`]) and `k_t` the tangential spring's stiffness.
+/// The normal dashpot is `ζ (m* K)^{1/2} α^{1/4} = ζ (2/3 m* k_n)^{1/2}` with the Hertz
+/// stiffness `k_n = 2E*(R*α)^{1/2} = 3/2 K α^{1/2}`, so `C_t/C_n = (k_t/k_n)^{1/2}`: EDEM's
+/// `2(5/6)^{1/2} β (S m*)^{1/2}` for both, with `S_n = k_n` and `S_t = k_t` (Altair's EDEM
+/// manual, "Hertz-Mindlin (no slip)"). (Our `ζ` gives the restitution exactly; EDEM's `β`
+/// is its closed-form approximation.)
+#[inline]
+pub fn tangential_coefficient(zeta: f64, m_star: f64, k_t: f64) -> f64 {
+    zeta * (2.0 / 3.0 * m_star * k_t).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -310,5 +323,22 @@ mod tests {
         let v_new = v - dt * c * vn / m;
         let h = 0.5 * dt * c / m;
         assert!((v_new - v * (1.0 - h) / (1.0 + h)).abs() < 1e-15);
+    }
+
+    /// EDEM's Hertz–Mindlin writes both dashpots as `2(5/6)^{1/2} β (S m*)^{1/2}` with
+    /// `S_n = 2E*(R*α)^{1/2}` and `S_t = 8G*(R*α)^{1/2}`: their ratio is `(4G*/E*)^{1/2}`
+    /// whatever the overlap and mass. The normal dashpot here is the coefficient the
+    /// viscous step takes at α (`dash · (m*² R* α)^{1/4}`, `dash = ζ (4/3 E*)^{1/2}`).
+    #[test]
+    fn tangential_dashpot_stands_to_the_normal_one_as_edem_writes_them() {
+        let (e_star, g_star): (f64, f64) = (3.0e9, 1.1e9);
+        for (zeta, m, r, alpha) in [(0.3f64, 1e-6f64, 5e-4f64, 1e-7f64), (1.2, 3e-3, 2e-3, 4e-6)] {
+            let c_n = zeta * (4.0 / 3.0 * e_star).sqrt() * (m * m * r * alpha).powf(0.25);
+            let k_t = 8.0 * g_star * (r * alpha).sqrt();
+            let c_t = tangential_coefficient(zeta, m, k_t);
+            let ratio = (4.0 * g_star / e_star).sqrt();
+            assert!((c_t / c_n / ratio - 1.0).abs() < 1e-12, "{c_t} {c_n}");
+        }
+        assert_eq!(tangential_coefficient(0.0, 1.0, 1.0), 0.0);
     }
 }

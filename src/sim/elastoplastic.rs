@@ -16,9 +16,9 @@ use crate::physics::jkr::Jkr;
 use crate::physics::jkr_nguyen::NguyenJkr;
 use crate::physics::pasha_linear::{self, Lin, Linear, Version};
 use crate::physics::thornton_ning::{ThorntonNing, Tn};
+use crate::physics::{dashpot, tangential, walton};
 use crate::physics::{modified_jkr, pasha_linear::LinState, thornton_ning::TnState};
-use crate::physics::{tangential, walton};
-use crate::sim::model::NormalLaw;
+use crate::sim::model::{NormalLaw, TangentialChoice};
 
 /// What the normal law of one step gives the rest of the contact: the surface energy in use
 /// (per surface), the normal stiffness (Rayleigh's β k_n and the linear laws' dashpot), the
@@ -37,6 +37,9 @@ pub struct NormalOut {
 pub struct LinearShear {
     pub k_t: f64,
     pub limit: f64,
+    /// The tangential dashpot's coefficient (N·s/m): EDEM's and LIGGGHTS' for `MJKR EDEM`
+    /// and `NGUYEN` pairs under `SET TANgential HM`, else 0 (Pasha's linear laws have none).
+    pub damp: f64,
 }
 
 /// The pair's law (a `PairConst::law` above 0).
@@ -119,6 +122,7 @@ pub fn normal(
                 out.linear = Some(LinearShear {
                     k_t: 8.0 * pc.g_star * a,
                     limit: pc.mu * walton::friction_normal_force(pc.e_star, k.r_star, a),
+                    damp: 0.0,
                 });
             }
             step
@@ -129,6 +133,16 @@ pub fn normal(
         NormalLaw::Nguyen => nguyen_step(k, pc, pl.wall, alpha, s.a, &mut out),
         ref law => linear_step(k, pc, law, (alpha, was_touching), hist, &mut out),
     };
+    if laws.tangential == TangentialChoice::HertzMindlin
+        && matches!(
+            pl.law,
+            NormalLaw::ModifiedJkrEdem { .. } | NormalLaw::Nguyen
+        )
+        && let Some(ls) = out.linear.as_mut()
+    {
+        // EDEM's and LIGGGHTS' tangential dashpot on Mindlin's spring.
+        ls.damp = dashpot::tangential_coefficient(pc.zeta, k.m_star, ls.k_t);
+    }
     match now {
         Some((f, a, _)) => {
             if !was_touching && dt == 0.0 {
@@ -273,6 +287,7 @@ fn nguyen_step(
         out.linear = Some(LinearShear {
             k_t: law.tangential_stiffness(pc.g_star, alpha),
             limit: law.friction_bound(pc.mu, alpha),
+            damp: 0.0,
         });
     }
     (now, history)
@@ -307,6 +322,7 @@ fn linear_step(
             out.linear = Some(LinearShear {
                 k_t,
                 limit: l.friction_limit(pc.mu, force, alpha, &st),
+                damp: 0.0,
             });
             Some((force, 0.0, u))
         }
@@ -317,8 +333,9 @@ fn linear_step(
 
 /// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)
 /// with the limit (4.27)–(4.28) (`tangential::noslip_spring` with stiffness `k_t`), the
-/// friction booked as work minus the change of the stored energy; no tangential dashpot
-/// (the thesis gives none: the last step's Rayleigh force, if any, gets its second half).
+/// friction booked as work minus the change of the stored energy; the tangential dashpot
+/// `−ls.damp v_t` (none for Pasha's laws: the thesis gives none; then the last step's
+/// Rayleigh force, if any, gets its second half), booked as contact damping.
 #[inline(never)]
 pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearShear) -> Vec3 {
     let n = k.n;
@@ -333,11 +350,20 @@ pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearSh
     acc.friction += step.work - (step.energy - s.tang_energy);
     s.tang_energy = step.energy;
     s.tforce = Vec3::from(step.force);
-    acc.damping_contact += -0.5 * s.tdamp.dot(&v_t) * dt;
+    let td = if ls.damp > 0.0 {
+        -v_t * ls.damp
+    } else {
+        Vec3::zeros()
+    };
+    acc.damping_contact += -0.5 * (td + s.tdamp).dot(&v_t) * dt;
     if dt > 0.0 {
-        s.tdamp = Vec3::zeros();
+        s.tdamp = td;
     }
-    s.tforce
+    if ls.damp > 0.0 {
+        s.tforce + td
+    } else {
+        s.tforce
+    }
 }
 
 /// The dashpot coefficient of a linear-law contact, Pasha 2013 (4.24)–(4.25), with the

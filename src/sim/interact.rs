@@ -695,7 +695,7 @@ fn tangential_step(
     let p_new = s.normal_force;
     let kt0 = 8.0 * pc.g_star * s.a;
     match laws.tangential {
-        TangentialChoice::NoSlip => {
+        TangentialChoice::NoSlip | TangentialChoice::HertzMindlin => {
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
             let pe = p_new + 2.0 * pcrit;
             let step = tangential::noslip_spring(s.tforce.into(), dd.into(), kt0, pc.mu, pe);
@@ -773,11 +773,13 @@ fn tangential_step(
         }
     }
     let mut ft = s.tforce;
-    let td = if laws.beta > 0.0 {
-        -v_t * (laws.beta * kt0)
-    } else {
-        Vec3::zeros()
-    };
+    // Rayleigh's β k_t, and under `SET TANgential HM` the Hertz–Mindlin dashpot of EDEM and
+    // LIGGGHTS, ζ (2/3 m* k_t)^{1/2} (`dashpot::tangential_coefficient`).
+    let mut c_t = laws.beta * kt0;
+    if laws.tangential == TangentialChoice::HertzMindlin {
+        c_t += dashpot::tangential_coefficient(pc.zeta, k.m_star, kt0);
+    }
+    let td = if c_t > 0.0 { -v_t * c_t } else { Vec3::zeros() };
     ft += td;
     acc.damping_contact += -0.5 * (td + s.tdamp).dot(&v_t) * dt;
     if dt > 0.0 {

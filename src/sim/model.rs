@@ -75,6 +75,11 @@ pub enum TangentialChoice {
     NoSlip,
     /// Walton's incremental Mindlin–Deresiewicz (Shang 1998 (2.28)–(2.38)), `physics::walton`.
     Walton,
+    /// EDEM's and LIGGGHTS' Hertz–Mindlin tangential law: the no-slip spring of `NoSlip` and
+    /// a tangential dashpot from the pair's restitution, `C_t = ζ (2/3 m* k_t)^{1/2}`
+    /// (`physics::dashpot::tangential_coefficient`); the Mindlin springs of `SET NORmal MJKR
+    /// EDEM` and `NGUYEN` pairs take the dashpot too. Appended last (checkpoint format 8).
+    HertzMindlin,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

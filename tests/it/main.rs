@@ -17,6 +17,7 @@ mod fuzz_commands;
 mod fuzz_inputs;
 mod golden;
 mod hard_cases;
+mod hertz_mindlin;
 mod indentation;
 mod json_output;
 mod liquid;

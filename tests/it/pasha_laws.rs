@@ -235,7 +235,7 @@ fn held_sphere_jkr() -> (f64, f64, f64, f64) {
 }
 
 /// The same for the effective radius `r` (on the obstacle, R* = R r_o/(R + r_o)).
-fn jkr_contact(r: f64) -> (f64, f64, f64, f64) {
+pub(crate) fn jkr_contact(r: f64) -> (f64, f64, f64, f64) {
     let pi = std::f64::consts::PI;
     let (e_star, big_gamma, alpha) = (1e8 / (2.0 * (1.0 - 0.25f64.powi(2))), 0.5, 5e-6);
     let f = |a: f64| a * a / r - (2.0 * pi * big_gamma * a / e_star).sqrt() - alpha;
