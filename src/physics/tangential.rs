@@ -706,6 +706,7 @@ pub fn noslip_spring(t_old: [f64; 3], dd: [f64; 3], kt: f64, mu: f64, pe: f64) -
         force: [fx, fy, fz],
         work,
         energy,
+        slid: fl2 > cap * cap,
     }
 }
 
@@ -718,6 +719,8 @@ pub struct NoSlipStep {
     pub work: f64,
     /// Energy stored in the spring.
     pub energy: f64,
+    /// The spring reached its cap this step (the contact slides).
+    pub slid: bool,
 }
 
 #[inline(always)]

@@ -334,7 +334,7 @@ fn linear_step(
 /// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)
 /// with the limit (4.27)–(4.28) (`tangential::noslip_spring` with stiffness `k_t`), the
 /// friction booked as work minus the change of the stored energy; the tangential dashpot
-/// `−ls.damp v_t` (none for Pasha's laws: the thesis gives none; then the last step's
+/// `−ls.damp v_t` while the spring holds (none for Pasha's laws: the thesis gives none; then the last step's
 /// Rayleigh force, if any, gets its second half), booked as contact damping.
 #[inline(never)]
 pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearShear) -> Vec3 {
@@ -350,7 +350,8 @@ pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearSh
     acc.friction += step.work - (step.energy - s.tang_energy);
     s.tang_energy = step.energy;
     s.tforce = Vec3::from(step.force);
-    let td = if ls.damp > 0.0 {
+    // The dashpot while the spring holds (a sliding contact's force is the cap alone).
+    let td = if ls.damp > 0.0 && !step.slid {
         -v_t * ls.damp
     } else {
         Vec3::zeros()
@@ -359,7 +360,7 @@ pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearSh
     if dt > 0.0 {
         s.tdamp = td;
     }
-    if ls.damp > 0.0 {
+    if ls.damp > 0.0 && !step.slid {
         s.tforce + td
     } else {
         s.tforce

@@ -694,11 +694,13 @@ fn tangential_step(
     let dd = v_t * dt;
     let p_new = s.normal_force;
     let kt0 = 8.0 * pc.g_star * s.a;
+    let mut slid = false;
     match laws.tangential {
         TangentialChoice::NoSlip | TangentialChoice::HertzMindlin => {
             // Mindlin no-slip spring k_t = 8 G* a with a Coulomb cap μ P_e (vector form).
             let pe = p_new + 2.0 * pcrit;
             let step = tangential::noslip_spring(s.tforce.into(), dd.into(), kt0, pc.mu, pe);
+            slid = step.slid;
             // Energy: work done on the spring minus the change of its stored energy.
             acc.friction += step.work - (step.energy - s.tang_energy);
             s.tang_energy = step.energy;
@@ -774,9 +776,10 @@ fn tangential_step(
     }
     let mut ft = s.tforce;
     // Rayleigh's β k_t, and under `SET TANgential HM` the Hertz–Mindlin dashpot of EDEM and
-    // LIGGGHTS, ζ (2/3 m* k_t)^{1/2} (`dashpot::tangential_coefficient`).
+    // LIGGGHTS, ζ (2/3 m* k_t)^{1/2} (`dashpot::tangential_coefficient`), while the spring
+    // holds (a sliding contact's force is the Coulomb cap alone, as LIGGGHTS has it).
     let mut c_t = laws.beta * kt0;
-    if laws.tangential == TangentialChoice::HertzMindlin {
+    if laws.tangential == TangentialChoice::HertzMindlin && !slid {
         c_t += dashpot::tangential_coefficient(pc.zeta, k.m_star, kt0);
     }
     let td = if c_t > 0.0 { -v_t * c_t } else { Vec3::zeros() };

@@ -141,3 +141,33 @@ fn edem_and_liggghts_jkr_springs_take_the_dashpot_under_hm() {
         "NGUYEN, HM",
     );
 }
+
+/// A sliding contact's force is the Coulomb cap alone, without the dashpot (LIGGGHTS'
+/// `tangential history`: the damping only while the spring holds): the sphere dragged over
+/// the wall at a constant speed, held at its overlap, feels μ times the Hertz force.
+#[test]
+fn a_sliding_contact_has_no_tangential_dashpot() {
+    let mu = 0.3;
+    let e_star = 1e8 / (2.0 * (1.0 - 0.25f64.powi(2)));
+    let p = 4.0 / 3.0 * e_star * R.sqrt() * ALPHA.powf(1.5);
+    let s = format!(
+        "start 0.01 0.01 0.01 10 10 2\nset open all\nset tangential hm\nrad {R} 1\n\
+         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\nfriction {mu} 1\ndamping restitution {E} 1\n\
+         create 0.005 0.005 0.005 {V0} 0 0 0 0 0 1 1\nfix 1 1 1 1 1 1 all\n\
+         dwall p 0 0 1 {} m 1\ncycle 3000\nprint walls energy\n",
+        0.005 - R + ALPHA
+    );
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let w = &printed(&run, "walls")[0]["walls"][0];
+    let (ft, fz) = (
+        w["force"][0].as_f64().unwrap(),
+        w["normal_force"].as_f64().unwrap(),
+    );
+    assert!((fz / p - 1.0).abs() < 1e-9, "normal {fz}, Hertz {p}");
+    assert!(
+        (ft / (mu * p) - 1.0).abs() < 1e-9,
+        "sliding {ft}, cap {}",
+        mu * p
+    );
+}
