@@ -261,7 +261,7 @@ def main():
                 with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
                     s_prev = float(json.load(fh).get("soften", soften))
             except OSError:
-                s_prev = soften
+                s_prev = 1000.0  # (that run's summary is missing: the default --soften)
             ramp = []
             s_k = s_prev
             while s_k / soften > 3.5:
