@@ -253,15 +253,18 @@ def main():
     else:
         if from_settled:
             tr.send(f"restart settled{from_settled}.sav")
+            # The summary of the run that settled the bed (missing while that run is still
+            # going: then its --soften is taken as the default).
+            try:
+                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
+                    settled = json.load(fh)
+            except OSError:
+                settled = {}
             # The moduli of this run (the settled bed was made with other ones). A bed made
             # much softer is stiffened in steps of at most x 3.2 with 2000 cycles each: at
             # fixed overlaps the contact forces grow with E, and a x 100 jump would blow the
             # bed apart.
-            try:
-                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
-                    s_prev = float(json.load(fh).get("soften", soften))
-            except OSError:
-                s_prev = 1000.0  # (that run's summary is missing: the default --soften)
+            s_prev = float(settled.get("soften", 1000.0))
             ramp = []
             s_k = s_prev
             while s_k / soften > 3.5:
@@ -277,11 +280,8 @@ def main():
             tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1\nset tangential {tang}")
             tr.send(f"cohesion {gamma_w / 2!r} 1")
             out["from_settled"] = from_settled
-            try:
-                with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{from_settled}.json")) as fh:
-                    out["settle_cycles"] = json.load(fh).get("settle_cycles")
-            except OSError:
-                pass  # (that run still going)
+            if "settle_cycles" in settled:
+                out["settle_cycles"] = settled["settle_cycles"]
             tr.cycle(2000)
         else:
             with open(os.path.join(HERE, "pasha_indent.tru")) as fh:

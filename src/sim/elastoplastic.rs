@@ -334,8 +334,8 @@ fn linear_step(
 /// The tangential force on B of a linear-law contact: the spring `F_t = k_t α_t` (4.26)
 /// with the limit (4.27)–(4.28) (`tangential::noslip_spring` with stiffness `k_t`), the
 /// friction booked as work minus the change of the stored energy; the tangential dashpot
-/// `−ls.damp v_t` while the spring holds (none for Pasha's laws: the thesis gives none; then the last step's
-/// Rayleigh force, if any, gets its second half), booked as contact damping.
+/// `−ls.damp v_t` while the spring holds, booked as contact damping (none for Pasha's laws:
+/// the thesis gives none; then the last step's Rayleigh force, if any, gets its second half).
 #[inline(never)]
 pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearShear) -> Vec3 {
     let n = k.n;
@@ -351,7 +351,8 @@ pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearSh
     s.tang_energy = step.energy;
     s.tforce = Vec3::from(step.force);
     // The dashpot while the spring holds (a sliding contact's force is the cap alone).
-    let td = if ls.damp > 0.0 && !step.slid {
+    let damped = ls.damp > 0.0 && !step.slid;
+    let td = if damped {
         -v_t * ls.damp
     } else {
         Vec3::zeros()
@@ -360,11 +361,7 @@ pub fn shear(k: &Kin, dt: f64, s: &mut ContactState, acc: &mut Acc, ls: LinearSh
     if dt > 0.0 {
         s.tdamp = td;
     }
-    if ls.damp > 0.0 && !step.slid {
-        s.tforce + td
-    } else {
-        s.tforce
-    }
+    if damped { s.tforce + td } else { s.tforce }
 }
 
 /// The dashpot coefficient of a linear-law contact, Pasha 2013 (4.24)–(4.25), with the

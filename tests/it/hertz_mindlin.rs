@@ -27,23 +27,32 @@ fn g_star() -> f64 {
     g / (2.0 * (2.0 - 0.25))
 }
 
-/// The held sphere kicked along x; `cycles` steps, saved and restarted half-way, then the
-/// balls, walls and the energy printed every `every` steps.
-fn run(tang: &str, law: &str, cohesion: f64, prints: u32, every: u32) -> Run {
+/// The sphere on the wall at the overlap `ALPHA`, started at `V0` along x, held in the other
+/// degrees of freedom by `fix` (the step `frac` of the Rayleigh step, if given).
+fn scene(tang: &str, law: &str, cohesion: f64, mu: f64, fix: &str, frac: Option<f64>) -> String {
     let mut s = format!(
         "start 0.01 0.01 0.01 10 10 2\nset open all\nset tangential {tang}\nrad {R} 1\n\
-         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\nfriction 1 1\ndamping restitution {E} 1\n\
-         fraction {FRAC}\n"
+         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\nfriction {mu} 1\ndamping restitution {E} 1\n"
     );
+    if let Some(f) = frac {
+        s += &format!("fraction {f}\n");
+    }
     if cohesion > 0.0 {
         s += &format!("cohesion {cohesion} 1\n");
     }
     s += &format!("set normal {law} 1\n");
-    s += &format!("create 0.005 0.005 0.005 {V0} 0 0 0 0 0 1 1\nfix 0 1 1 1 1 1 all\n");
+    s += &format!("create 0.005 0.005 0.005 {V0} 0 0 0 0 0 1 1\nfix {fix} all\n");
     s += &format!("dwall p 0 0 1 {} m 1\n", 0.005 - R + ALPHA);
-    for k in 0..prints {
-        s += &format!("cycle {every}\nprint balls energy\n");
-        if k == prints / 2 {
+    s
+}
+
+/// The held sphere free along x only; 12 prints of the balls and the energy every 300
+/// steps, saved and restarted half-way.
+fn run(tang: &str, law: &str, cohesion: f64) -> Run {
+    let mut s = scene(tang, law, cohesion, 1.0, "0 1 1 1 1 1", Some(FRAC));
+    for k in 0..12 {
+        s += "cycle 300\nprint balls energy\n";
+        if k == 6 {
             s += "save hm.sav\nnew\nrestart hm.sav\n";
         }
     }
@@ -98,48 +107,35 @@ fn c_t(k_t: f64) -> f64 {
     zeta_for_restitution(E) * (2.0 / 3.0 * mass() * k_t).sqrt()
 }
 
-#[test]
-fn hertz_pair_swings_damped_with_hm_and_undamped_with_noslip() {
-    let k_t = 8.0 * g_star() * (R * ALPHA).sqrt();
-    check(
-        &run("hm", "hertz", 0.0, 12, 300),
-        k_t,
-        c_t(k_t),
-        "hertz, HM",
-    );
-    check(
-        &run("noslip", "hertz", 0.0, 12, 300),
-        k_t,
-        0.0,
-        "hertz, NOSLIP",
-    );
+/// The oscillator under each law with its spring: Hertz's `8G*(R*α)^{1/2}`; EDEM's JKR
+/// (`MJKR EDEM`) `8G*a` with the JKR contact radius (Pasha (3.42)); LIGGGHTS' (`NGUYEN`)
+/// `8G*(R*α)^{1/2}`. Damped under `HM`, undamped under `NOSLIP`.
+fn swings(cases: &[(&str, &str, f64)]) {
+    let k_h = 8.0 * g_star() * (R * ALPHA).sqrt();
+    let (a, _, _, _) = crate::pasha_laws::jkr_contact(R);
+    for &(tang, law, cohesion) in cases {
+        let k_t = if law == "mjkr edem" {
+            8.0 * g_star() * a
+        } else {
+            k_h
+        };
+        let c = if tang == "hm" { c_t(k_t) } else { 0.0 };
+        check(&run(tang, law, cohesion), k_t, c, &format!("{law}, {tang}"));
+    }
 }
 
-/// EDEM's JKR (`MJKR EDEM`): the spring 8G*a with the JKR contact radius (Pasha (3.42)).
-/// LIGGGHTS' (`NGUYEN`): 8G*(R*α)^{1/2}.
+#[test]
+fn hertz_pair_swings_damped_with_hm_and_undamped_with_noslip() {
+    swings(&[("hm", "hertz", 0.0), ("noslip", "hertz", 0.0)]);
+}
+
 #[test]
 fn edem_and_liggghts_jkr_springs_take_the_dashpot_under_hm() {
-    let (a, _, _, _) = crate::pasha_laws::jkr_contact(R);
-    let k_t = 8.0 * g_star() * a;
-    check(
-        &run("hm", "mjkr edem", 0.25, 12, 300),
-        k_t,
-        c_t(k_t),
-        "MJKR EDEM, HM",
-    );
-    check(
-        &run("noslip", "mjkr edem", 0.25, 12, 300),
-        k_t,
-        0.0,
-        "MJKR EDEM, NOSLIP",
-    );
-    let k_h = 8.0 * g_star() * (R * ALPHA).sqrt();
-    check(
-        &run("hm", "nguyen", 0.25, 12, 300),
-        k_h,
-        c_t(k_h),
-        "NGUYEN, HM",
-    );
+    swings(&[
+        ("hm", "mjkr edem", 0.25),
+        ("noslip", "mjkr edem", 0.25),
+        ("hm", "nguyen", 0.25),
+    ]);
 }
 
 /// A sliding contact's force is the Coulomb cap alone, without the dashpot (LIGGGHTS'
@@ -150,13 +146,7 @@ fn a_sliding_contact_has_no_tangential_dashpot() {
     let mu = 0.3;
     let e_star = 1e8 / (2.0 * (1.0 - 0.25f64.powi(2)));
     let p = 4.0 / 3.0 * e_star * R.sqrt() * ALPHA.powf(1.5);
-    let s = format!(
-        "start 0.01 0.01 0.01 10 10 2\nset open all\nset tangential hm\nrad {R} 1\n\
-         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\nfriction {mu} 1\ndamping restitution {E} 1\n\
-         create 0.005 0.005 0.005 {V0} 0 0 0 0 0 1 1\nfix 1 1 1 1 1 1 all\n\
-         dwall p 0 0 1 {} m 1\ncycle 3000\nprint walls energy\n",
-        0.005 - R + ALPHA
-    );
+    let s = scene("hm", "hertz", 0.0, mu, "1 1 1 1 1 1", None) + "cycle 3000\nprint walls energy\n";
     let run = trubal_json(&s, &[]);
     assert!(run.ok, "{}", run.stderr);
     let w = &printed(&run, "walls")[0]["walls"][0];
