@@ -29,6 +29,7 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                                [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
                                [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
                                [--Gamma J/M2] [--settle-mu MU] [--ball-mur MU] [--tang T]
+                               [--cut MM]
   --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
                  from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
   --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
@@ -51,6 +52,8 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
   --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
                  this run's --soften, --law and --mur
+  --cut MM       with --from-settled: delete the settled bed's particles whose centres lie
+                 above MM (DELete), to make a shallower bed with the deep bed's packing
        scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
                                the runs TAG ("" = the default run) in doc/img/NAME.png, the
                                legend saying LABEL)
@@ -197,8 +200,11 @@ def main():
     unload_rate = arg(argv, "--unload-rate", 0.0)
     big_gamma = arg(argv, "--Gamma", 0.5)
     tang = arg(argv, "--tang", "noslip")
+    cut = arg(argv, "--cut", 0.0) * 1e-3
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
+    if cut > 0 and not from_settled:
+        sys.exit("--cut needs --from-settled (it cuts a settled bed)")
     diam, d_mean, d3 = sizes(scale)
     rdie = die / 2
     area = math.pi * rdie ** 2
@@ -253,6 +259,11 @@ def main():
     else:
         if from_settled:
             tr.send(f"restart settled{from_settled}.sav")
+            if cut > 0:
+                # The particles whose centres lie above the cut go (DELete); the 2000 steps
+                # below let the new top relax before the piston comes.
+                tr.send(f"delete -1 {side + 1!r} -1 {side + 1!r} {cut!r} 10")
+                out["cut"] = cut
             # The summary of the run that settled the bed (missing while that run is still
             # going: then its --soften is taken as the default).
             try:
@@ -324,6 +335,9 @@ def main():
             out["settle_cycles"] = settle
         balls = tr.print("balls")["balls"]
         h_bed, tops = bed_top(balls)
+        if cut > 0:
+            # The solids of the particles kept.
+            vsolid = sum(4 / 3 * math.pi * b["radius"] ** 3 for b in balls)
         say(f"settled: {time.time() - t0:.0f} s, bed {h_bed:.4g} m")
         out.update({"bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
                     "solids_fraction": vsolid / (area * h_bed)})

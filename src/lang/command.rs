@@ -271,6 +271,10 @@ pub enum Command {
         size: usize,
         dist: SizeDist,
     },
+    /// `DELete x1 x2 y1 y2 z1 z2`: remove the particles whose centres lie in the box.
+    Delete {
+        bounds: [f64; 6],
+    },
     /// `MOVe nagg dx dy dz`: translate agglomerate nagg (particles and region).
     Move {
         nagg: usize,

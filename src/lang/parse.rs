@@ -103,6 +103,7 @@ pub fn command_name(c: &Command) -> &'static str {
         Probe { .. } => "PRObe",
         Radius { .. } => "RAdius",
         Move { .. } => "MOVe",
+        Delete { .. } => "DELete",
         Relax { .. } => "RELax",
         Reset => "RESEt",
         Restart { .. } => "RESTart",

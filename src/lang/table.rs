@@ -275,6 +275,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Mass density (kg/m^3) of material mtyp."
     ),
     def!(
+        "DELete",
+        "x1 x2 y1 y2 z1 z2",
+        &[],
+        false,
+        b_delete,
+        "Delete the particles whose centres lie in the box x1<=x<=x2, y1<=y<=y2, z1<=z<=z2 (e.g. to cut a settled bed to a height), with their contacts and bridges; what they held (kinetic energy, the strain energy of their contacts) leaves the energy ledger as work of commands. An error if no particle is in the box."
+    ),
+    def!(
         "DWAll",
         "P a b c d | SP a b c d | OB a b c d | CYlinder x y z ax ay az r [V vx vy vz [vr]] [M mtyp] [SE F vmax g]",
         &["P", "SP", "OB", "CYlinder", "V", "M", "SE"],
@@ -1389,6 +1397,26 @@ fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
         v2,
         ivd: ivd == 1.0,
     })
+}
+
+fn b_delete(a: &mut Args) -> Result<Command, ParseError> {
+    let mut bounds = [0.0; 6];
+    for (k, n) in ["x1", "x2", "y1", "y2", "z1", "z2"].into_iter().enumerate() {
+        let t = a.peek();
+        bounds[k] = a.real(n)?;
+        if k % 2 == 1 && bounds[k] < bounds[k - 1] {
+            let lo = ["x1", "y1", "z1"][k / 2];
+            return Err(ParseError::at(
+                t.expect("real() consumed a token"),
+                format!(
+                    "`{n}` must not be below `{lo}` ({} < {})",
+                    bounds[k],
+                    bounds[k - 1]
+                ),
+            ));
+        }
+    }
+    Ok(Command::Delete { bounds })
 }
 
 fn b_window(a: &mut Args) -> Result<Command, ParseError> {

@@ -390,6 +390,29 @@ pub fn move_agglomerate(scene: &mut Scene, nagg: usize, d: [f64; 3]) -> Result<S
     Ok(format!("moved {moved} particles of agglomerate {nagg}"))
 }
 
+/// `DELete x1 x2 y1 y2 z1 z2`: deletes the particles whose centres lie in the box (bounds
+/// included), with their contacts; the stored energy of those leaves the ledger
+/// (`cycle::delete_marked`), their kinetic energy with the session's booking of the command.
+pub fn delete_in_box(scene: &mut Scene, b: [f64; 6]) -> Result<String, String> {
+    let gone: Vec<bool> = scene
+        .particles
+        .pos
+        .iter()
+        .map(|x| (0..3).all(|k| x[k] >= b[2 * k] && x[k] <= b[2 * k + 1]))
+        .collect();
+    let n = crate::sim::cycle::delete_marked(scene, &gone);
+    if n == 0 {
+        return Err(format!(
+            "no particle has its centre in the box x {} to {}, y {} to {}, z {} to {}: nothing deleted",
+            b[0], b[1], b[2], b[3], b[4], b[5]
+        ));
+    }
+    Ok(format!(
+        "deleted {n} particles; {} remain",
+        scene.particles.len()
+    ))
+}
+
 /// `RGEnerate Seed n`: draws and discards `n` random numbers.
 pub fn discard_random(scene: &mut Scene, n: u64) -> Result<String, String> {
     for _ in 0..n {

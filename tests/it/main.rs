@@ -11,6 +11,7 @@ mod checkpoint;
 mod cli;
 mod continuation;
 mod cycle_physics;
+mod delete;
 mod doc_commands;
 mod experiments;
 mod fuzz_commands;

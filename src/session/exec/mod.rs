@@ -59,6 +59,7 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             walls,
         } => place::random(scene, *n, *size, *material, *nagg, *walls),
         Command::Move { nagg, d } => place::move_agglomerate(scene, *nagg, *d),
+        Command::Delete { bounds } => place::delete_in_box(scene, *bounds),
         Command::RgenerateSeed { n } => place::discard_random(scene, *n),
         Command::Dwall(_) | Command::Awall { .. } => walls_cmd::apply(scene, cmd),
         Command::Grid { .. } | Command::Gain { .. } | Command::Mode { .. } => {

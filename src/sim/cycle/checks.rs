@@ -411,10 +411,7 @@ pub(super) fn delete_tunnelled(scene: &mut Scene, behind: &[(usize, usize)], dt:
             scene.derived.notes.push(note);
         }
     }
-    let before = crate::sim::energy::stored(scene).total();
-    let n = gone.iter().filter(|g| **g).count() as u64;
-    remove_where(scene, &gone);
-    let after = crate::sim::energy::stored(scene).total();
-    scene.ledger.commands += after - before;
-    scene.lost += n;
+    let kinetic = crate::sim::energy::kinetic(scene);
+    scene.lost += delete_marked(scene, &gone);
+    scene.ledger.commands += crate::sim::energy::kinetic(scene) - kinetic;
 }

@@ -49,6 +49,7 @@ pub use distances::*;
 use forces::*;
 use fused::View;
 use pairs::*;
+pub use update::delete_marked;
 use update::*;
 use wall_loop::*;
 

@@ -639,6 +639,25 @@ pub(super) fn remove_lost(scene: &mut Scene) -> bool {
     true
 }
 
+/// Deletes the particles marked in `gone` (`DELete`, `SET TUNnel DELETE`) and returns how
+/// many. The stored energy of their contacts (strain, bridge stretch) leaves the books with
+/// them, as work of commands; their kinetic energy is the caller's to book (the session books
+/// it around every command, `Scene::booked_edit`).
+pub fn delete_marked(scene: &mut Scene, gone: &[bool]) -> u64 {
+    let n = gone.iter().filter(|g| **g).count() as u64;
+    if n == 0 {
+        return 0;
+    }
+    let held = |s: &Scene| {
+        let st = crate::sim::energy::stored(s);
+        st.total() - st.kinetic_translation - st.kinetic_rotation
+    };
+    let before = held(scene);
+    remove_where(scene, gone);
+    scene.ledger.commands += held(scene) - before;
+    n
+}
+
 /// Removes the particles marked in `gone`, with their pairs and wall pairs (the indices of
 /// the others re-mapped).
 pub(super) fn remove_where(scene: &mut Scene, gone: &[bool]) {
