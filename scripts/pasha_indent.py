@@ -336,8 +336,9 @@ def main():
         balls = tr.print("balls")["balls"]
         h_bed, tops = bed_top(balls)
         if cut > 0:
-            # The solids of the particles kept.
+            # The solids and the mass of the particles kept (the rest criterion's m g d_p).
             vsolid = sum(4 / 3 * math.pi * b["radius"] ** 3 for b in balls)
+            mass = 2456 * vsolid
         say(f"settled: {time.time() - t0:.0f} s, bed {h_bed:.4g} m")
         out.update({"bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
                     "solids_fraction": vsolid / (area * h_bed)})
