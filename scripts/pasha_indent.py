@@ -29,7 +29,7 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                                [--die MM] [--bed MM] [--law hertz|mjkr] [--mur MU]
                                [--gsettle K] [--saves K] [--from TAG | --from-settled TAG]
                                [--Gamma J/M2] [--settle-mu MU] [--ball-mur MU] [--tang T]
-                               [--cut MM]
+                               [--cut MM] [--wall-mu MU]
   --die, --bed   the die's diameter (39 mm) and the settled bed's height (the particle count
                  from a settled solids fraction of 0.50; default: 16000 / scale^3 particles)
   --law, --mur   the particles' normal law (SET NORmal; hertz = JKR with the cohesion) and
@@ -52,6 +52,8 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --from TAG     indent the unloaded bed of run TAG again (another --d; the same set-up)
   --from-settled TAG  start from run TAG's settled bed: consolidate, unload and indent with
                  this run's --soften, --law and --mur
+  --wall-mu MU   with --from-settled: sliding friction MU between the particles and the die,
+                 floor and piston (Table 5.3: 0, "to avoid the influence of wall friction")
   --cut MM       with --from-settled: delete the settled bed's particles whose centres lie
                  above MM (DELete), to make a shallower bed with the deep bed's packing
        scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
@@ -201,6 +203,7 @@ def main():
     big_gamma = arg(argv, "--Gamma", 0.5)
     tang = arg(argv, "--tang", "noslip")
     cut = arg(argv, "--cut", 0.0) * 1e-3
+    wall_mu = arg(argv, "--wall-mu", 0.0)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     if cut > 0 and not from_settled:
@@ -290,6 +293,10 @@ def main():
             # The law and the rolling friction of this run (from the consolidation on).
             tr.send(f"set normal {law} 1\nset rolling {mur!r} 1 1\nset tangential {tang}")
             tr.send(f"cohesion {gamma_w / 2!r} 1")
+            if wall_mu > 0:
+                # Friction between the particles and the die, floor and piston (Table 5.3: 0).
+                tr.send(f"set pair 1 2 friction {wall_mu!r}")
+                out["wall_mu"] = wall_mu
             out["from_settled"] = from_settled
             if "settle_cycles" in settled:
                 out["settle_cycles"] = settled["settle_cycles"]
