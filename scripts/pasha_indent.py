@@ -117,6 +117,11 @@ class Trubal:
         self.p.wait()
 
 
+def steps_in(t, dt):
+    """The steps of dt in the time t (0 if the step is not known)."""
+    return int(t / dt) if dt > 0 else 0
+
+
 def say(text):
     print(text, file=sys.stderr, flush=True)
 
@@ -319,6 +324,10 @@ def main():
                 out["settle_mu"] = settle_mu
             chunk = 5000
             settle = 0
+            # The caps on the steps of each stage scale with the step (at E = 55 GPa and
+            # Pasha's 1/s the stages take millions of steps); they bind only if a stage fails.
+            fall = math.sqrt(2 * hgen / (G * gsettle))
+            settle_cap = max(400000, steps_in(10 * fall, dt))
             while True:
                 tr.cycle(chunk)
                 settle += chunk
@@ -327,7 +336,11 @@ def main():
                 if settle % 20000 == 0:
                     say(f"  settling: {settle} cycles, kinetic {kin:.3g} J, {time.time() - t0:.0f} s")
                 if (settle * dt > math.sqrt(2 * hgen / (G * gsettle))
-                        and kin < 1e-4 * mass * G * gsettle * d_mean) or settle > 400000:
+                        and kin < 1e-4 * mass * G * gsettle * d_mean):
+                    break
+                if settle > settle_cap:
+                    say(f"  WARNING: settling stopped at {settle} cycles, not at rest")
+                    out["settle_capped"] = True
                     break
             if gsettle != 1.0:
                 tr.send(f"gravity 0 0 {-G!r}")
@@ -358,7 +371,9 @@ def main():
         consolidation = []
         n = 0
         f = 0.0
-        while n < 200000 and f < f_target:
+        # (The cap: 3 x the steps to travel 0.2 d_p of gap and a tenth of the bed.)
+        cons_cap = max(200000, steps_in(3 * (0.2 * d_mean + 0.1 * h_bed) / v, dt))
+        while n < cons_cap and f < f_target:
             # (Short records near the target: the overshoot is one record's travel.)
             k = 100 if f < 0.5 * f_target else 10
             tr.cycle(k)
@@ -366,6 +381,9 @@ def main():
             f = tr.print("walls")["walls"][2]["normal_force"]
             consolidation.append((n, f))
         out["cycles_to_target"] = n
+        if f < f_target:
+            say(f"  WARNING: the piston stopped at {f:.4g} N of {f_target:.4g} after {n} cycles")
+            out["target_missed"] = True
         say(f"  piston at the target after {n} cycles ({f:.4g} N of {f_target:.4g}), {time.time() - t0:.0f} s")
         out["hold"] = hold
         # The servo's gain: a fifth (1/--servo-div) of the gain that would take the whole
@@ -412,7 +430,9 @@ def main():
             tr.send(f"awall 3 v 0 0 {vu!r}")
             chunk = 20
         n = 0
-        while n < 40000:
+        # (The cap: 3 x the steps to travel a tenth of the bed at the unloading speed.)
+        unload_cap = max(40000, steps_in(3 * 0.1 / (unload_rate or rate), dt))
+        while n < unload_cap:
             tr.cycle(chunk)
             n += chunk
             if tr.print("walls")["walls"][2]["normal_force"] < 1e-2 * f_target:
