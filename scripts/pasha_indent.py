@@ -416,7 +416,12 @@ def main():
         with open(os.path.join(ROOT, "doc", "data", f"pasha_consolidation{tag}.csv"), "w", newline="") as fh:
             wr = csv.writer(fh)
             wr.writerow(["cycle", "piston_force", "target"])
-            wr.writerows([(c_, f_, f_target) for c_, f_ in consolidation])
+            # (At most about 2000 rows: at E and 1/s the piston takes millions of steps.)
+            stride = max(1, len(consolidation) // 2000)
+            kept = consolidation[::stride]
+            if kept[-1] != consolidation[-1]:
+                kept.append(consolidation[-1])
+            wr.writerows([(c_, f_, f_target) for c_, f_ in kept])
 
         say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
         # 3. Unload at the same top speed (the servo's target 0, or with --hold 0 the piston
