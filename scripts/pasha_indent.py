@@ -78,6 +78,7 @@ from lun_shear import option as arg  # noqa: E402
 TABLE_5_1 = [(0.59, 0.33), (0.72, 3.84), (0.81, 11.24), (0.90, 21.00), (1.00, 27.75),
              (1.10, 20.85), (1.19, 10.95), (1.28, 3.74), (1.41, 0.29)]
 DIE, BED, N_PASHA = 39e-3, 13e-3, 16000
+RHO = 2456  # Table 5.2, material 1 (kg/m^3; scripts/pasha_indent.tru)
 G = 9.81
 
 
@@ -313,7 +314,7 @@ def main():
         info = tr.print("info")
         dt = info["dt"] or 0.0
         out["particles"] = info["balls"]
-        mass = np_ * 2456 * math.pi / 6 * d3
+        mass = np_ * RHO * math.pi / 6 * d3
         if not from_settled:
             # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed. With
             # --gsettle k the bed settles under k g (a shorter fall), then under g again.
@@ -358,7 +359,7 @@ def main():
         if cut > 0:
             # The solids and the mass of the particles kept (the rest criterion's m g d_p).
             vsolid = sum(4 / 3 * math.pi * b["radius"] ** 3 for b in balls)
-            mass = 2456 * vsolid
+            mass = RHO * vsolid
         say(f"settled: {time.time() - t0:.0f} s, bed {h_bed:.4g} m")
         out.update({"bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
                     "solids_fraction": vsolid / (area * h_bed)})

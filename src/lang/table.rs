@@ -1400,11 +1400,25 @@ fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
 }
 
 fn b_delete(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Delete {
+        bounds: box_bounds(a, true)?,
+    })
+}
+
+fn b_window(a: &mut Args) -> Result<Command, ParseError> {
+    Ok(Command::Window {
+        bounds: box_bounds(a, false)?,
+    })
+}
+
+/// The box `x1 x2 y1 y2 z1 z2` of `Window` and `DELete`; with `ordered`, an upper bound
+/// below its lower one is an error at the upper bound.
+fn box_bounds(a: &mut Args, ordered: bool) -> Result<[f64; 6], ParseError> {
     let mut bounds = [0.0; 6];
     for (k, n) in ["x1", "x2", "y1", "y2", "z1", "z2"].into_iter().enumerate() {
         let t = a.peek();
         bounds[k] = a.real(n)?;
-        if k % 2 == 1 && bounds[k] < bounds[k - 1] {
+        if ordered && k % 2 == 1 && bounds[k] < bounds[k - 1] {
             let lo = ["x1", "y1", "z1"][k / 2];
             return Err(ParseError::at(
                 t.expect("real() consumed a token"),
@@ -1416,15 +1430,7 @@ fn b_delete(a: &mut Args) -> Result<Command, ParseError> {
             ));
         }
     }
-    Ok(Command::Delete { bounds })
-}
-
-fn b_window(a: &mut Args) -> Result<Command, ParseError> {
-    let mut bounds = [0.0; 6];
-    for (b, n) in bounds.iter_mut().zip(["x1", "x2", "y1", "y2", "z1", "z2"]) {
-        *b = a.real(n)?;
-    }
-    Ok(Command::Window { bounds })
+    Ok(bounds)
 }
 
 fn b_ymd(a: &mut Args) -> Result<Command, ParseError> {
