@@ -44,7 +44,9 @@
 //! the new last variant `NormalLaw::ModifiedJkrEdem` (`SET NORmal MJKR EDEM [ROLling]`), which older
 //! files never hold, and reads version 6 with the same types; version 8 may hold the new last
 //! variant `TangentialChoice::HertzMindlin` (`SET TANgential HM`), and reads 6 and 7 with
-//! the same types. Versions 1 to 5
+//! the same types; version 9 adds the ledger's `unbooked` (the residual commands left, which
+//! the energy audit of every Cycle measures from; read as unknown from older files).
+//! Versions 1 to 8
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -58,7 +60,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 8;
+pub const VERSION: u32 = 9;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -198,13 +200,14 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
         return Err("the checkpoint is corrupt (checksum mismatch)".into());
     }
     let mut r = payload;
-    let scene = decode_payload(version, &mut r)?;
+    let mut scene = decode_payload(version, &mut r)?;
     if !r.is_empty() {
         return Err("the checkpoint is corrupt: trailing bytes after the state".into());
     }
     scene
         .check_consistency()
         .map_err(|e| format!("the checkpoint is inconsistent: {e}"))?;
+    scene.resume_audit();
     Ok(scene)
 }
 
@@ -220,7 +223,9 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
     match version {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
-        6 | 7 | VERSION => decode_all::<Scene, R>(r, version),
+        VERSION => decode_all::<Scene, R>(r, version),
+        // Versions 6 to 8 differ in the ledger only (no `unbooked`, scene::old_ledger).
+        6..=8 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2
@@ -346,7 +351,7 @@ pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String
     between();
     f.seek(SeekFrom::Start(HEADER as u64)).map_err(cannot)?;
     let mut r = Hashing::new(BufReader::with_capacity(1 << 16, (&mut f).take(len)));
-    let scene = decode_payload(version, &mut r).map_err(at)?;
+    let mut scene = decode_payload(version, &mut r).map_err(at)?;
     let used = r.count;
     std::io::copy(&mut r, &mut std::io::sink()).map_err(cannot)?;
     if r.count != len || r.hash.0 != sum {
@@ -360,5 +365,6 @@ pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String
     scene
         .check_consistency()
         .map_err(|e| at(format!("the checkpoint is inconsistent: {e}")))?;
+    scene.resume_audit();
     Ok(scene)
 }

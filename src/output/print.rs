@@ -26,7 +26,7 @@ fn in_window(scene: &Scene, x: &crate::sim::Vec3) -> bool {
 
 /// The time step the next `Cycle` would use (0 when it cannot run).
 pub fn current_dt(scene: &Scene) -> f64 {
-    params::build(scene).map(|m| m.dt).unwrap_or(0.0)
+    crate::sim::cycle::next_step(scene)
 }
 
 /// Produces (human text, JSON object) for one item.

@@ -517,6 +517,11 @@ fn scene_command(
         }
         Command::Save { file } => {
             let name = file.clone().unwrap_or_else(|| "save.new".into());
+            if let Some(m) = crate::sim::cycle::behind_a_wall(scene) {
+                return Err(format!(
+                    "SAve refused: {m}; such a state cannot cycle (delete the particle with DELete, or move the wall with AWAll)"
+                ));
+            }
             checkpoint::save(scene, &join(dir, &name))?;
             out = format!("saved cycle {} to {name}", scene.cycle());
         }
@@ -583,15 +588,23 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
     let tail = if to < chars.len() { "..." } else { "" };
     let shown: String = chars[from..to].iter().collect();
     let width = width.min(to.saturating_sub(col - 1).max(1));
-    // A message that quotes a huge word quotes its ends.
-    let message = if e.message.chars().count() > 400 {
-        let m: Vec<char> = e.message.chars().collect();
-        let head: String = m[..200].iter().collect();
-        let tail: String = m[m.len() - 150..].iter().collect();
-        format!("{head}...{tail}")
-    } else {
-        e.message.clone()
-    };
+    // A message that quotes a huge word (a binary file's line) quotes the word's ends; a
+    // long message of ordinary words is shown whole.
+    let message = e
+        .message
+        .split(' ')
+        .map(|w| {
+            let m: Vec<char> = w.chars().collect();
+            if m.len() > 200 {
+                let head: String = m[..100].iter().collect();
+                let tail: String = m[m.len() - 60..].iter().collect();
+                format!("{head}...{tail}")
+            } else {
+                w.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ");
     format!(
         "{}:{}:{}: error: {}\n  | {lead}{shown}{tail}\n  | {}{}",
         src.name,

@@ -135,13 +135,47 @@ pub fn warning(scene: &Scene, model: &Model, fraction: f64) -> Option<String> {
     ))
 }
 
+/// `FRAction AUTO` lets no particle move by more than this fraction of its radius relative
+/// to another particle or a wall in one step.
+pub const AUTO_TRAVEL: f64 = 0.2;
+
 /// The step of `FRAction AUTO`: the scene's FRAction step `base` (with its limits for
-/// viscous and Rayleigh dashpots), or t_c/[`AUTO_STEPS`] of the fastest contact if shorter.
+/// viscous and Rayleigh dashpots), or t_c/[`AUTO_STEPS`] of the fastest contact if shorter,
+/// or the step in which a particle travels [`AUTO_TRAVEL`] of its radius relative to the
+/// fastest other particle or wall surface if shorter still (a soft particle fast enough to
+/// pass through another within a Hertz contact time is then met by the contact law, and
+/// stopped by the overlap check, instead of jumping it).
 pub fn auto_step(scene: &Scene, model: &Model, base: f64) -> f64 {
-    match shortest(scene, model) {
+    let dt = match shortest(scene, model) {
         Some(f) if f.tc / AUTO_STEPS < base => f.tc / AUTO_STEPS,
         _ => base,
+    };
+    dt.min(travel_step(scene))
+}
+
+/// The step in which no particle travels more than [`AUTO_TRAVEL`] of its radius relative to
+/// the fastest other particle or wall surface (∞ when nothing moves).
+fn travel_step(scene: &Scene) -> f64 {
+    let p = &scene.particles;
+    let (mut v1, mut i1, mut v2) = (0.0f64, usize::MAX, 0.0f64);
+    for (i, v) in p.vel.iter().enumerate() {
+        let s = v.norm();
+        if s > v1 {
+            (v2, v1, i1) = (v1, s, i);
+        } else if s > v2 {
+            v2 = s;
+        }
     }
+    let walls = scene.walls.iter().map(surface_speed).fold(0.0f64, f64::max);
+    let mut dt = f64::INFINITY;
+    for i in 0..p.len() {
+        let other = if i == i1 { v2 } else { v1 };
+        let v = p.vel[i].norm() + other.max(walls);
+        if v > 0.0 {
+            dt = dt.min(AUTO_TRAVEL * p.radius[i] / v);
+        }
+    }
+    dt
 }
 
 #[cfg(test)]

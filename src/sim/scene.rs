@@ -401,6 +401,7 @@ pub struct Scene {
     pub(in crate::sim) rng: Rng,
     pub(in crate::sim) cycle: u64,
     pub(in crate::sim) time: f64,
+    #[serde(deserialize_with = "old_ledger")]
     pub(in crate::sim) ledger: Ledger,
     /// Particles removed through open sides.
     pub(in crate::sim) lost: u64,
@@ -450,6 +451,10 @@ pub struct Derived {
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
     /// dropped by any other command before it runs: `Session::execute`).
     pub create_index: Option<super::generate::CreateIndex>,
+    /// The books' residual when the last `Cycle` ended (or its blow-up snapshot was
+    /// restored, or the scene was read from a checkpoint; 0 for a new scene): what the
+    /// residual moved by since then, commands moved (`cycle::Audit`).
+    pub audit_end: f64,
 }
 
 impl Default for Derived {
@@ -461,6 +466,7 @@ impl Default for Derived {
             reach_ext: Vec::new(),
             lattice_run: None,
             create_index: None,
+            audit_end: 0.0,
         }
     }
 }
@@ -669,6 +675,15 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
             pair_values: Vec::new(),
         }),
         _ => crate::sim::model::ContactLaws::deserialize(de),
+    }
+}
+
+/// Reads the ledger in the layout of the checkpoint being decoded: formats 1–8 had no
+/// `unbooked` (read as unknown, NaN).
+fn old_ledger<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Ledger, D::Error> {
+    match super::contacts::old::version() {
+        1..=8 => super::energy::LedgerV8::deserialize(de).map(Into::into),
+        _ => Ledger::deserialize(de),
     }
 }
 

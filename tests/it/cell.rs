@@ -450,7 +450,11 @@ fn a_hunting_servo_stops_the_cycle() {
          friction 0.3 1\ndamping restitution 0.2\nrge 100 1 1 0\ngain 1 600\nmode 1\n",
     );
     let e = s.run_line("cycle 40000 s0 2e4").unwrap_err().message;
-    assert!(e.contains("hunts"), "{e}");
+    // (The energy a hunting servo creates may stop the run first; the message names it.)
+    assert!(
+        e.contains("hunts") || (e.contains("energy runaway") && e.contains("stress servo")),
+        "{e}"
+    );
     let sc = s.scene.as_ref().unwrap();
     assert!(sc.cycle() < 40000);
 }

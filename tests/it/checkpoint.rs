@@ -471,6 +471,8 @@ fn the_whole_state_round_trips() {
     let mut sc = sc;
     sc.unchecked().contacts.clear_derived();
     sc.unchecked().derived.maybe_outside = true;
+    // (A loaded scene's energy audit measures from the residual it holds.)
+    sc.unchecked().derived.audit_end = trubal::sim::energy::residual(&sc);
     assert_eq!(format!("{sc:?}"), format!("{back:?}"));
     assert!(to_bytes(&back).unwrap() == bytes);
 }
@@ -613,24 +615,12 @@ fn flipped_bytes_are_refused() {
         for mask in [0x01u8, 0x80, 0xff] {
             let mut d = data.clone();
             d[k] ^= mask;
-            if (8..12).contains(&k)
-                && (6..VERSION).contains(&u32::from_le_bytes(d[8..12].try_into().unwrap()))
-            {
-                // Versions 6 and 7 have the layout of version 8 (they never hold `MJKR
-                // EDEM`, `SET TANgential HM`): the file is a valid older checkpoint of the
-                // same scene.
-                assert_eq!(VERSION, 8);
-                let sc = from_bytes(&d).unwrap();
-                assert_eq!(
-                    format!("{sc:?}"),
-                    format!("{:?}", from_bytes(&data).unwrap())
-                );
-                continue;
-            }
             let e = refused(&d);
             let ok = match k {
                 0..8 => e.contains("not a trubal checkpoint"),
-                8..12 => e.contains("version"),
+                // (A version this program reads, 6 to 8, has a layout without the ledger's
+                // `unbooked`: the payload ends 8 bytes early for it.)
+                8..12 => e.contains("version") || e.contains("trailing bytes"),
                 12..20 => e.contains("truncated or padded"),
                 _ => e.contains("checksum"),
             };

@@ -225,7 +225,7 @@ fn a_step_too_long_for_the_fastest_contact_warns_and_auto_follows_it() {
     let deck = |extra: &str| {
         format!(
             "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}damping restitution 0.5\n{extra}\
-             dwall p 0 0 1 0.0001\ncreate 5e-4 5e-4 5e-4 0 0 -1000 0 0 0 1 1\ncycle 150\n\
+             dwall p 0 0 1 0.0001\ncreate 5e-4 5e-4 5e-4 0 0 -1000 0 0 0 1 1\ncycle 300\n\
              print balls\n"
         )
     };
@@ -257,8 +257,12 @@ fn energy_created_slowly_stops_the_run() {
         &[],
     );
     assert!(!run.ok, "{}", run.stdout);
+    // (The oscillation may first drive the spheres through each other: that stops the run
+    // in the step it happens.)
     assert!(
-        run.stderr.contains("energy runaway") || run.stderr.contains("blow-up"),
+        run.stderr.contains("energy runaway")
+            || run.stderr.contains("blow-up")
+            || run.stderr.contains("passed into each other"),
         "{}",
         run.stderr
     );

@@ -33,3 +33,4 @@ mod sweep;
 mod terminal;
 mod threads;
 mod timestep_study;
+mod trust;

@@ -415,3 +415,220 @@ pub(super) fn delete_tunnelled(scene: &mut Scene, behind: &[(usize, usize)], dt:
     scene.lost += delete_marked(scene, &gone);
     scene.ledger.commands += crate::sim::energy::kinetic(scene) - kinetic;
 }
+
+/// A single step that moves a pair by more than this fraction of the smaller radius
+/// relative to each other can carry one particle through another without a contact state
+/// ever seeing it: such a step is checked along the particles' paths ([`after_step`]).
+pub const JUMP_FRACTION: f64 = 0.5;
+
+/// The overlaps of the stored contacts are checked whenever the particles may have moved by
+/// this fraction of the smallest radius relative to each other since the last check.
+const WATCH_FRACTION: f64 = 0.25;
+
+/// The checks after a step, when every particle has moved by v Δt and the walls by theirs
+/// (a crossing is found in the step in which it happens, so that no Cycle ends, and no
+/// `SAve` writes, a state with a particle through a wall or through another particle):
+///
+/// - a particle whose centre is behind a wall's surface (every particle when the list of
+///   candidates is due for a re-mapping, the wall pairs otherwise), or whose path went
+///   through an obstacle (`DWAll OB`) that moves by more than [`JUMP_FRACTION`] of the
+///   smallest radius in a step;
+/// - a pair whose overlap exceeds the smaller radius (one centre inside the other sphere:
+///   beyond anything a contact law holds), checked on the stored contacts whenever the
+///   particles may have moved by [`WATCH_FRACTION`] of the smallest radius since the last
+///   check (`moved` keeps that count between steps), and along the paths of the step for
+///   every pair within reach when a step moves particles by more than [`JUMP_FRACTION`] of
+///   it relative to each other.
+///
+/// `rmin`: the smallest radius of the Cycle's start (deletions only make it larger).
+pub(super) fn after_step(
+    scene: &mut Scene,
+    dt: f64,
+    rmin: f64,
+    moved: &mut f64,
+) -> Result<(), Blowup> {
+    let p = &scene.particles;
+    if p.is_empty() {
+        return Ok(());
+    }
+    // The largest distance a particle moved in this step.
+    let vmax = p
+        .vel
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.norm_squared()))
+        .sqrt();
+    let step = vmax * dt;
+    if !scene.walls.is_empty() {
+        // Every particle when the candidates are due for a re-mapping or a wall jumped by
+        // more than JUMP_FRACTION of the smallest radius (a wall within that of a particle's
+        // centre is one of its candidates).
+        let jumped = scene
+            .walls
+            .iter()
+            .any(|w| (Vec3::from(w.vel).norm() + w.vr.abs()) * dt > JUMP_FRACTION * rmin);
+        let all = jumped || scene.contacts.is_stale() || scene.contacts.needs_remap();
+        let behind = behind_walls(scene, all);
+        let through = through_obstacles(scene, dt, step, rmin);
+        if let Some(&(i, w)) = through.first() {
+            return Err(passed_obstacle(scene, (i, w), dt));
+        }
+        if !behind.is_empty() {
+            match scene.settings.tunnel {
+                TunnelAction::Stop => return Err(tunnelled(scene, &behind, dt)),
+                TunnelAction::Delete => delete_tunnelled(scene, &behind, dt),
+            }
+        }
+    }
+    *moved += 2.0 * step;
+    if 2.0 * step > JUMP_FRACTION * rmin {
+        *moved = 0.0;
+        if let Some(e) = pairs_through(scene, dt, 2.0 * step) {
+            return Err(e);
+        }
+    } else if *moved >= WATCH_FRACTION * rmin {
+        *moved = 0.0;
+        if let Some(e) = deep_contacts(scene, dt) {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
+
+/// The closest approach of the relative path `d0 → d1` (a straight segment over the step)
+/// to the origin.
+fn closest_approach(d0: Vec3, d1: Vec3) -> f64 {
+    let s = d1 - d0;
+    let ss = s.norm_squared();
+    let t = if ss > 0.0 {
+        (-d0.dot(&s) / ss).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (d0 + s * t).norm()
+}
+
+/// Particles whose path in this step went through an obstacle that moved, relative to
+/// them, by more than [`JUMP_FRACTION`] of the smallest radius (its centre passed within the
+/// obstacle's radius of theirs): (particle, wall).
+fn through_obstacles(scene: &Scene, dt: f64, step: f64, rmin: f64) -> Vec<(usize, usize)> {
+    let p = &scene.particles;
+    let mut out = Vec::new();
+    for (w, wall) in scene.walls.iter().enumerate() {
+        let WallGeom::Obstacle { centre, radius } = wall.geom else {
+            continue;
+        };
+        let vw = Vec3::from(wall.vel);
+        if !(vw.norm() * dt + step > JUMP_FRACTION * rmin) {
+            continue;
+        }
+        let c = Vec3::from(centre);
+        for i in 0..p.len() {
+            let d1 = p.pos[i] - c;
+            let d0 = d1 - (p.vel[i] - vw) * dt;
+            if closest_approach(d0, d1) < radius {
+                out.push((i, w));
+            }
+        }
+    }
+    out
+}
+
+/// The stop of a run whose particle passed through an obstacle within one step.
+fn passed_obstacle(scene: &Scene, (i, w): (usize, usize), dt: f64) -> Blowup {
+    let p = &scene.particles;
+    let wall = &scene.walls[w];
+    let rel = (p.vel[i] - Vec3::from(wall.vel)).norm();
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "particle {} passed through wall {} (an obstacle) in the step of cycle {}: relative to each other they moved {:.3e} m in a step of {:.3e} s \
+             (the particle at {:.3e} m/s, the wall at {:.3e} m/s; particle radius {:.3e} m), and its centre went through the obstacle. \
+             Hint: a smaller FRAction (or FRAction AUTO), a slower wall",
+            p.id[i],
+            w + 1,
+            scene.cycle,
+            rel * dt,
+            dt,
+            p.vel[i].norm(),
+            Vec3::from(wall.vel).norm(),
+            p.radius[i],
+        ),
+    }
+}
+
+/// A pair of particles one of which went into or through the other (index order), with the
+/// depth reached: the closest approach of their centres.
+fn pair_through(scene: &Scene, (i, j): (usize, usize), closest: f64, dt: f64) -> Blowup {
+    let p = &scene.particles;
+    let rel = (p.vel[j] - p.vel[i]).norm();
+    let (ri, rj) = (p.radius[i], p.radius[j]);
+    Blowup {
+        cycle: scene.cycle,
+        message: format!(
+            "particles {} and {} passed into each other at cycle {}: their centres came within {:.3e} m, an overlap of {:.3e} m, more than the smaller radius {:.3e} m \
+             (beyond what a contact law can hold); they move at {:.3e} and {:.3e} m/s, {:.3e} m/s relative to each other: {:.3e} m per step of {:.3e} s. \
+             Hint: a smaller FRAction (or FRAction AUTO, which limits the relative travel to a fifth of a radius a step), stiffer particles (YMD), slower ones",
+            p.id[i],
+            p.id[j],
+            scene.cycle,
+            closest,
+            ri + rj - closest,
+            ri.min(rj),
+            p.vel[i].norm(),
+            p.vel[j].norm(),
+            rel,
+            rel * dt,
+            dt,
+        ),
+    }
+}
+
+/// Stored contacts whose overlap exceeds the smaller radius.
+fn deep_contacts(scene: &Scene, dt: f64) -> Option<Blowup> {
+    let p = &scene.particles;
+    scene.contacts.iter().find_map(|c| {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let (ri, rj) = (p.radius[i], p.radius[j]);
+        (c.s.overlap > ri.min(rj)).then(|| {
+            let d = scene.branch(&p.pos[i], &p.pos[j]).norm();
+            pair_through(scene, (i, j), d.min(ri + rj - c.s.overlap), dt)
+        })
+    })
+}
+
+/// Every pair within `reach` of touching now (so every pair whose paths came within
+/// touching in this step), its centres' relative path over the step tested against the
+/// larger radius.
+fn pairs_through(scene: &Scene, dt: f64, reach: f64) -> Option<Blowup> {
+    let p = &scene.particles;
+    let (pairs, _, _) = search::candidates(scene, reach);
+    // In a deforming cell the velocities are relative to the mean field: the end state only.
+    let paths = !scene.cell.in_use();
+    pairs.iter().find_map(|c| {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let d1 = scene.branch(&p.pos[i], &p.pos[j]);
+        let closest = if paths {
+            closest_approach(d1 - (p.vel[j] - p.vel[i]) * dt, d1)
+        } else {
+            d1.norm()
+        };
+        (closest < p.radius[i].max(p.radius[j])).then(|| pair_through(scene, (i, j), closest, dt))
+    })
+}
+
+/// A particle whose centre lies behind a wall's surface (made so by commands: a Cycle never
+/// ends with one), described; `SAve` refuses such a state.
+pub fn behind_a_wall(scene: &Scene) -> Option<String> {
+    let (i, w) = *behind_walls(scene, true).first()?;
+    let p = &scene.particles;
+    let (gap, _) = WallShape::of(&scene.walls[w].geom).gap(&p.pos[i], p.radius[i]);
+    Some(format!(
+        "particle {} at ({:.4e}, {:.4e}, {:.4e}) is behind wall {}: its centre is {:.3e} m behind the wall's surface",
+        p.id[i],
+        p.pos[i].x,
+        p.pos[i].y,
+        p.pos[i].z,
+        w + 1,
+        -(gap + p.radius[i])
+    ))
+}

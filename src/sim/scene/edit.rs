@@ -284,6 +284,17 @@ impl Scene {
         self.particles.shrink_to_fit();
     }
 
+    /// After a checkpoint was read: the energy audit measures from the residual the state
+    /// holds (a checkpoint of format 8 or older does not say what commands left: all of its
+    /// residual is taken as theirs).
+    pub fn resume_audit(&mut self) {
+        let r = crate::sim::energy::residual(self);
+        if self.ledger.unbooked.is_nan() {
+            self.ledger.unbooked = r;
+        }
+        self.derived.audit_end = r;
+    }
+
     /// Pads history rows of an older checkpoint to the current columns (the missing ones
     /// read as 0).
     pub fn pad_history_rows(&mut self) {
