@@ -1,0 +1,251 @@
+//! Elastic oblique impacts of a sphere on a rigid wall against the exact Hertz–Mindlin
+//! solution: Chung & Ooi's (2011) benchmark test 6 (alumina sphere, R = 2.55 mm,
+//! E = 380 GPa, ν = 0.23, ρ = 4000 kg/m³, μ = 0.092, 3.9 m/s at 5–85° from the normal),
+//! the tangential restitution `v_t'/v_t` of the centre and the rebound spin.
+//!
+//! The exact solution is computed here, independently of the program, by the method of
+//! dimensionality reduction (MDR; Popov & Heß 2015, ch. 5–6): the Hertz contact of the
+//! sphere is the contact of a rigid 1-D profile `g(x) = x²/R` with a row of independent
+//! springs of normal stiffness `E* dx` and tangential stiffness `G dx`, `G = 4G*` (so that
+//! the whole row has `k_t = 2aG = 8G*a`). A spring at `x` is in contact while
+//! `u_z = d − x²/R > 0`, enters with zero tangential displacement, sticks (its displacement
+//! follows the rigid tangential displacement of the contact) while `G|u_x| ≤ μE*u_z` and
+//! slides at that limit otherwise, and leaves with its displacement cleared. The sum over
+//! the row is the Cattaneo–Mindlin contact for *any* history of normal and tangential
+//! displacement (Mindlin–Deresiewicz loading, unloading and reloading with a varying normal
+//! force included), exactly, not by an incremental approximation. The sphere moves as a
+//! rigid body with the lever arm `R` (as Thornton, Cummins & Cleary 2011 and the program
+//! do). The integration is fine enough (2000 springs, 20000 steps per contact) that
+//! halving both changes nothing in the fourth digit (checked below).
+//!
+//! `doc/contact_laws.md`, "Oblique impacts: which tangential law is exact where", has the
+//! chart that `write_the_comparison_chart` (ignored; run it by name) makes.
+
+use crate::common::*;
+
+/// Chung & Ooi's test 6.
+const R: f64 = 2.55e-3;
+const E: f64 = 380e9;
+const NU: f64 = 0.23;
+const RHO: f64 = 4000.0;
+const MU: f64 = 0.092;
+const V: f64 = 3.9;
+
+/// Tangential restitution of the centre `v_t'/v_t` and rebound spin (rad/s, positive in
+/// the sense of rolling along the incident tangential velocity) of the exact Hertz–Mindlin
+/// impact at `angle` degrees from the normal, by the MDR with `springs` springs and
+/// `steps` steps per Hertz contact duration.
+fn exact(angle: f64, springs: usize, steps: f64) -> (f64, f64) {
+    let m = RHO * 4.0 / 3.0 * std::f64::consts::PI * R.powi(3);
+    let inertia = 0.4 * m * R * R;
+    let e_star = E / (1.0 - NU * NU); // the wall rigid
+    let g_row = 4.0 * E / (2.0 * (1.0 + NU)) / (2.0 - NU); // 4 G*, G* = G/(2 − ν)
+    let (vn0, vt0) = (V * angle.to_radians().cos(), V * angle.to_radians().sin());
+    // The largest overlap and the duration of the Hertz impact (Johnson 1985, §11.4).
+    let d_max = (15.0 * m * vn0 * vn0 / (16.0 * e_star * R.sqrt())).powf(0.4);
+    let t_c = 3.2145 * d_max / vn0;
+    let x_max = 1.02 * (R * d_max).sqrt();
+    let dx = x_max / springs as f64;
+    let xs: Vec<f64> = (0..springs).map(|i| (i as f64 + 0.5) * dx).collect();
+    let mut u = vec![0.0; springs];
+    let dt = t_c / steps;
+    // Overlap d, approach speed vn, tangential velocity vt and spin w of the sphere, the
+    // tangential force ft on it (velocities at half steps, leap-frog).
+    let (mut d, mut vn, mut vt, mut w, mut ft): (f64, f64, f64, f64, f64) =
+        (0.0, vn0, vt0, 0.0, 0.0);
+    let mut t = 0.0;
+    while d > 0.0 || t < 0.5 * t_c {
+        let p = if d > 0.0 {
+            4.0 / 3.0 * e_star * R.sqrt() * d.powf(1.5)
+        } else {
+            0.0
+        };
+        vn -= p / m * dt;
+        vt += ft / m * dt;
+        w -= R * ft / inertia * dt;
+        d += vn * dt;
+        let du = (vt - R * w) * dt; // slip of the contact point
+        let mut sum = 0.0;
+        for (ui, x) in u.iter_mut().zip(&xs) {
+            let uz = d - x * x / R;
+            if uz <= 0.0 {
+                *ui = 0.0;
+                continue;
+            }
+            let lim = MU * e_star / g_row * uz;
+            *ui = (*ui + du).clamp(-lim, lim);
+            sum += *ui;
+        }
+        ft = -2.0 * dx * g_row * sum;
+        t += dt;
+    }
+    assert!(
+        (vn / vn0 + 1.0).abs() < 1e-4,
+        "the normal rebound is elastic"
+    );
+    (vt / vt0, w)
+}
+
+fn exact_at(angle: f64) -> (f64, f64) {
+    exact(angle, 2000, 20000.0)
+}
+
+#[test]
+fn the_exact_solution_is_converged_and_slides_where_it_must() {
+    for angle in [5.0, 10.0] {
+        let (e1, w1) = exact(angle, 1000, 10000.0);
+        let (e2, w2) = exact_at(angle);
+        assert!(
+            (e1 - e2).abs() < 1e-4 && (w1 - w2).abs() < 1e-3 * w2,
+            "{angle}"
+        );
+    }
+    // Sliding throughout (large angles): Δv_t = μ(1 + e)v_n with e = 1, and the spin from
+    // the same impulse, I ω = R m Δv_t.
+    for angle in [45.0, 80.0] {
+        let (et, w) = exact_at(angle);
+        let (vn, vt) = (
+            V * f64::to_radians(angle).cos(),
+            V * f64::to_radians(angle).sin(),
+        );
+        let dvt = 2.0 * MU * vn;
+        assert!((et - (1.0 - dvt / vt)).abs() < 1e-4, "{angle}: {et}");
+        assert!((w - 2.5 * dvt / R).abs() < 1e-3 * w, "{angle}: {w}");
+    }
+    // The values reported with issue 49 item 7 for the small angles.
+    let (et, w) = exact_at(5.0);
+    assert!(
+        (et - 0.742).abs() < 1e-3 && (w - 86.1).abs() < 0.2,
+        "{et} {w}"
+    );
+    let (_, w) = exact_at(10.0);
+    assert!((w - 239.1).abs() < 0.2, "{w}");
+}
+
+/// The rebound of the program's sphere at `angle` degrees: (tangential restitution, spin),
+/// under `SET TANgential law` (the default if empty) at the step `frac` (the default if
+/// empty). The wall is rigid (E = 1e30: E* and G* are the sphere's alone).
+fn rebound(angle: f64, law: &str, frac: &str) -> (f64, f64) {
+    let (vx, vz) = (V * angle.to_radians().sin(), -V * angle.to_radians().cos());
+    let mut s = String::from("start 0.02 0.02 0.02 10 10 2\nset open all\n");
+    if !law.is_empty() {
+        s += &format!("set tangential {law}\n");
+    }
+    if !frac.is_empty() {
+        s += &format!("fraction {frac}\n");
+    }
+    s += &format!(
+        "rad {R} 1\nymd {E} 1\npra {NU} 1\ndensity {RHO} 1\nfriction {MU} 1\n\
+         ymd 1e30 2\npra {NU} 2\ndensity {RHO} 2\nfriction {MU} 2\n\
+         dwall p 0 0 1 0.005 m 2\ncreate 0.01 0.01 {} {vx} 0 {vz} 0 0 0 1 1\n",
+        0.005 + R + 1e-7
+    );
+    // The contact lasts about 6 µs; the step is 2.8e-7 s at FRAction 0.2.
+    let cycles = if frac.is_empty() {
+        400.0
+    } else {
+        400.0 * 0.2 / frac.parse::<f64>().unwrap()
+    };
+    s += &format!("cycle {}\nprint balls\n", cycles as u64);
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let b = &printed(&run, "balls")[0]["balls"][0];
+    assert!((b["vel"][2].as_f64().unwrap() / vz + 1.0).abs() < 1e-3);
+    (
+        b["vel"][0].as_f64().unwrap() / vx,
+        b["spin"][1].as_f64().unwrap(),
+    )
+}
+
+/// The default law (`MD`) at the default step against the exact solution, within 5 %.
+fn check_default_law(angles: &[f64]) {
+    let mut bad = Vec::new();
+    for &angle in angles {
+        let (et, w) = rebound(angle, "", "");
+        let (et0, w0) = exact_at(angle);
+        if (et / et0 - 1.0).abs() > 0.05 || (w / w0 - 1.0).abs() > 0.05 {
+            bad.push(format!(
+                "{angle}°: e_t {et:.4} (exact {et0:.4}), spin {w:.1} (exact {w0:.1}) rad/s"
+            ));
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("; "));
+}
+
+#[test]
+fn chung_ooi_test_6_sliding_and_partial_slip() {
+    check_default_law(&[20.0, 45.0, 80.0]);
+}
+
+/// Fails: at 5° the default law gives e_t 0.838 (exact 0.742) and spin 54 rad/s (86), at 10°
+/// 0.664 (0.640) and 223 rad/s (239). The contact sticks while loading (T grows with P, the
+/// traction proportional to the pressure), which the Mindlin–Deresiewicz state (T and its
+/// turning points) cannot tell from a Cattaneo field of the same T: doc/contact_laws.md.
+#[test]
+#[ignore = "issue 49 item 7: the MD law is wrong at small angles; needs a new contact state"]
+fn chung_ooi_test_6_small_angles() {
+    check_default_law(&[5.0, 10.0]);
+}
+
+/// Writes doc/data/oblique_impact.csv and the charts doc/data/oblique_impact_et.png and
+/// doc/data/oblique_impact_spin.png: the exact solution and the four tangential laws at the
+/// default step (and `MD` at FRAction 0.01), 5–85°. Run by name:
+/// `cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored`.
+#[test]
+#[ignore = "writes doc/data/oblique_impact*; run by name"]
+fn write_the_comparison_chart() {
+    let angles: Vec<f64> = (1..=17).map(|k| 5.0 * k as f64).collect();
+    let runs: [(&str, &str, &str); 5] = [
+        ("MD (default)", "md", ""),
+        ("MD, FRAction 0.01", "md", "0.01"),
+        ("NOSLIP", "noslip", ""),
+        ("HM", "hm", ""),
+        ("WALTON", "walton", ""),
+    ];
+    let mut csv = String::from(
+        "# Chung & Ooi (2011) test 6: tangential restitution v_t'/v_t and rebound spin (rad/s)\n\
+         # against the angle of incidence from the normal (deg); exact: Hertz-Mindlin by the MDR.\n\
+         # Made by: cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored\n\
+         law,fraction,angle,et,spin\n",
+    );
+    let mut et_series = vec![("exact (MDR)".to_string(), Vec::new())];
+    let mut w_series = vec![("exact (MDR)".to_string(), Vec::new())];
+    for &a in &angles {
+        let (et, w) = exact_at(a);
+        csv += &format!("exact,,{a},{et:.6},{w:.4}\n");
+        et_series[0].1.push((a, et));
+        w_series[0].1.push((a, w));
+    }
+    for (name, law, frac) in runs {
+        let (mut pe, mut pw) = (Vec::new(), Vec::new());
+        for &a in &angles {
+            let (et, w) = rebound(a, law, frac);
+            let f = if frac.is_empty() { "0.2" } else { frac };
+            csv += &format!("{law},{f},{a},{et:.6},{w:.4}\n");
+            pe.push((a, et));
+            pw.push((a, w));
+        }
+        et_series.push((name.to_string(), pe));
+        w_series.push((name.to_string(), pw));
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("doc/data");
+    std::fs::write(dir.join("oblique_impact.csv"), csv).unwrap();
+    let png = trubal::sweep::chart::xy_png(
+        "Chung & Ooi test 6: tangential restitution",
+        "angle of incidence from the normal (deg)",
+        "v_t' / v_t",
+        &mut et_series,
+        false,
+    )
+    .unwrap();
+    std::fs::write(dir.join("oblique_impact_et.png"), png).unwrap();
+    let png = trubal::sweep::chart::xy_png(
+        "Chung & Ooi test 6: rebound spin",
+        "angle of incidence from the normal (deg)",
+        "spin (rad/s)",
+        &mut w_series,
+        false,
+    )
+    .unwrap();
+    std::fs::write(dir.join("oblique_impact_spin.png"), png).unwrap();
+}
