@@ -23,6 +23,7 @@ mod indentation;
 mod json_output;
 mod liquid;
 mod nguyen_jkr;
+mod oblique_impact;
 mod pair_values;
 mod pasha_laws;
 mod plot;

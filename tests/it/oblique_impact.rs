@@ -1,0 +1,391 @@
+//! Elastic oblique impacts of a sphere on a rigid wall against the exact Hertz–Mindlin
+//! solution: Chung & Ooi's (2011) benchmark test 6 (alumina sphere, R = 2.55 mm,
+//! E = 380 GPa, ν = 0.23, ρ = 4000 kg/m³, μ = 0.092, 3.9 m/s at 5–85° from the normal),
+//! the tangential restitution `v_t'/v_t` of the centre and the rebound spin.
+//!
+//! The exact solution is computed here, independently of the program, by the method of
+//! dimensionality reduction (MDR; Popov & Heß 2015, ch. 5–6): the Hertz contact of the
+//! sphere is the contact of a rigid 1-D profile `g(x) = x²/R` with a row of independent
+//! springs of normal stiffness `E* dx` and tangential stiffness `G dx`, `G = 4G*` (so that
+//! the whole row has `k_t = 2aG = 8G*a`). A spring at `x` is in contact while
+//! `u_z = d − x²/R > 0`, enters with zero tangential displacement, sticks (its displacement
+//! follows the rigid tangential displacement of the contact) while `G|u_x| ≤ μE*u_z` and
+//! slides at that limit otherwise, and leaves with its displacement cleared. The sum over
+//! the row is the Cattaneo–Mindlin contact for *any* history of normal and tangential
+//! displacement (Mindlin–Deresiewicz loading, unloading and reloading with a varying normal
+//! force included), exactly, not by an incremental approximation. The sphere moves as a
+//! rigid body with the lever arm `R` (as Thornton, Cummins & Cleary 2011 and the program
+//! do). The integration is fine enough (2000 springs, 20000 steps per contact) that
+//! halving both changes nothing in the fourth digit (checked below).
+//!
+//! `doc/contact_laws.md`, "Oblique impacts: which tangential law is exact where", has the
+//! chart that `write_the_comparison_chart` (ignored; run it by name) makes.
+
+use crate::common::*;
+
+/// Chung & Ooi's test 6.
+const R: f64 = 2.55e-3;
+const E: f64 = 380e9;
+const NU: f64 = 0.23;
+const RHO: f64 = 4000.0;
+const MU: f64 = 0.092;
+const V: f64 = 3.9;
+
+/// `E*` of the sphere on the rigid wall, and the tangential stiffness per unit length of
+/// the MDR row, `4G*` with `G* = G/(2 − ν)` (so that the row's `k_t = 2a·4G* = 8G*a`).
+fn moduli() -> (f64, f64) {
+    (
+        E / (1.0 - NU * NU),
+        4.0 * E / (2.0 * (1.0 + NU)) / (2.0 - NU),
+    )
+}
+
+/// The MDR row of springs on `[0, x_max]` (the other half by symmetry), their tangential
+/// displacements `u`.
+struct Row {
+    xs: Vec<f64>,
+    dx: f64,
+    u: Vec<f64>,
+}
+
+impl Row {
+    fn new(springs: usize, x_max: f64) -> Row {
+        let dx = x_max / springs as f64;
+        Row {
+            xs: (0..springs).map(|i| (i as f64 + 0.5) * dx).collect(),
+            dx,
+            u: vec![0.0; springs],
+        }
+    }
+
+    /// The overlap is `d`, the contact point moves by `du`: springs in contact stick or
+    /// slide at `μE*u_z/(4G*)`, the others are cleared. Returns the tangential force of the
+    /// springs (along `du`).
+    fn step(&mut self, d: f64, du: f64) -> f64 {
+        let (e_star, g_row) = moduli();
+        let mut sum = 0.0;
+        for (ui, x) in self.u.iter_mut().zip(&self.xs) {
+            let uz = d - x * x / R;
+            if uz <= 0.0 {
+                *ui = 0.0;
+                continue;
+            }
+            let lim = MU * e_star / g_row * uz;
+            *ui = (*ui + du).clamp(-lim, lim);
+            sum += *ui;
+        }
+        2.0 * self.dx * g_row * sum
+    }
+}
+
+/// The Hertz force at the overlap `d`.
+fn hertz(d: f64) -> f64 {
+    4.0 / 3.0 * moduli().0 * R.sqrt() * d.max(0.0).powf(1.5)
+}
+
+/// Tangential restitution of the centre `v_t'/v_t` and rebound spin (rad/s, positive in
+/// the sense of rolling along the incident tangential velocity) of the exact Hertz–Mindlin
+/// impact at `angle` degrees from the normal, by the MDR with `springs` springs and
+/// `steps` steps per Hertz contact duration.
+fn exact(angle: f64, springs: usize, steps: f64) -> (f64, f64) {
+    let m = RHO * 4.0 / 3.0 * std::f64::consts::PI * R.powi(3);
+    let inertia = 0.4 * m * R * R;
+    let (vn0, vt0) = (V * angle.to_radians().cos(), V * angle.to_radians().sin());
+    // The largest overlap and the duration of the Hertz impact (Johnson 1985, §11.4).
+    let d_max = (15.0 * m * vn0 * vn0 / (16.0 * moduli().0 * R.sqrt())).powf(0.4);
+    let t_c = 3.2145 * d_max / vn0;
+    let mut row = Row::new(springs, 1.02 * (R * d_max).sqrt());
+    let dt = t_c / steps;
+    // Overlap d, approach speed vn, tangential velocity vt and spin w of the sphere, the
+    // tangential force ft on it (velocities at half steps, leap-frog).
+    let (mut d, mut vn, mut vt, mut w, mut ft): (f64, f64, f64, f64, f64) =
+        (0.0, vn0, vt0, 0.0, 0.0);
+    let mut t = 0.0;
+    while d > 0.0 || t < 0.5 * t_c {
+        vn -= hertz(d) / m * dt;
+        vt += ft / m * dt;
+        w -= R * ft / inertia * dt;
+        d += vn * dt;
+        // The springs follow the slip of the contact point; their force acts against it.
+        ft = -row.step(d, (vt - R * w) * dt);
+        t += dt;
+    }
+    assert!(
+        (vn / vn0 + 1.0).abs() < 1e-4,
+        "the normal rebound is elastic"
+    );
+    (vt / vt0, w)
+}
+
+/// Why the `MD` law cannot be exact at small angles (doc/contact_laws.md): two contacts at
+/// the same normal and tangential force, one loaded tangentially together with the normal
+/// force (the traction proportional to the pressure, as in a small-angle impact), one
+/// after it (Cattaneo), unload differently when the normal force falls at a fixed
+/// tangential displacement. The numbers of the doc's table.
+#[test]
+fn proportional_and_cattaneo_fields_unload_differently() {
+    let (e_star, g_row) = moduli();
+    let d0 = 2e-5;
+    let x_max = 1.01 * (R * d0).sqrt();
+    let n = 2000;
+    // Proportional: u/limit = 1/2 everywhere.
+    let mut prop = Row::new(4000, x_max);
+    let mut t_prop = 0.0;
+    for k in 1..=n {
+        t_prop = prop.step(
+            d0 * k as f64 / n as f64,
+            0.5 * MU * e_star / g_row * d0 / n as f64,
+        );
+    }
+    assert!((t_prop / (MU * hertz(d0)) - 0.5).abs() < 1e-3);
+    // Cattaneo: the normal force first, then the tangential displacement to the same force.
+    let mut catt = Row::new(4000, x_max);
+    catt.step(d0, 0.0);
+    let k_t = 2.0 * g_row * (R * d0).sqrt();
+    let mut t_catt = 0.0;
+    while t_catt < t_prop {
+        t_catt = catt.step(d0, t_prop / k_t / 2000.0);
+    }
+    for (f, want_prop, want_catt) in [
+        (0.9, 0.992, 0.936),
+        (0.75, 0.945, 0.831),
+        (0.5, 0.707, 0.614),
+    ] {
+        let p = prop.step(f * d0, 0.0) / t_prop;
+        let c = catt.step(f * d0, 0.0) / t_catt;
+        assert!(
+            (p - want_prop).abs() < 3e-3 && (c - want_catt).abs() < 3e-3,
+            "{f}: {p} {c}"
+        );
+    }
+}
+
+fn exact_at(angle: f64) -> (f64, f64) {
+    exact(angle, 2000, 20000.0)
+}
+
+#[test]
+fn the_exact_solution_is_converged_and_slides_where_it_must() {
+    for angle in [5.0, 10.0] {
+        let (e1, w1) = exact(angle, 1000, 10000.0);
+        let (e2, w2) = exact_at(angle);
+        assert!(
+            (e1 - e2).abs() < 1e-4 && (w1 - w2).abs() < 1e-3 * w2,
+            "{angle}"
+        );
+    }
+    // Sliding throughout (large angles): Δv_t = μ(1 + e)v_n with e = 1, and the spin from
+    // the same impulse, I ω = R m Δv_t.
+    for angle in [45.0, 80.0] {
+        let (et, w) = exact_at(angle);
+        let (vn, vt) = (
+            V * f64::to_radians(angle).cos(),
+            V * f64::to_radians(angle).sin(),
+        );
+        let dvt = 2.0 * MU * vn;
+        assert!((et - (1.0 - dvt / vt)).abs() < 1e-4, "{angle}: {et}");
+        assert!((w - 2.5 * dvt / R).abs() < 1e-3 * w, "{angle}: {w}");
+    }
+    // The values reported with issue 49 item 7 for the small angles.
+    let (et, w) = exact_at(5.0);
+    assert!(
+        (et - 0.742).abs() < 1e-3 && (w - 86.1).abs() < 0.2,
+        "{et} {w}"
+    );
+    let (_, w) = exact_at(10.0);
+    assert!((w - 239.1).abs() < 0.2, "{w}");
+}
+
+/// The rebound of the program's sphere at `angle` degrees: (tangential restitution, spin),
+/// under `SET TANgential law` (the default if empty) at the step `frac` (the default if
+/// empty). The wall is rigid (E = 1e30: E* and G* are the sphere's alone).
+fn rebound(angle: f64, law: &str, frac: &str) -> (f64, f64) {
+    let (vx, vz) = (V * angle.to_radians().sin(), -V * angle.to_radians().cos());
+    let mut s = String::from("start 0.02 0.02 0.02 10 10 2\nset open all\n");
+    if !law.is_empty() {
+        s += &format!("set tangential {law}\n");
+    }
+    if !frac.is_empty() {
+        s += &format!("fraction {frac}\n");
+    }
+    s += &format!(
+        "rad {R} 1\nymd {E} 1\npra {NU} 1\ndensity {RHO} 1\nfriction {MU} 1\n\
+         ymd 1e30 2\npra {NU} 2\ndensity {RHO} 2\nfriction {MU} 2\n\
+         dwall p 0 0 1 0.005 m 2\ncreate 0.01 0.01 {} {vx} 0 {vz} 0 0 0 1 1\n",
+        0.005 + R + 1e-7
+    );
+    // The contact lasts about 6 µs; the step is 2.8e-7 s at FRAction 0.2.
+    let cycles = if frac.is_empty() {
+        400.0
+    } else {
+        400.0 * 0.2 / frac.parse::<f64>().unwrap()
+    };
+    s += &format!("cycle {}\nprint balls\n", cycles as u64);
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let b = &printed(&run, "balls")[0]["balls"][0];
+    assert!((b["vel"][2].as_f64().unwrap() / vz + 1.0).abs() < 1e-3);
+    (
+        b["vel"][0].as_f64().unwrap() / vx,
+        b["spin"][1].as_f64().unwrap(),
+    )
+}
+
+/// The default law (`MD`) at the default step against the exact solution, within 5 %.
+fn check_default_law(angles: &[f64]) {
+    let mut bad = Vec::new();
+    for &angle in angles {
+        let (et, w) = rebound(angle, "", "");
+        let (et0, w0) = exact_at(angle);
+        if (et / et0 - 1.0).abs() > 0.05 || (w / w0 - 1.0).abs() > 0.05 {
+            bad.push(format!(
+                "{angle}°: e_t {et:.4} (exact {et0:.4}), spin {w:.1} (exact {w0:.1}) rad/s"
+            ));
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("; "));
+}
+
+#[test]
+fn chung_ooi_test_6_sliding_and_partial_slip() {
+    check_default_law(&[20.0, 45.0, 80.0]);
+}
+
+/// Fails: at 5° the default law gives e_t 0.838 (exact 0.742) and spin 54 rad/s (86), at 10°
+/// 0.664 (0.640) and 223 rad/s (239). The contact sticks while loading (T grows with P, the
+/// traction proportional to the pressure), which the Mindlin–Deresiewicz state (T and its
+/// turning points) cannot tell from a Cattaneo field of the same T: doc/contact_laws.md.
+#[test]
+#[ignore = "issue 49 item 7: the MD law is wrong at small angles; needs a new contact state"]
+fn chung_ooi_test_6_small_angles() {
+    check_default_law(&[5.0, 10.0]);
+}
+
+/// Writes doc/data/oblique_impact.csv and the chart doc/data/oblique_impact.png: the exact
+/// solution and the four tangential laws at the default step (and `MD` at FRAction 0.01),
+/// 5–85°. Run by name:
+/// `cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored`.
+#[test]
+#[ignore = "writes doc/data/oblique_impact*; run by name"]
+fn write_the_comparison_chart() {
+    let angles: Vec<f64> = (1..=17).map(|k| 5.0 * k as f64).collect();
+    // (label, SET TANgential, FRAction, drawn): HM is NOSLIP here (its dashpot needs a
+    // restitution; the impact is elastic), so it is in the data but not drawn.
+    let runs: [(&str, &str, &str, bool); 5] = [
+        ("MD (default), FRAction 0.2", "md", "", true),
+        ("MD, FRAction 0.01", "md", "0.01", true),
+        ("WALTON", "walton", "", true),
+        ("NOSLIP (= HM here)", "noslip", "", true),
+        ("HM", "hm", "", false),
+    ];
+    let mut csv = String::from(
+        "# Chung & Ooi (2011) test 6: tangential restitution v_t'/v_t and rebound spin (rad/s)\n\
+         # against the angle of incidence from the normal (deg); exact: Hertz-Mindlin by the MDR.\n\
+         # Made by: cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored\n\
+         law,fraction,angle,et,spin\n",
+    );
+    type Curve = (String, Vec<(f64, f64, f64)>);
+    let mut curves: Vec<Curve> = vec![("exact (MDR)".into(), Vec::new())];
+    for &a in &angles {
+        let (et, w) = exact_at(a);
+        csv += &format!("exact,,{a},{et:.6},{w:.4}\n");
+        curves[0].1.push((a, et, w));
+    }
+    for (name, law, frac, drawn) in runs {
+        let mut pts = Vec::new();
+        for &a in &angles {
+            let (et, w) = rebound(a, law, frac);
+            let f = if frac.is_empty() { "0.2" } else { frac };
+            csv += &format!("{law},{f},{a},{et:.6},{w:.4}\n");
+            pts.push((a, et, w));
+        }
+        if drawn {
+            curves.push((name.into(), pts));
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("doc/data");
+    std::fs::write(dir.join("oblique_impact.csv"), csv).unwrap();
+    std::fs::write(dir.join("oblique_impact.png"), chart(&curves)).unwrap();
+}
+
+/// Two panels (tangential restitution, spin) against the angle, with the bundled font.
+fn chart(curves: &[(String, Vec<(f64, f64, f64)>)]) -> Vec<u8> {
+    use plotters::prelude::*;
+    const FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    let colours = [
+        RGBColor(0, 0, 0),
+        RGBColor(200, 30, 30),
+        RGBColor(240, 150, 150),
+        RGBColor(30, 90, 200),
+        RGBColor(20, 150, 40),
+    ];
+    let (w, h) = (1600u32, 700u32);
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).unwrap();
+        let root = root
+            .titled(
+                "Chung & Ooi (2011) test 6: alumina sphere on a rigid wall at 3.9 m/s",
+                ("sans-serif", 26),
+            )
+            .unwrap();
+        let panels = root.split_evenly((1, 2));
+        let specs = [
+            (
+                "tangential restitution v_t'/v_t",
+                0.55..1.0,
+                SeriesLabelPosition::LowerRight,
+            ),
+            (
+                "rebound spin (rad/s)",
+                0.0..650.0,
+                SeriesLabelPosition::UpperRight,
+            ),
+        ];
+        for (k, (panel, (y_desc, yr, pos))) in panels.iter().zip(specs).enumerate() {
+            let mut c = ChartBuilder::on(panel)
+                .margin(20)
+                .x_label_area_size(55)
+                .y_label_area_size(80)
+                .build_cartesian_2d(0.0..90.0, yr)
+                .unwrap();
+            c.configure_mesh()
+                .x_desc("angle of incidence from the normal (deg)")
+                .y_desc(y_desc)
+                .label_style(("sans-serif", 16))
+                .axis_desc_style(("sans-serif", 18))
+                .draw()
+                .unwrap();
+            for (i, (label, pts)) in curves.iter().enumerate() {
+                let col = colours[i % colours.len()];
+                let line: Vec<(f64, f64)> = pts
+                    .iter()
+                    .map(|&(a, et, w)| (a, if k == 0 { et } else { w }))
+                    .collect();
+                let width = if i == 0 { 3 } else { 2 };
+                c.draw_series(LineSeries::new(
+                    line.iter().copied(),
+                    ShapeStyle::from(&col).stroke_width(width),
+                ))
+                .unwrap()
+                .label(label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], col.stroke_width(3))
+                });
+                c.draw_series(line.iter().map(|&p| Circle::new(p, 4, col.filled())))
+                    .unwrap();
+            }
+            c.configure_series_labels()
+                .position(pos)
+                .label_font(("sans-serif", 16))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .unwrap();
+        }
+        root.present().unwrap();
+    }
+    trubal::plot::render::encode_png(w, h, &buf).unwrap()
+}
