@@ -455,6 +455,10 @@ pub struct Derived {
     /// restored, or the scene was read from a checkpoint; 0 for a new scene): what the
     /// residual moved by since then, commands moved (`cycle::Audit`).
     pub audit_end: f64,
+    /// The work the walls did on the particles in the last step (booked in
+    /// `Ledger::walls`): half of it is still in flight at the step's end
+    /// (`cycle::in_flight`).
+    pub wall_step_work: f64,
 }
 
 impl Default for Derived {
@@ -467,6 +471,7 @@ impl Default for Derived {
             lattice_run: None,
             create_index: None,
             audit_end: 0.0,
+            wall_step_work: 0.0,
         }
     }
 }

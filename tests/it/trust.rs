@@ -266,3 +266,55 @@ fn save_refuses_a_particle_behind_a_wall() {
     );
     assert!(!run.stdout.contains("saved"));
 }
+
+/// A platen servo-controlled to 1 mN on two glass spheres: at gain 100 it closes its books
+/// (tests/it/hard_cases.rs); at gain 1e4 with vmax 10 m/s it reverses at ±vmax at every step
+/// (a loop gain of 44 through the contacts' dashpots) and used to leave 8 % of the input
+/// unbooked with exit 0. Now the run stops naming the servo's hunting.
+#[test]
+fn a_hunting_wall_servo_stops_the_run() {
+    let deck = |g: f64| {
+        format!(
+            "start 1e-3 1e-3 1e-3 10 10 3\nset open all\nrad 30e-6 1\nymd 70e9 1\npra 0.3 1\ndensity 2650 1\n\
+             damping restitution 0.5\ndwall p 0 0 1 0\ncreate 3e-4 5e-4 30e-6 0 0 0 0 0 0 1 1\n\
+             create 3.6e-4 5e-4 30e-6 0 0 0 0 0 0 1 1\ndwall p 0 0 -1 -1.2e-4 se 1e-3 10 {g}\n\
+             cycle 200000\nprint energy\n"
+        )
+    };
+    let run = trubal_json(&deck(1e4), &[]);
+    assert!(!run.ok, "{}", run.stdout);
+    assert!(
+        run.stderr.contains("servo of wall 2 hunts"),
+        "{}",
+        run.stderr
+    );
+    let run = trubal_json(&deck(100.0), &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let e = &printed(&run, "energy")[0];
+    let r = e["residual"].as_f64().unwrap() / e["input"].as_f64().unwrap();
+    assert!(r.abs() < 1e-3, "{r}");
+}
+
+/// A wall that would leave particles on its wrong side says which side that is for its
+/// kind (a container, not "an indenter starts above the bed").
+#[test]
+fn a_wall_refusal_names_its_own_kind() {
+    let head = "start 0.01 0.01 0.01 10 20 6\nrad 1e-4 1\nymd 1e9 1\npra 0.3 1\ndensity 2500 1\n\
+                cr 0.001 0.001 0.001 0 0 0 0 0 0 1 1\n";
+    for (wall, says) in [
+        ("dwall sp 0.005 0.005 0.005 0.002", "outside the container"),
+        ("dwall cy 0.005 0.005 0 0 0 1 0.002", "outside the die"),
+        ("dwall p 0 0 1 0.002", "behind the plane"),
+        ("dwall ob 0.001 0.001 0.001 0.0005", "inside the obstacle"),
+    ] {
+        let run = trubal_json(&format!("{head}{wall}\n"), &[]);
+        assert!(!run.ok);
+        assert!(run.stderr.contains(says), "{wall}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.contains("indenter"),
+            wall.contains("ob"),
+            "{wall}: {}",
+            run.stderr
+        );
+    }
+}

@@ -149,11 +149,21 @@ fn particles_against(scene: &Scene, geom: &WallGeom, number: usize) -> Result<St
         }
     }
     let tunnel_stop = scene.settings().tunnel == crate::sim::scene::TunnelAction::Stop;
+    // Where the particles belong, said for the wall's kind.
+    let (side, hint) = match geom {
+        WallGeom::Plane { .. } => ("behind the plane", "on the side its normal points to"),
+        WallGeom::Sphere { .. } => ("outside the container", "inside the container"),
+        WallGeom::Cylinder { .. } => ("outside the die", "inside the die"),
+        WallGeom::Obstacle { .. } => (
+            "inside the obstacle",
+            "outside it (an indenter starts above the bed)",
+        ),
+    };
     if let Some(i) = behind
         && tunnel_stop
     {
         return Err(format!(
-            "wall {number} would leave {nbehind} particle(s) with the centre behind its surface (outside a die or container, inside an indenter), the first particle {} at ({:e}, {:e}, {:e}): move or resize the wall (an indenter starts above the bed), or SET TUNnel DELETE to have them deleted at the next Cycle",
+            "wall {number} would leave {nbehind} particle(s) with the centre {side}, the first particle {} at ({:e}, {:e}, {:e}): move or resize the wall so that the particles lie {hint}, or SET TUNnel DELETE to have them deleted at the next Cycle",
             p.id[i], p.pos[i].x, p.pos[i].y, p.pos[i].z
         ));
     }
@@ -165,7 +175,7 @@ fn particles_against(scene: &Scene, geom: &WallGeom, number: usize) -> Result<St
     }
     if cut > 0 {
         out.push_str(&format!(
-            "\nwarning: wall {number} cuts {cut} particle(s), the deepest by {:.3} of its radius: they will be pushed out at the next Cycle (an indenter starts above the bed)",
+            "\nwarning: wall {number} cuts {cut} particle(s), the deepest by {:.3} of its radius: they will be pushed out at the next Cycle (particles belong {hint})",
             deepest
         ));
     }

@@ -632,3 +632,59 @@ pub fn behind_a_wall(scene: &Scene) -> Option<String> {
         -(gap + p.radius[i])
     ))
 }
+
+/// A servo wall whose speed has changed sign at this many consecutive steps without its
+/// amplitude decaying hunts: the run stops ([`watch_servos`]).
+pub const HUNT_STEPS: u32 = 200;
+
+/// A servo's force error below this fraction of its target (or force) is a dither about
+/// the target, not hunting ([`watch_servos`]).
+pub const HUNT_ERROR: f64 = 0.01;
+
+/// What the checks after a step keep from one step to the next within a Cycle.
+#[derive(Default)]
+pub(super) struct StepWatch {
+    /// The particles' relative travel since the last check of the contacts' overlaps.
+    pub moved: f64,
+    /// Per wall: the servo's speed of the last two steps and how many consecutive steps it
+    /// changed sign without decaying.
+    servo: Vec<([f64; 2], u32)>,
+}
+
+/// A servo wall that hunts — its speed g (F − F_target), clipped to ±vmax, changing sign at
+/// every step for [`HUNT_STEPS`] steps without decaying, the force more than [`HUNT_ERROR`]
+/// off its target (a loop gain above 2, or a limit cycle at ±vmax) — stops the run: the scheme cannot book the work of a wall that reverses
+/// at every step (the books drift by several % of the input), so its results are not to be
+/// trusted. The message gives the gain that holds.
+pub(super) fn watch_servos(scene: &Scene, watch: &mut StepWatch) -> Result<(), Blowup> {
+    if watch.servo.len() != scene.walls.len() {
+        watch.servo = vec![([0.0; 2], 0); scene.walls.len()];
+    }
+    for (w, wall) in scene.walls.iter().enumerate() {
+        let Some(s) = wall.servo else { continue };
+        let err = wall.normal_force - s.force;
+        let speed = (s.gain * err).clamp(-s.vmax, s.vmax);
+        let ([last, before], flips) = &mut watch.servo[w];
+        // (A dither about the target, the force within 1 % of it, is no hunting.)
+        let large = err.abs() > HUNT_ERROR * s.force.abs().max(wall.normal_force.abs());
+        let hunting = large && speed * *last < 0.0 && speed.abs() >= 0.9 * before.abs();
+        *flips = if hunting { *flips + 1 } else { 0 };
+        (*before, *last) = (*last, speed);
+        if *flips >= HUNT_STEPS {
+            return Err(Blowup {
+                cycle: scene.cycle,
+                message: format!(
+                    "servo of wall {} hunts: its speed changed sign at each of the last {HUNT_STEPS} steps without decaying (now {speed:.3e} m/s; gain {}, vmax {}, target {} N, force {:.3e} N): \
+                     the work of a wall that reverses at every step cannot be booked, and the run's energy books would drift. \
+                     Hint: a smaller gain (the warning before the Cycle gives one that holds), a smaller vmax, or a smaller FRAction",
+                    w + 1,
+                    s.gain,
+                    s.vmax,
+                    s.force,
+                    wall.normal_force
+                ),
+            });
+        }
+    }
+    Ok(())
+}

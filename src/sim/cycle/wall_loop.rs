@@ -219,5 +219,6 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
         }
         walls::advance(w, dt);
     }
+    scene.derived.wall_step_work = wall_work;
     wall_work
 }
