@@ -48,6 +48,19 @@ pub struct Jkr {
     pub gamma: f64,
 }
 
+/// The path of one leap-frog step of a JKR contact ([`Jkr::step_force`]): the approach runs
+/// from `lo = α_{n−1/2} = α_n + v Δt/2` to `α_{n+1/2} = base − lag · P̄` (`v` the separation
+/// rate of the half step before, `base` the end without the contact's own force of the step,
+/// `lag = Δt²/(2m*)`), and the contact's energy at its start is `e_lo`
+/// ([`Jkr::branch_energy`] at `lo`; 0 for a contact snapping in within the step).
+#[derive(Clone, Copy, Debug)]
+pub struct StepPath {
+    pub lo: f64,
+    pub e_lo: f64,
+    pub base: f64,
+    pub lag: f64,
+}
+
 impl Jkr {
     /// True when adhesion is absent (`γ` not positive, or so small that `a_s` underflows), in
     /// which case every method reduces exactly to Hertz, Lian 1994 (3.14)–(3.15).
@@ -292,12 +305,19 @@ impl Jkr {
     /// continuous (`U(a_s) = 0`); equivalently use `U + W_p` (zero at snap-in) and book `W_p`
     /// when the bond breaks. Values for `a < a_s` follow the (unstable) analytic continuation.
     pub fn energy_of_a(&self, a: f64) -> f64 {
-        let a = a.max(0.0);
-        let scale = 16.0 * self.e_star / (self.r_star * self.r_star);
         if self.is_hertz() {
+            let a = a.max(0.0);
+            let scale = 16.0 * self.e_star / (self.r_star * self.r_star);
             return scale * a.powi(5) / 30.0;
         }
-        let a_s = self.a_s();
+        self.energy_of_a_with(self.a_s(), a)
+    }
+
+    /// [`Jkr::energy_of_a`] with `a_s` (3.117) given by the caller (as
+    /// [`Jkr::solve_a_with`]). Requires `γ > 0` and `a_s = self.a_s() > 0`.
+    pub fn energy_of_a_with(&self, a_s: f64, a: f64) -> f64 {
+        let a = a.max(0.0);
+        let scale = 16.0 * self.e_star / (self.r_star * self.r_star);
         let x = (a / a_s).sqrt();
         let t = x - 1.0;
         if t.abs() <= 1.0 {
@@ -315,6 +335,92 @@ impl Jkr {
             let bracket = 1.0 / 30.0 - r15 / 3.0 + r15 * r15 / 2.0 - r15 * r15 * r * r / 5.0;
             scale * a.powi(5) * bracket
         }
+    }
+
+    /// [`Jkr::peel_work`] with `a_s` given (`α_s = −3a_s²/R*`). Requires `γ > 0`.
+    pub fn peel_work_with(&self, a_s: f64) -> f64 {
+        4.0 / 45.0 * (1.0 + 6.0 * 4.0_f64.cbrt()) * self.pc() * (3.0 * a_s * a_s / self.r_star)
+    }
+
+    /// The energy of a contact on its (touching) branch at the approach `alpha`, counted from
+    /// snap-in: `E(α) = U(a(α)) + W_p` ([`Jkr::energy_of_a`], [`Jkr::peel_work`]), so that
+    /// `E(0) = 0` (snap-in at `a_0`, (3.118)) and `E(α_s) = W_p` (3.119), with the force
+    /// `dE/dα = P(α)` of (3.24) on the corrected (3.29). Beyond the separation point
+    /// (`α ≤ α_s`, (3.38)) the contact has broken: `E = W_p` and the force is 0. Returns
+    /// `(E, P, a)`, `a` the contact radius ([`Jkr::solve_a_with`], `a_s` beyond `α_s`).
+    /// `w_p` is [`Jkr::peel_work_with`]`(a_s)`.
+    pub fn branch_energy(&self, a_s: f64, w_p: f64, alpha: f64, a_guess: f64) -> (f64, f64, f64) {
+        let a = self.solve_a_with(a_s, alpha, a_guess);
+        let p = if alpha > -3.0 * a_s * a_s / self.r_star {
+            self.force_of_a(a)
+        } else {
+            0.0
+        };
+        (self.energy_of_a_with(a_s, a) + w_p, p, a)
+    }
+
+    /// The force of one leap-frog step of a JKR contact: the mean of the force over the
+    /// step's path, `P̄ = (E(α_{n+1/2}) − E_lo)/(α_{n+1/2} − α_{n−1/2})`
+    /// ([`Jkr::branch_energy`]), so that the work the step does on the particles,
+    /// `−P̄ (α_{n+1/2} − α_{n−1/2})` (the leap-frog change of kinetic energy between the
+    /// half-step velocities), is exactly the change of the contact's energy. The jumps of
+    /// the force are at their true places on the path: a contact snapping in within the
+    /// step starts from `E = 0` at `α = 0` (`E_lo = 0`; the force is 0 on the part of the
+    /// path before it), one that crosses `α_s` within it ends at `E = W_p` with no force
+    /// beyond; the step's work is then the change of `E`, and the loop's only loss is the
+    /// `W_p` (3.119) of the detachment. The sampled force `P(α_n)` is not: across a jump the
+    /// scheme's work differs from the change of `E` by `O(P_c v Δt)`, of either sign, and
+    /// at 20 m/s two glass spheres of 30 µm rebounded with `e` up to 1.00007.
+    ///
+    /// The end of the path depends on the force: `α_{n+1/2} = path.base − path.lag · P̄`
+    /// (`base`: where the pair goes without this contact's force of the step, `lag` =
+    /// `Δt²/(2m*)`). The equation `P̄ = (E(base − lag P̄) − E_lo)/(base − lag P̄ − lo)` is
+    /// solved by Newton's method from `p_guess` (its derivative `1 + lag (P(α) − P̄)/(α −
+    /// lo)` is `1 + (ωΔt)²/4` in a Hertzian contact), at most eight evaluations, stopping
+    /// where the derivative falls below 1/4; the chord of the last evaluation is returned
+    /// with the end of its path, `(P̄, α_{n+1/2})`.
+    /// On a path shorter than `1e-9` of its scale the mean is the force at its middle.
+    pub fn step_force(&self, a_s: f64, path: &StepPath, p_guess: f64, a_guess: f64) -> (f64, f64) {
+        let StepPath {
+            lo,
+            e_lo,
+            base,
+            lag,
+        } = *path;
+        let w_p = self.peel_work_with(a_s);
+        let alpha_s = -3.0 * a_s * a_s / self.r_star;
+        let mut p = if p_guess.is_finite() { p_guess } else { 0.0 };
+        let mut guess = a_guess;
+        let mut out = (p, base - lag * p);
+        for _ in 0..8 {
+            let hi = base - lag * p;
+            let d = hi - lo;
+            let scale = lo.abs().max(hi.abs()).max(-alpha_s);
+            if !(d.abs() > 1e-9 * scale) {
+                // (Also a NaN path: the force at its middle, which is then NaN too.)
+                let (_, pm, _) = self.branch_energy(a_s, w_p, 0.5 * (lo + hi), guess);
+                return (pm, hi);
+            }
+            let (e, ph, a) = self.branch_energy(a_s, w_p, hi, guess);
+            guess = a;
+            let chord = (e - e_lo) / d;
+            out = (chord, hi);
+            let g = p - chord;
+            if !(g.abs() > 1e-13 * (chord.abs() + self.pc())) {
+                break;
+            }
+            // Newton. Its derivative is ≥ 1 where the force stiffens; where it softens
+            // steeply, near α_s when the force moves the pair much farther in a step than
+            // its velocity does (quasi-static, or particles whose velocity is held, which
+            // the force does not move), the equation may have other roots far away: the
+            // chord on the path of the guess is kept.
+            let slope = 1.0 + lag * (ph - chord) / d;
+            if !(slope > 0.25) {
+                break;
+            }
+            p -= g / slope;
+        }
+        out
     }
 }
 
