@@ -339,7 +339,9 @@ impl Jkr {
 
     /// [`Jkr::peel_work`] with `a_s` given (`α_s = −3a_s²/R*`). Requires `γ > 0`.
     pub fn peel_work_with(&self, a_s: f64) -> f64 {
-        4.0 / 45.0 * (1.0 + 6.0 * 4.0_f64.cbrt()) * self.pc() * (3.0 * a_s * a_s / self.r_star)
+        // 4/45 (1 + 6·4^{1/3}) (3.119).
+        const K: f64 = 0.935_502_783_271_928_6;
+        K * self.pc() * (3.0 * a_s * a_s / self.r_star)
     }
 
     /// The energy of a contact on its (touching) branch at the approach `alpha`, counted from
@@ -376,9 +378,10 @@ impl Jkr {
     /// (`base`: where the pair goes without this contact's force of the step, `lag` =
     /// `Δt²/(2m*)`). The equation `P̄ = (E(base − lag P̄) − E_lo)/(base − lag P̄ − lo)` is
     /// solved by Newton's method from `p_guess` (its derivative `1 + lag (P(α) − P̄)/(α −
-    /// lo)` is `1 + (ωΔt)²/4` in a Hertzian contact), at most eight evaluations, stopping
-    /// where the derivative falls below 1/4; the chord of the last evaluation is returned
-    /// with the end of its path, `(P̄, α_{n+1/2})`.
+    /// lo)` is `1 + (ωΔt)²/4` in a Hertzian contact) until the end of the path moves by
+    /// less than 1e-10 of its length, or by less than 1e-5 of it with the last step taken
+    /// on the chord's tangent (usually one evaluation), at most eight, stopping where the
+    /// derivative falls below 1/4; returns `(P̄, α_{n+1/2})`.
     /// On a path shorter than `1e-9` of its scale the mean is the force at its middle.
     pub fn step_force(&self, a_s: f64, path: &StepPath, p_guess: f64, a_guess: f64) -> (f64, f64) {
         let StepPath {
@@ -406,7 +409,10 @@ impl Jkr {
             let chord = (e - e_lo) / d;
             out = (chord, hi);
             let g = p - chord;
-            if !(g.abs() > 1e-13 * (chord.abs() + self.pc())) {
+            // Converged when the end of the path moves by less than 1e-10 of the path (the
+            // step's work then misses ~1e-10 of its variation; the chord's own round-off,
+            // ε|E|/|α − lo|, keeps a path of a contact at rest from doing better).
+            if !(lag * g.abs() > 1e-10 * d.abs()) {
                 break;
             }
             // Newton. Its derivative is ≥ 1 where the force stiffens; where it softens
@@ -419,6 +425,13 @@ impl Jkr {
                 break;
             }
             p -= g / slope;
+            // A short move on the same side of α_s: the chord at the new end is its linear
+            // estimate, which is the Newton iterate itself (the work then misses
+            // ½ C'' Δh² |α − lo| < 1e-10 of the step's, C the chord as a function of the end).
+            let dh = lag * g / slope;
+            if dh.abs() <= 1e-5 * d.abs() && (hi - alpha_s) * (hi + dh - alpha_s) > 0.0 {
+                return (p, hi + dh);
+            }
         }
         out
     }
