@@ -735,6 +735,115 @@ mod tests {
         }
     }
 
+    /// `branch_energy` is the integral of the force from the touch (E(0) = 0, E(α_s) = W_p,
+    /// constant beyond), and `step_force` on the leap-frog map of one head-on impact (m* = 1
+    /// in units where the approach speed is v) gives back the kinetic energy less exactly
+    /// W_p, wherever in the step the touch falls; the sampled force P(α_n) did not.
+    #[test]
+    fn step_force_conserves_energy_on_the_leap_frog_map() {
+        let j = jkr(0.4);
+        let (a_s, als) = (j.a_s(), j.alpha_s());
+        let wp = j.peel_work_with(a_s);
+        assert!(rel(wp, j.peel_work()) < 1e-15);
+        let (e0, p0, _) = j.branch_energy(a_s, wp, 0.0, 0.0);
+        assert!(e0.abs() < 1e-12 * wp && rel(p0, -8.0 / 9.0 * j.pc()) < 1e-13);
+        let (es, ps, _) = j.branch_energy(a_s, wp, als, 0.0);
+        assert!(rel(es, wp) < 1e-13 && ps == 0.0);
+        assert_eq!(j.branch_energy(a_s, wp, 2.0 * als, 0.0).0, es);
+        let num = simpson(
+            |s| j.force(als + s * s, 0.0).0 * 2.0 * s,
+            0.0,
+            (-als).sqrt(),
+            2000,
+        );
+        assert!(rel(-num, wp) < 1e-6);
+        // The map: mass m (kg) of a 30 µm glass pair, speeds from sticking to 20 m/s.
+        let m = 2650.0 * 4.0 / 3.0 * PI * R.powi(3) / 2.0;
+        let dt = 3.2e-9;
+        for &v0 in &[0.2, 1.0, 20.0] {
+            let (mut emin, mut emax) = (f64::INFINITY, f64::NEG_INFINITY);
+            let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..32 {
+                let phase = k as f64 / 32.0;
+                // α at t_n, separation rate v at t_{n−1/2}: touch at `phase` of step 3.
+                let (mut alpha, mut v) = (-(2.0 + phase) * v0 * dt, -v0);
+                let (mut touching, mut p_old, mut v_prev) = (false, 0.0, f64::INFINITY);
+                let (mut a, mut sampled_v) = (0.0, -v0);
+                let mut alpha_s_map = alpha;
+                let mut sampled_touching = false;
+                for _ in 0..100_000 {
+                    // The sampled force, the old scheme, alongside.
+                    if !sampled_touching && alpha_s_map >= 0.0 {
+                        sampled_touching = true;
+                    } else if sampled_touching && alpha_s_map < als {
+                        sampled_touching = false;
+                    }
+                    let p_s = if sampled_touching {
+                        j.force(alpha_s_map, 0.0).0
+                    } else {
+                        0.0
+                    };
+                    sampled_v += dt * p_s / m;
+                    alpha_s_map -= sampled_v * dt;
+                    // The step-mean force, as interact.rs drives it.
+                    let lo = alpha + 0.5 * v * dt;
+                    let mut p = 0.0;
+                    let was = touching;
+                    if !touching && alpha >= 0.0 {
+                        touching = true;
+                    } else if touching && lo < als {
+                        touching = false;
+                    }
+                    if touching {
+                        a = j.solve_a_with(a_s, alpha, a);
+                        let e_lo = if was {
+                            j.branch_energy(a_s, wp, lo, a).0
+                        } else {
+                            0.0
+                        };
+                        let v_ahead = if v_prev.is_finite() {
+                            2.0 * v - v_prev - dt * p_old / m
+                        } else {
+                            v
+                        };
+                        let path = StepPath {
+                            lo,
+                            e_lo,
+                            base: alpha - 0.5 * dt * v_ahead,
+                            lag: 0.5 * dt * dt / m,
+                        };
+                        p = j.step_force(a_s, &path, j.force_of_a(a), a).0;
+                        v_prev = v;
+                    } else {
+                        v_prev = f64::INFINITY;
+                    }
+                    p_old = p;
+                    v += dt * p / m;
+                    alpha -= v * dt;
+                    if !touching && was && alpha < 10.0 * als {
+                        break;
+                    }
+                }
+                assert!(!touching && v > 0.0, "v0 {v0} phase {phase}: stuck");
+                // Kinetic energy lost: exactly W_p.
+                let lost = 0.5 * m * (v0 * v0 - v * v) / wp;
+                emin = emin.min(lost);
+                emax = emax.max(lost);
+                let lost_s = 0.5 * m * (v0 * v0 - sampled_v * sampled_v) / wp;
+                smin = smin.min(lost_s);
+                smax = smax.max(lost_s);
+            }
+            assert!(
+                (emin - 1.0).abs() < 1e-6 && (emax - 1.0).abs() < 1e-6,
+                "v0 {v0}: kinetic energy lost {emin}..{emax} W_p"
+            );
+            // The sampled force made energy at some phases at 20 m/s.
+            if v0 == 20.0 {
+                assert!(smin < 0.0, "sampled: {smin}..{smax} W_p");
+            }
+        }
+    }
+
     #[test]
     fn vanishing_adhesion_is_hertz() {
         let es = jkr(0.0).e_star;
