@@ -444,9 +444,10 @@ fn shear(
     Vec3::zeros()
 }
 
-/// The normal law of a contact at this step: JKR (snap-in, the force on its curve,
-/// detachment at α_s, Lian 1994 (3.38), (3.114)–(3.117)) or Hertz (3.14)–(3.15); books the
-/// adhesion lost at the force's jumps. Returns the surface energy in use, the normal
+/// The normal law of a contact at this step: JKR (snap-in, the mean force over the step's
+/// path on its curve, detachment at α_s, Lian 1994 (3.24), (3.29) corrected, (3.38),
+/// (3.114)–(3.119); `Jkr::step_force`) or Hertz (3.14)–(3.15); books the peeling work W_p
+/// lost at detachment. Returns the surface energy in use, the normal
 /// stiffness (for Rayleigh's β k_n) and the pull-off force P_c (0 without adhesion).
 #[inline(always)]
 fn normal_law<const ADH: bool>(
