@@ -61,6 +61,50 @@ pub struct StepPath {
     pub lag: f64,
 }
 
+/// Where the path of a JKR contact's step starts ([`Jkr::leap_frog_force`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathStart {
+    /// The contact snapped in at this step: `E = 0` at `α = 0`, no force before.
+    Touch,
+    /// It snapped in while a `Cycle` primed the states (at this step's `α`): its force acts
+    /// from this step on, from the energy the priming gave it, `E(α_n)`.
+    Primed,
+    /// It was touching: `E(α_{n−1/2})`.
+    Path,
+}
+
+impl PathStart {
+    /// Made while priming (the marker `v_prev = −∞`), or made now (not touching before).
+    pub fn of(primed: bool, was_touching: bool) -> PathStart {
+        if primed {
+            PathStart::Primed
+        } else if !was_touching {
+            PathStart::Touch
+        } else {
+            PathStart::Path
+        }
+    }
+}
+
+/// One leap-frog step of a JKR contact ([`Jkr::leap_frog_force`]): the overlap `alpha` at
+/// `t_n`, the start of the path `lo = α_{n−1/2}`, the separation rate `v` at `t_{n−1/2}`
+/// (positive opening), the step, the reduced mass, the contact's force of the last step, the
+/// separation rate of the last step (`v_prev`, not finite if unknown), the dashpot's force
+/// of the last step, the contact radius of the last step and where the path starts.
+#[derive(Clone, Copy, Debug)]
+pub struct LeapFrog {
+    pub alpha: f64,
+    pub lo: f64,
+    pub v: f64,
+    pub dt: f64,
+    pub m_star: f64,
+    pub p_old: f64,
+    pub v_prev: f64,
+    pub f_damp: f64,
+    pub a_old: f64,
+    pub from: PathStart,
+}
+
 impl Jkr {
     /// True when adhesion is absent (`γ` not positive, or so small that `a_s` underflows), in
     /// which case every method reduces exactly to Hertz, Lian 1994 (3.14)–(3.15).
@@ -342,6 +386,36 @@ impl Jkr {
         // 4/45 (1 + 6·4^{1/3}) (3.119).
         const K: f64 = 0.935_502_783_271_928_6;
         K * self.pc() * (3.0 * a_s * a_s / self.r_star)
+    }
+
+    /// The force of a touching JKR contact in one leap-frog step: [`Jkr::step_force`] on the
+    /// step's path, from `E = 0` at the touch in the step of snap-in, from the energy the
+    /// priming gave it (`E(α_n)`) in the first step of a contact made while priming, else from
+    /// `E(α_{n−1/2})`. The path ends where the particles go: `v_{n+1/2} = v + Δt(P̄ −
+    /// P_old)/m* + (v − v_prev)`, the last step's change of the separation rate less this
+    /// contact's force then standing for the other forces (as `dashpot::drive` takes them),
+    /// or `v + Δt(P̄ + F_dashpot)/m*` without the last step's rate. `a` is the contact radius
+    /// at `α_n` ([`Jkr::solve_a_with`]).
+    pub fn leap_frog_force(&self, a_s: f64, a: f64, x: &LeapFrog) -> f64 {
+        let w_p = self.peel_work_with(a_s);
+        let e_lo = match x.from {
+            PathStart::Touch => 0.0,
+            PathStart::Primed => self.energy_of_a_with(a_s, a) + w_p,
+            PathStart::Path => self.branch_energy(a_s, w_p, x.lo, x.a_old).0,
+        };
+        let inv_m = 1.0 / x.m_star;
+        let v_ahead = if x.v_prev.is_finite() {
+            2.0 * x.v - x.v_prev - x.dt * x.p_old * inv_m
+        } else {
+            x.v + x.dt * x.f_damp * inv_m
+        };
+        let path = StepPath {
+            lo: x.lo,
+            e_lo,
+            base: x.alpha - 0.5 * x.dt * v_ahead,
+            lag: 0.5 * x.dt * x.dt * inv_m,
+        };
+        self.step_force(a_s, &path, self.force_of_a(a), a).0
     }
 
     /// The energy of a contact on its (touching) branch at the approach `alpha`, counted from

@@ -6,7 +6,7 @@ use super::contacts::{BridgeState, ContactState};
 use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
-use crate::physics::jkr::{Jkr, StepPath};
+use crate::physics::jkr::{Jkr, LeapFrog, PathStart};
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz};
@@ -329,8 +329,7 @@ struct Normal {
     kn: f64,
     /// One of Pasha's linear laws, with its own dashpot.
     linear: bool,
-    /// A touching JKR contact: it keeps its separation rate (`v_prev`) for the end of its
-    /// next step's path (`normal_law`) whether or not it has a velocity-dependent force.
+    /// A touching JKR contact: it keeps `v_prev` for its next path (`Jkr::leap_frog_force`).
     jkr: bool,
 }
 
@@ -500,9 +499,8 @@ fn normal_law<const ADH: bool>(
             // The step's path starts at α_{n−1/2} = α + v Δt/2 (α itself while priming).
             let lo = alpha + 0.5 * v_n * dt;
             if was_touching && lo < -3.0 * a_s * a_s / k.r_star {
-                // Detachment at α_s (3.38): the last step's path ended beyond it, its mean
-                // force taking the contact to E(α_s) = W_p (`Jkr::step_force`), which is lost
-                // (3.114)–(3.119). (While priming: the energy the contact had.)
+                // Detachment at α_s (3.38): the last step's path ended beyond it, at
+                // E(α_s) = W_p, which is lost (3.119). (While priming: the energy it had.)
                 acc.adhesion += if dt > 0.0 {
                     j.peel_work_with(a_s)
                 } else {
@@ -515,41 +513,22 @@ fn normal_law<const ADH: bool>(
                 s.a = a;
                 s.normal_force = j.force_of_a(a);
                 if dt > 0.0 {
-                    // The mean force over the step's path (`Jkr::step_force`): its work is
-                    // the change of the contact's energy E = U(a) + W_p, the jumps of the
-                    // force (snap-in at α = 0, detachment at α_s) at their places on the
-                    // path, so that no step makes energy, wherever in it the contact begins
-                    // or ends. The path starts from E = 0 at α = 0 in the step of snap-in,
-                    // from the energy the priming gave it in the first step of a contact
-                    // that snapped in while priming (its force acts from this step on),
-                    // else from E(α_{n−1/2}). It ends where the particles go: v_{n+1/2} is
-                    // v + Δt(P̄ − P_old)/m* + (v − v_prev), the last step's change of the
-                    // separation rate less this contact's force then (the other forces'
-                    // share, as `dashpot::drive` takes it), or v + Δt(P̄ + F_dashpot)/m*
-                    // without the last step's rate.
-                    let w_p = j.peel_work_with(a_s);
-                    let e_lo = if s.v_prev == f64::NEG_INFINITY {
-                        j.energy_of_a_with(a_s, a) + w_p
-                    } else if !was_touching {
-                        0.0
-                    } else {
-                        j.branch_energy(a_s, w_p, lo, a_old).0
-                    };
-                    let inv_m = 1.0 / k.m_star;
-                    let v_ahead = if s.v_prev.is_finite() {
-                        2.0 * v_n - s.v_prev - dt * p_old * inv_m
-                    } else {
-                        v_n + dt * s.damp_force * inv_m
-                    };
-                    let path = StepPath {
+                    // The mean force over the step's path (`Jkr::leap_frog_force`).
+                    let from = PathStart::of(s.v_prev == f64::NEG_INFINITY, was_touching);
+                    let x = LeapFrog {
+                        alpha,
                         lo,
-                        e_lo,
-                        base: alpha - 0.5 * dt * v_ahead,
-                        lag: 0.5 * dt * dt * inv_m,
+                        v: v_n,
+                        dt,
+                        m_star: k.m_star,
+                        p_old,
+                        v_prev: s.v_prev,
+                        f_damp: s.damp_force,
+                        a_old,
+                        from,
                     };
-                    s.normal_force = j.step_force(a_s, &path, s.normal_force, a).0;
+                    s.normal_force = j.leap_frog_force(a_s, a, &x);
                 }
-
                 if laws.beta > 0.0 {
                     kn = j.stiffness_of_a(a).abs();
                 }
