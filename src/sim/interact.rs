@@ -6,9 +6,10 @@ use super::contacts::{BridgeState, ContactState};
 use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
+use crate::physics::jkr::{Jkr, LeapFrog, PathStart};
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::walton::{self, WaltonInput};
-use crate::physics::{dashpot, hertz, jkr::Jkr};
+use crate::physics::{dashpot, hertz};
 use crate::sim::model::{BridgeChoice, TangentialChoice};
 
 /// Geometry and kinematics of a contact at this step. A is the particle, B the other
@@ -248,12 +249,12 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let p_old = s.normal_force;
     let was_touching = s.touching;
     // The laws of `SET NORmal` (sim::elastoplastic) or Hertz/JKR.
-    let (gamma, kn, pcrit, lin_shear) = if ADH && pc.law != 0 {
+    let (gamma, kn, pcrit, lin_shear, jkr) = if ADH && pc.law != 0 {
         let o = super::elastoplastic::normal(k, pc, laws, s, acc, v_n);
-        (o.gamma, o.kn, o.pcrit, o.linear)
+        (o.gamma, o.kn, o.pcrit, o.linear, false)
     } else {
         let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
-        (g, kn, pcrit, None)
+        (g, kn, pcrit, None, ADH && g > 0.0 && s.touching)
     };
 
     // ---- liquid bridge: formation, rupture, capillary force ------------------------------
@@ -274,6 +275,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             gamma,
             kn,
             linear: lin_shear.is_some(),
+            jkr,
         },
         (fd_prev, bridge_prev, bridge_static, bridge_c),
     );
@@ -327,6 +329,8 @@ struct Normal {
     kn: f64,
     /// One of Pasha's linear laws, with its own dashpot.
     linear: bool,
+    /// A touching JKR contact: it keeps `v_prev` for its next path (`Jkr::leap_frog_force`).
+    jkr: bool,
 }
 
 /// The velocity-dependent normal forces of one contact (`physics::dashpot`): the restitution
@@ -352,6 +356,7 @@ fn viscous_normal<const ADH: bool>(
         gamma,
         kn,
         linear,
+        jkr,
     } = *nl;
     let dt = laws.dt;
     let approaching = !s.touching && v_n < 0.0 && alpha - v_n * (0.5 * dt) > 0.0;
@@ -408,7 +413,7 @@ fn viscous_normal<const ADH: bool>(
             s.v_prev = v_n;
         }
     } else if dt > 0.0 {
-        s.v_prev = f64::INFINITY;
+        s.v_prev = if jkr { v_n } else { f64::INFINITY };
     }
     (fd, fv)
 }
@@ -438,9 +443,10 @@ fn shear(
     Vec3::zeros()
 }
 
-/// The normal law of a contact at this step: JKR (snap-in, the force on its curve,
-/// detachment at α_s, Lian 1994 (3.38), (3.114)–(3.117)) or Hertz (3.14)–(3.15); books the
-/// adhesion lost at the force's jumps. Returns the surface energy in use, the normal
+/// The normal law of a contact at this step: JKR (snap-in, the mean force over the step's
+/// path on its curve, detachment at α_s, Lian 1994 (3.24), (3.29) corrected, (3.38),
+/// (3.114)–(3.119); `Jkr::step_force`) or Hertz (3.14)–(3.15); books the peeling work W_p
+/// lost at detachment. Returns the surface energy in use, the normal
 /// stiffness (for Rayleigh's β k_n) and the pull-off force P_c (0 without adhesion).
 #[inline(always)]
 fn normal_law<const ADH: bool>(
@@ -490,37 +496,39 @@ fn normal_law<const ADH: bool>(
         }
         if s.touching {
             let a_s = s.ext().a_s;
-            if alpha < -3.0 * a_s * a_s / k.r_star {
-                // Detachment at α_s (3.38): the energy stored since snap-in is lost (3.114),
-                // with the work its last force did over the second half of its interval,
-                // which the potential does not see (the jump −5/9 P_c → 0, booked as the
-                // snap-in's below).
-                acc.adhesion += normal_strain(s, pc.e_star, k.r_star) - 0.5 * p_old * v_n * dt;
+            // The step's path starts at α_{n−1/2} = α + v Δt/2 (α itself while priming).
+            let lo = alpha + 0.5 * v_n * dt;
+            if was_touching && lo < -3.0 * a_s * a_s / k.r_star {
+                // Detachment at α_s (3.38): the last step's path ended beyond it, at
+                // E(α_s) = W_p, which is lost (3.119). (While priming: the energy it had.)
+                acc.adhesion += if dt > 0.0 {
+                    j.peel_work_with(a_s)
+                } else {
+                    normal_strain(s, pc.e_star, k.r_star)
+                };
                 reset_solid(s, acc);
             } else {
                 let a_old = s.a;
                 let a = j.solve_a_with(a_s, alpha, s.a);
                 s.a = a;
                 s.normal_force = j.force_of_a(a);
-                // The JKR force jumps at snap-in (0 → −8/9 P_c): across the jump the
-                // scheme's work, ½(P_old + P_new)·v Δt (the form of the dashpot's booking,
-                // exact for the leap-frog update), differs from the change of the potential
-                // U(a) + W_p by O(Δt); what the particles gave the contact and the contact
-                // did not store is booked as adhesion loss (as at detachment, above). Between
-                // the jumps the potential follows the force to O(Δt²).
-                // (A contact that snapped in while priming: its force acts from this step
-                // on, and the priming booked its potential as a command's.)
-                let primed = s.v_prev == f64::NEG_INFINITY;
-                if dt > 0.0 && (!was_touching || primed) {
-                    let (p_acted, stored) = if primed {
-                        (0.0, j.energy_of_a(a) - j.energy_of_a(a_old))
-                    } else {
-                        (p_old, j.energy_of_a(a) + j.peel_work())
+                if dt > 0.0 {
+                    // The mean force over the step's path (`Jkr::leap_frog_force`).
+                    let from = PathStart::of(s.v_prev == f64::NEG_INFINITY, was_touching);
+                    let x = LeapFrog {
+                        alpha,
+                        lo,
+                        v: v_n,
+                        dt,
+                        m_star: k.m_star,
+                        p_old,
+                        v_prev: s.v_prev,
+                        f_damp: s.damp_force,
+                        a_old,
+                        from,
                     };
-                    let work = -0.5 * (p_acted + s.normal_force) * v_n * dt;
-                    acc.adhesion += work - stored;
+                    s.normal_force = j.leap_frog_force(a_s, a, &x);
                 }
-
                 if laws.beta > 0.0 {
                     kn = j.stiffness_of_a(a).abs();
                 }

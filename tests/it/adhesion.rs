@@ -74,6 +74,7 @@ fn quasi_static_pull_off() {
     let mut sc = two_spheres("fraction 0.2", 1e-9, -v);
     sc.unchecked().particles.fixed = vec![0b111111, 0b111111];
     let mut snap = None;
+    let mut first_step = true;
     let mut samples = Vec::new();
     let mut pmin = f64::INFINITY;
     let mut detach = None;
@@ -82,8 +83,14 @@ fn quasi_static_pull_off() {
         let was = sc.contacts().iter().next().map(|c| c.s.clone());
         step(&mut sc);
         let c = &sc.contacts().pair(0).s;
+        // The step of snap-in applies the mean force over its path, part of which lies
+        // before the touch (`Jkr::step_force`); the next one is on the curve at α ≈ 0.
         if snap.is_none() && c.touching {
-            snap = Some(c.normal_force);
+            if first_step {
+                first_step = false;
+            } else {
+                snap = Some(c.normal_force);
+            }
         }
         if c.touching {
             pmin = pmin.min(c.normal_force);
@@ -104,20 +111,28 @@ fn quasi_static_pull_off() {
         -8.0 / 9.0 * pc()
     );
     assert!(rel(pmin, -pc()) < 5e-3, "pull-off {pmin} vs {}", -pc());
-    let (a_det, p_det) = detach.expect("detachment");
+    let (a_det, _) = detach.expect("detachment");
     let step_alpha = v * sc.time() / sc.cycle() as f64;
     assert!(
         (a_det - alpha_s()).abs() < 2.0 * step_alpha,
         "detach at {a_det} vs α_s {}",
         alpha_s()
     );
-    // Just before detaching the force is on the closed-form curve, within a step of its
-    // limit −5/9 Pc (the curve is vertical at α_s: dα/da = 0).
-    assert!(rel(p_det, -5.0 / 9.0 * pc()) < 0.02, "detach force {p_det}");
-    assert!((p_det - p_of_a(a_of_alpha(a_det))).abs() < 1e-3 * pc());
-    // Force-overlap curve against the closed form at 20 points.
+    // Just before detaching the force is on the closed-form curve, within a few steps of
+    // its limit −5/9 Pc (the curve is vertical at α_s: dα/da = 0). (The last two steps
+    // apply the mean force over a path that crosses α_s, zero beyond it: `Jkr::step_force`.)
+    let (a_before, p_before) = samples[samples.len() - 3];
+    assert!(
+        rel(p_before, -5.0 / 9.0 * pc()) < 0.02,
+        "force before detaching {p_before}"
+    );
+    assert!((p_before - p_of_a(a_of_alpha(a_before))).abs() < 1e-3 * pc());
+    for &(_, p) in &samples[samples.len() - 2..] {
+        assert!(p < 0.0 && p > -pc(), "force of the last steps {p}");
+    }
+    // Force-overlap curve against the closed form at 20 points (after the step of snap-in).
     let k = samples.len() / 20;
-    for (alpha, p) in samples.iter().step_by(k.max(1)).take(20) {
+    for (alpha, p) in samples[1..].iter().step_by(k.max(1)).take(20) {
         let p_ref = p_of_a(a_of_alpha(*alpha));
         assert!(
             (p - p_ref).abs() < 1e-3 * pc(),
@@ -347,4 +362,156 @@ fn a_contact_keeps_its_surface_energy_when_the_material_loses_it() {
         }
     }
     assert!(touched);
+}
+
+/// What one impact of the phase sweep gave.
+struct Impact {
+    /// Rebound / impact speed (normal), and its value from the energy balance with W_p lost,
+    /// e² = 1 − 2W_p/(m* v²), the approach's kinetic energy; None if the pair stays stuck.
+    e: Option<(f64, f64)>,
+    /// Adhesion loss booked / W_p.
+    loss: f64,
+    /// Residual of the books / the input (rebounds) or / W_p (stuck, less the second half of
+    /// the last force's work, ½ P v Δt, which has moved the particles and is booked with the
+    /// next step).
+    residual: f64,
+}
+
+/// One head-on impact of the phase sweep: two spheres (each at v/2) or a sphere against a
+/// plane wall (at v), first touch at `phase` of a step's travel after three whole steps.
+fn impact(wall: bool, v: f64, fraction: f64, phase: f64) -> Impact {
+    let g = E / (2.0 * (1.0 + NU));
+    let dt = fraction * PI * R * (RHO / g).sqrt() / (0.1631 * NU + 0.8766);
+    let gap = (3.0 + phase) * v * dt;
+    let r_star = if wall { R } else { R / 2.0 };
+    let m = RHO * 4.0 / 3.0 * PI * R.powi(3);
+    let m_star = if wall { m } else { m / 2.0 };
+    let pc = 3.0 * PI * GAMMA * r_star;
+    let es = e_star();
+    let als = -(3.0 * pc * pc / (16.0 * es * es * r_star)).cbrt();
+    let wp = -4.0 / 45.0 * (1.0 + 6.0 * 4f64.cbrt()) * pc * als;
+    let mut sc = if wall {
+        scene(&format!(
+            "start 1e-3 1e-3 1e-3 100 10 2\nset open all\nrad {R} 1\nymd {E} 1\npra {NU} 1\n\
+             density {RHO} 1\ncohesion {GAMMA} 1\nfraction {fraction}\ndwall p 1 0 0 4e-4\n\
+             create {} 5e-4 5e-4 {} 0 0 0 0 0 1 1\n",
+            4e-4 + R + gap,
+            -v
+        ))
+    } else {
+        let mut sc = two_spheres(&format!("fraction {fraction}"), gap, -v / 2.0);
+        set_velocity(&mut sc, 0, Vec3::new(v / 2.0, 0.0, 0.0));
+        sc
+    };
+    let rel_v = |sc: &trubal::sim::Scene| {
+        let p = sc.particles();
+        if wall {
+            p.vel[0].x
+        } else {
+            p.vel[1].x - p.vel[0].x
+        }
+    };
+    let state = |sc: &trubal::sim::Scene| {
+        let c = sc.contacts();
+        c.iter()
+            .map(|c| c.s.clone())
+            .chain(c.wall_pairs().iter().map(|c| c.s.clone()))
+            .find(|s| s.touching)
+    };
+    let mut touched = false;
+    let mut apart_for = 0;
+    for _ in 0..20_000 {
+        step(&mut sc);
+        if state(&sc).is_some() {
+            touched = true;
+            apart_for = 0;
+        } else if touched {
+            apart_for += 1;
+            if apart_for > 5 {
+                break;
+            }
+        }
+    }
+    assert!(
+        touched,
+        "wall {wall} v {v} FRA {fraction} phase {phase}: no contact"
+    );
+    let loss = sc.ledger().adhesion / wp;
+    match state(&sc) {
+        None => Impact {
+            e: Some((rel_v(&sc) / v, (1.0 - 2.0 * wp / (m_star * v * v)).sqrt())),
+            loss,
+            residual: energy::residual(&sc) / sc.ledger().input(),
+        },
+        Some(s) => Impact {
+            e: None,
+            loss,
+            residual: (energy::residual(&sc) - 0.5 * s.normal_force * rel_v(&sc) * dt) / wp,
+        },
+    }
+}
+
+/// Issue 49 item 5: a JKR impact must not make energy wherever in a step the first touch
+/// falls. Two 30 µm glass spheres (γ = 0.4 J/m²), and one against a wall, head on, no
+/// damping: the loop's only loss is the peeling work W_p (3.119), so that e² = 1 −
+/// 2W_p/(m* v²) whatever the step, and a pair below the sticking speed stays stuck without
+/// detaching (no loss). At 20 m/s the adhesive zone (|α_s| ≈ 13 nm) is crossed in less than
+/// a step. The sampled force gave e up to 1.00007 (FRAction 0.1) and 1.0011 (0.2), and an
+/// adhesion loss from −737 to +869 W_p, depending on the phase.
+#[test]
+fn jkr_impact_never_creates_energy_at_any_phase() {
+    let mut failures = Vec::new();
+    for wall in [false, true] {
+        for fraction in [0.1, 0.2] {
+            for v in [0.01, 0.1, 1.0, 20.0] {
+                let (mut emin, mut emax, mut dev) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+                let (mut lmin, mut lmax) = (f64::INFINITY, f64::NEG_INFINITY);
+                let mut rmax: f64 = 0.0;
+                let mut nstuck = 0;
+                for k in 0..16 {
+                    let phase = k as f64 / 16.0;
+                    let r = impact(wall, v, fraction, phase);
+                    match r.e {
+                        Some((e, e_th)) => {
+                            emin = emin.min(e);
+                            emax = emax.max(e);
+                            dev = dev.max((e - e_th).abs());
+                            // The books close, and the loss is W_p.
+                            if !(r.residual.abs() < 1e-9 && (r.loss - 1.0).abs() < 1e-9) {
+                                failures.push(format!(
+                                    "wall {wall} FRA {fraction} v {v} phase {phase}: residual {:e}, loss {} W_p",
+                                    r.residual, r.loss
+                                ));
+                            }
+                        }
+                        None => {
+                            nstuck += 1;
+                            // Stuck: never detached, nothing lost; the books close to a
+                            // small fraction of W_p (the pending work is taken out to first
+                            // order in the step; its second order, k (vΔt)²/8, is left:
+                            // 2e-4 W_p at FRAction 0.1, 5e-4 at 0.2).
+                            if !(r.residual.abs() < 1e-3 && r.loss == 0.0) {
+                                failures.push(format!(
+                                    "wall {wall} FRA {fraction} v {v} phase {phase}: stuck, residual {:e} W_p, loss {} W_p",
+                                    r.residual, r.loss
+                                ));
+                            }
+                        }
+                    }
+                    lmin = lmin.min(r.loss);
+                    lmax = lmax.max(r.loss);
+                    rmax = rmax.max(r.residual.abs());
+                }
+                eprintln!(
+                    "wall {wall:5} FRA {fraction} v {v:5}: e {emin:.7}..{emax:.7} |e − e_th| {dev:.1e} stuck {nstuck}/16 loss/W_p {lmin:.4}..{lmax:.4} |residual| {rmax:.1e}"
+                );
+                if emax > 1.0 || lmin < 0.0 || dev > 1e-9 {
+                    failures.push(format!(
+                        "wall {wall} FRA {fraction} v {v}: e {emin}..{emax} (|e − e_th| up to {dev:e}), adhesion loss {lmin}..{lmax} W_p"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
