@@ -248,15 +248,13 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let p_old = s.normal_force;
     let was_touching = s.touching;
     // The laws of `SET NORmal` (sim::elastoplastic) or Hertz/JKR.
-    // (`release`: the force of the first step after an elastic contact opened, `corrects`.)
-    let (gamma, kn, pcrit, lin_shear, release) = if ADH && pc.law != 0 {
+    let (gamma, kn, pcrit, lin_shear) = if ADH && pc.law != 0 {
         let o = super::elastoplastic::normal(k, pc, laws, s, acc, v_n);
-        (o.gamma, o.kn, o.pcrit, o.linear, 0.0)
+        (o.gamma, o.kn, o.pcrit, o.linear)
     } else {
-        let (g, kn, pcrit, release) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
-        (g, kn, pcrit, None, release)
+        let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+        (g, kn, pcrit, None)
     };
-    fn_b += release;
 
     // ---- liquid bridge: formation, rupture, capillary force ------------------------------
     // (Its viscous force is worked out with the other velocity-dependent forces below.)
@@ -452,7 +450,7 @@ fn normal_law<const ADH: bool>(
     s: &mut ContactState,
     acc: &mut Acc,
     v_n: f64,
-) -> (f64, f64, f64, f64) {
+) -> (f64, f64, f64) {
     let alpha = -k.gap;
     let dt = laws.dt;
     let p_old = s.normal_force;
@@ -470,8 +468,6 @@ fn normal_law<const ADH: bool>(
     };
     let mut kn = 0.0;
     let mut pcrit = 0.0;
-    // The force of the first step after an elastic contact opened (not overlapping now).
-    let mut release = 0.0;
     if gamma > 0.0 {
         let j = Jkr {
             e_star: pc.e_star,
@@ -532,7 +528,6 @@ fn normal_law<const ADH: bool>(
             }
         }
     } else if alpha > 0.0 {
-        let onset = !s.touching;
         if !s.touching {
             s.touching = true;
             if let Some(e) = s.ext.as_deref_mut() {
@@ -541,43 +536,15 @@ fn normal_law<const ADH: bool>(
             }
         }
         // Hertz (3.14)-(3.15): P = 4/3 E* a³/R* = 4/3 E* a α, k_n = 2 E* a.
-        let (a, mut p) = hertz::radius_and_force(pc.e_star, k.r_star, alpha);
-        if onset && corrects(pc, dt) && v_n < 0.0 {
-            // The first step of an elastic contact (`hertz::onset_force`).
-            p = hertz::onset_force(pc.e_star, k.r_star, alpha, -v_n * dt);
-        }
+        let (a, p) = hertz::radius_and_force(pc.e_star, k.r_star, alpha);
         s.a = a;
         s.normal_force = p;
         kn = 2.0 * pc.e_star * a;
     } else if s.touching {
-        let last = s.overlap;
         reset_solid(s, acc);
-        if corrects(pc, dt) && v_n > 0.0 {
-            // The first step after an elastic contact opened (`hertz::release_force`).
-            release = hertz::release_force(pc.e_star, k.r_star, last, v_n * dt);
-        }
     }
     s.overlap = alpha;
-    (gamma, kn, pcrit, release)
-}
-
-/// Whether a Hertz contact takes the corrections of its first step and of the first step
-/// after it opened (`hertz::onset_force`, `hertz::release_force`): in a step (not while
-/// priming, Δt = 0), without a restitution dashpot (whose own scheme integrates the step in
-/// which a contact starts, `physics::dashpot`).
-///
-/// Why: the leap-frog impulses of a Hertz contact, `P(α_n) Δt`, sum the force at the
-/// overlaps the steps happen to sample; where the contact starts and ends, `P ∝ α^{3/2}` is
-/// not smooth and that sum misses the strain energy by an amount set by where in a step the
-/// contact starts and ends, ±2.6e-3 of an elastic collision's energy at FRAction 0.2,
-/// +1.6e-5 on average: an elastic gas of 1000 spheres gained 0.9 % in 10⁶ steps, a
-/// collision at a time (issue 49 item 4; doc/limits.md). With the corrections a collision
-/// keeps its energy to 2e-5 and on average to 1e-6 (the discrete map,
-/// `hertz::tests::onset_and_release_corrections_keep_a_collision_elastic`). The steps in
-/// between are the plain scheme, so a contact that lasts (a bed) is as before.
-#[inline(always)]
-fn corrects(pc: &PairConst, dt: f64) -> bool {
-    dt > 0.0 && pc.zeta == 0.0
+    (gamma, kn, pcrit)
 }
 
 /// The liquid bridge at this step: formed on solid contact, ruptured beyond S_c (its work
