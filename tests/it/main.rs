@@ -13,6 +13,7 @@ mod continuation;
 mod cycle_physics;
 mod delete;
 mod doc_commands;
+mod elastic_gas;
 mod experiments;
 mod fuzz_commands;
 mod fuzz_inputs;

@@ -1,0 +1,91 @@
+//! The elastic gas of issue 49 item 4, through the binary: 1000 spheres (R = 1 mm, E = 1e8 Pa,
+//! ν = 0.3, ρ = 2500 kg/m³, frictionless, no damping) on a 10 × 10 × 10 lattice in a closed box
+//! of six plane walls, 28 mm wide (solid fraction 0.19), with velocities drawn from a normal
+//! distribution of 0.5 m/s per component, at the default FRAction 0.2. Its energy must stay
+//! (kinetic + strain over what the commands put in).
+//!
+//! Not fixed yet (doc/limits.md, "Energy drift of an elastic gas"): the tests are ignored and
+//! fail. `cargo test --profile ci --test it elastic_gas:: -- --ignored --nocapture` prints the
+//! drift every 10⁵ (10⁶) steps.
+
+use crate::common::{printed, trubal_json};
+
+/// The command file: the scene, then `steps` cycles in `prints` pieces, each followed by
+/// `PRint ENergy`. The velocities come from a fixed xorshift generator (Box–Muller), so the
+/// deck is the same on every machine.
+fn deck(steps: u64, prints: u64) -> String {
+    let l = 0.028;
+    let mut s = format!(
+        "start {l} {l} {l} 10 1010 6\nset open all\nrad 1e-3 1\nymd 1e8 1\npra 0.3 1\ndensity 2500 1\n\
+         dwall p 1 0 0 0\ndwall p -1 0 0 -{l}\ndwall p 0 1 0 0\ndwall p 0 -1 0 -{l}\n\
+         dwall p 0 0 1 0\ndwall p 0 0 -1 -{l}\n"
+    );
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut uniform = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        ((x >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    let mut normal = move || {
+        let (u1, u2) = (uniform(), uniform());
+        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    };
+    let a = l / 10.0;
+    for i in 0..10 {
+        for j in 0..10 {
+            for k in 0..10 {
+                let p = |q: i32| (q as f64 + 0.5) * a;
+                let v = [0.5 * normal(), 0.5 * normal(), 0.5 * normal()];
+                s += &format!(
+                    "create {} {} {} {:e} {:e} {:e} 0 0 0 1 1\n",
+                    p(i),
+                    p(j),
+                    p(k),
+                    v[0],
+                    v[1],
+                    v[2]
+                );
+            }
+        }
+    }
+    s += "print energy\n";
+    for _ in 0..prints {
+        s += &format!("cycle {}\nprint energy\n", steps / prints);
+    }
+    s
+}
+
+/// The relative change of the energy (kinetic + strain, over the input) at each print.
+fn drift(steps: u64, prints: u64) -> Vec<f64> {
+    let run = trubal_json(&deck(steps, prints), &["--threads", "1"]);
+    assert!(run.ok, "{}", run.stderr);
+    let e = printed(&run, "energy");
+    assert_eq!(e.len() as u64, prints + 1);
+    e.iter()
+        .map(|o| o["residual"].as_f64().unwrap() / o["input"].as_f64().unwrap())
+        .collect()
+}
+
+fn check(steps: u64, prints: u64) {
+    let d = drift(steps, prints);
+    for (k, x) in d.iter().enumerate() {
+        println!("{:>9} steps: {x:+.3e}", k as u64 * steps / prints);
+    }
+    let worst = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(worst <= 1e-3, "energy drift up to {worst:+.3e}");
+}
+
+/// 10⁶ steps (~35 s on one core): +5e-3 now (doc/limits.md).
+#[test]
+#[ignore = "issue 49 item 4 is not fixed: the elastic gas drifts (doc/limits.md)"]
+fn elastic_gas_keeps_its_energy_over_a_million_steps() {
+    check(1_000_000, 10);
+}
+
+/// 10⁷ steps (~8 min on one core): +5.3e-2 now.
+#[test]
+#[ignore = "issue 49 item 4 is not fixed: the elastic gas drifts (doc/limits.md)"]
+fn elastic_gas_keeps_its_energy_over_ten_million_steps() {
+    check(10_000_000, 10);
+}
