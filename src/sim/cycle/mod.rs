@@ -83,7 +83,7 @@ pub fn run_watched(
 ) -> Result<(Model, u64), Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    let r = super::parallel::awake::while_running(|rest| run_steps(scene, n, watch, rest));
+    let r = super::parallel::awake::while_running(|| run_steps(scene, n, watch));
     // (Derived per step; not kept between commands.)
     scene.derived.reach_ext = Vec::new();
     scene.contacts.step.margins = [0.0; 2];
@@ -95,7 +95,6 @@ fn run_steps(
     scene: &mut Scene,
     n: u64,
     watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
-    rest: &super::parallel::awake::Rest,
 ) -> Result<(Model, u64), Blowup> {
     let mut model = check(scene).map_err(|m| Blowup {
         cycle: scene.cycle,
@@ -132,8 +131,6 @@ fn run_steps(
     // (`after_step`: the smallest radius, and the relative travel since the last check.)
     let rmin = scene.min_radius();
     let mut step_watch = StepWatch::default();
-    // The threads of each step, measured as the Cycle runs (`parallel::adapt`).
-    let mut adapt = super::parallel::adapt::Adapt::new(model.plan.threads);
     for step in 0..n {
         // An interrupt makes this step the last, as if the Cycle had been this long.
         let last = watch(scene, step);
@@ -152,9 +149,7 @@ fn run_steps(
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
         let keep = last || step + 1 == n || snapshot_before(step + 1);
-        model.plan.threads = adapt.before_step(rest);
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
-        adapt.after_step();
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
             if scene.settings.auto_step.is_none()

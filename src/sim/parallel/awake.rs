@@ -26,44 +26,23 @@ pub fn cores() -> usize {
 /// Runs `f` on the current thread while the pool's other workers poll for work; they stop
 /// when `f` returns or unwinds. Without effect with one thread, or with more threads than
 /// the machine has cores (a polling worker would then take a core from a working one).
-///
-/// `f` is handed a flag, [`Rest`]: while it is set the pollers sleep instead of polling (the
-/// Cycle runs its steps on one thread, `cycle::adapt`, and a polling worker would only take
-/// a core from it or from another program).
-pub fn while_running<R: Send>(f: impl FnOnce(&Rest) -> R + Send) -> R {
+pub fn while_running<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     let threads = rayon::current_num_threads();
-    let rest = Rest::default();
     if threads < 2 || threads > cores() {
-        return f(&rest);
+        return f();
     }
     let stop = AtomicBool::new(false);
-    let (stop, rest) = (&stop, &rest);
+    let stop = &stop;
     rayon::scope(move |s| {
         // Set when `f` returns or panics (a panic must not leave the pollers running, or
         // the scope would wait for them for ever).
         let _stop = StopOnDrop(stop);
         for _ in 1..threads {
-            s.spawn(move |_| poll_until(stop, rest));
+            s.spawn(move |_| poll_until(stop));
         }
-        f(rest)
+        f()
     })
 }
-
-/// Set while a Cycle runs its steps on one thread: the pollers sleep ([`while_running`]).
-#[derive(Default)]
-pub struct Rest(AtomicBool);
-
-impl Rest {
-    pub fn set(&self, on: bool) {
-        self.0.store(on, Ordering::Release);
-    }
-    fn is_set(&self) -> bool {
-        self.0.load(Ordering::Acquire)
-    }
-}
-
-/// How long a resting poller sleeps between two looks at the flags.
-const REST_SLEEP: std::time::Duration = std::time::Duration::from_micros(200);
 
 struct StopOnDrop<'a>(&'a AtomicBool);
 
@@ -73,15 +52,11 @@ impl Drop for StopOnDrop<'_> {
     }
 }
 
-/// Takes posted work until `stop` is set; sleeps while `rest` is.
-fn poll_until(stop: &AtomicBool, rest: &Rest) {
+/// Takes posted work until `stop` is set.
+fn poll_until(stop: &AtomicBool) {
     let mut idle = 0u32;
     while !stop.load(Ordering::Acquire) {
         if rayon::yield_now() == Some(rayon::Yield::Executed) {
-            continue;
-        }
-        if rest.is_set() {
-            std::thread::sleep(REST_SLEEP);
             continue;
         }
         for _ in 0..64 {
@@ -118,7 +93,7 @@ mod tests {
     #[test]
     fn the_work_is_done_and_the_pollers_stop() {
         let sums = in_two_threads(|| {
-            while_running(|_| {
+            while_running(|| {
                 // Several parallel regions, as in a Cycle.
                 (0..50)
                     .map(|k| (0..10_000u64).into_par_iter().map(|x| x * k).sum::<u64>())
@@ -132,7 +107,7 @@ mod tests {
     #[test]
     fn a_panic_stops_the_pollers_too() {
         let caught = in_two_threads(|| {
-            std::panic::catch_unwind(|| while_running(|_| -> u32 { panic!("inside the Cycle") }))
+            std::panic::catch_unwind(|| while_running(|| -> u32 { panic!("inside the Cycle") }))
                 .is_err()
         });
         assert_eq!(caught, Some(true));

@@ -1,9 +1,7 @@
 //! How work is shared among threads, never what is computed: the split of the pair list
 //! into one range per task with its shared particles (`schedule`), and the pool's workers
-//! kept polling through a `Cycle` (`awake`), and how many of them a step uses, measured as
-//! the `Cycle` runs (`adapt`). The parallel region of a step itself is `cycle::fused`; the
-//! decision of how a `Cycle` runs is `cycle::plan`.
+//! kept polling through a `Cycle` (`awake`). The parallel region of a step itself is
+//! `cycle::fused`; the decision of how a `Cycle` runs is `cycle::plan`.
 
-pub mod adapt;
 pub mod awake;
 pub mod schedule;
