@@ -923,6 +923,40 @@ mod tests {
         assert!(acc.friction > 0.0);
     }
 
+    /// Under `SET TANgential MDR` a Hertz contact keeps the spring row (`physics::mdr`), a
+    /// JKR contact the Mindlin–Deresiewicz state instead (the MDR of the adhesive contact
+    /// is not derived); both give the row's or MD's force, and both free what they kept
+    /// when they separate.
+    #[test]
+    fn mdr_rows_for_hertz_contacts_and_md_for_jkr_ones() {
+        let laws = Laws {
+            tangential: TangentialChoice::Mdr,
+            ..laws()
+        };
+        for gamma in [0.0, 0.1] {
+            let pc = adhesive_pair(gamma);
+            let mut s = ContactState::default();
+            let mut acc = Acc::default();
+            for _ in 0..3 {
+                interact::<true, false>(&kin(-1e-7), &pc, &laws, &mut s, &mut acc);
+            }
+            assert!(s.touching && s.tforce.x < 0.0, "{gamma}: {:?}", s.tforce);
+            let e = s.ext();
+            if gamma == 0.0 {
+                let row = e.mdr.as_ref().expect("a row");
+                // Three steps of 0.1 µm, five times the sliding displacement
+                // μE*α/(4G*): the contact slides at μP.
+                let t = pc.mu * s.normal_force;
+                assert!((s.tforce.x + t).abs() < 1e-3 * t, "{} {t}", s.tforce.x);
+                assert!(row.a_ref == s.a && e.tang.t == 0.0);
+            } else {
+                assert!(e.mdr.is_none() && e.tang.t != 0.0);
+            }
+            interact::<true, false>(&kin(1e-3), &pc, &laws, &mut s, &mut acc);
+            assert!(!s.touching && s.ext().mdr.is_none());
+        }
+    }
+
     /// An adhesive contact keeps it after detachment: its surface energy and a_s stay.
     #[test]
     fn a_detached_jkr_contact_keeps_its_law_specific_part() {
