@@ -321,7 +321,7 @@ fn chung_ooi_test_6_mdr_partial_slip_and_sliding() {
 }
 
 /// Writes doc/data/oblique_impact.csv and the chart doc/data/oblique_impact.png: the exact
-/// solution and the four tangential laws at the default step (and `MD` at FRAction 0.01),
+/// solution and the five tangential laws at the default step (and `MD` at FRAction 0.01),
 /// 5–85°. Run by name:
 /// `cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored`.
 #[test]
@@ -330,7 +330,8 @@ fn write_the_comparison_chart() {
     let angles: Vec<f64> = (1..=17).map(|k| 5.0 * k as f64).collect();
     // (label, SET TANgential, FRAction, drawn): HM is NOSLIP here (its dashpot needs a
     // restitution; the impact is elastic), so it is in the data but not drawn.
-    let runs: [(&str, &str, &str, bool); 5] = [
+    let runs: [(&str, &str, &str, bool); 6] = [
+        ("MDR, FRAction 0.2", "mdr", "", true),
         ("MD (default), FRAction 0.2", "md", "", true),
         ("MD, FRAction 0.01", "md", "0.01", true),
         ("WALTON", "walton", "", true),
@@ -374,6 +375,7 @@ fn chart(curves: &[(String, Vec<(f64, f64, f64)>)]) -> Vec<u8> {
     let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
     let colours = [
         RGBColor(0, 0, 0),
+        RGBColor(230, 140, 0),
         RGBColor(200, 30, 30),
         RGBColor(240, 150, 150),
         RGBColor(30, 90, 200),
@@ -423,7 +425,8 @@ fn chart(curves: &[(String, Vec<(f64, f64, f64)>)]) -> Vec<u8> {
                     .iter()
                     .map(|&(a, et, w)| (a, if k == 0 { et } else { w }))
                     .collect();
-                let width = if i == 0 { 3 } else { 2 };
+                // The exact curve wide, so that the laws on it (MDR) leave it visible.
+                let width = if i == 0 { 6 } else { 2 };
                 c.draw_series(LineSeries::new(
                     line.iter().copied(),
                     ShapeStyle::from(&col).stroke_width(width),
