@@ -172,22 +172,16 @@ impl MdrRow {
         let h = self.a_ref / NODES as f64;
         let [dx, dy] = inp.dd;
         let (mut sx, mut sy, mut s2) = (0.0, 0.0, 0.0);
+        // Branch-free (the loop vectorises): a spring out of contact has the limit 0, so it
+        // is scaled to zero; a zero displacement is never scaled.
         for (i, u) in self.u.iter_mut().enumerate() {
             let x = (i as f64 + 0.5) * h;
-            let d = a2 - x * x;
-            if d <= 0.0 {
-                *u = [0.0; 2];
-                continue;
-            }
-            let lim = lim_c * d;
+            let lim = lim_c * (a2 - x * x).max(0.0);
             let (ux, uy) = (u[0] + dx, u[1] + dy);
             let l2 = ux * ux + uy * uy;
-            let (ux, uy) = if l2 > lim * lim {
-                let r = lim / l2.sqrt();
-                (ux * r, uy * r)
-            } else {
-                (ux, uy)
-            };
+            let over = l2 > lim * lim;
+            let r = if over { lim / l2.sqrt() } else { 1.0 };
+            let (ux, uy) = (ux * r + 0.0, uy * r + 0.0);
             *u = [ux, uy];
             sx += ux;
             sy += uy;
