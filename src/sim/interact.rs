@@ -6,7 +6,6 @@ use super::contacts::{BridgeState, ContactState};
 use super::params::PairConst;
 use super::scene::{Liquid, Vec3};
 use crate::physics::bridge::{self, Bridge, BridgeModel};
-use crate::physics::mdr::{self, MdrInput, MdrRow};
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz, jkr::Jkr};
@@ -709,37 +708,8 @@ fn tangential_step(
             s.tforce = Vec3::from(step.force);
         }
         TangentialChoice::Mdr if pc.law == 0 && pcrit == 0.0 && s.gamma() == 0.0 => {
-            // The MDR spring row (physics::mdr) of a Hertz contact.
-            let t_old = s.tforce;
-            let inp = MdrInput {
-                g_star: pc.g_star,
-                e_star: pc.e_star,
-                mu: pc.mu,
-                r_star: k.r_star,
-                a: s.a,
-                dd: [0.0; 2],
-            };
-            let tang_energy = s.tang_energy;
-            let e = s.ext_mut();
-            let row = e.mdr.get_or_insert_with(|| {
-                // A contact that comes to this law while it touches keeps its force.
-                let (e1, e2) = mdr::frame([0.0; 3], n.into());
-                let t = [-t_old.dot(&Vec3::from(e1)), -t_old.dot(&Vec3::from(e2))];
-                Box::new(MdrRow::holding(t, e1, &inp))
-            });
-            let (e1, e2) = mdr::frame(row.e1, n.into());
-            row.e1 = e1;
-            let (e1, e2) = (Vec3::from(e1), Vec3::from(e2));
-            let step = row.step(&MdrInput {
-                dd: [dd.dot(&e1), dd.dot(&e2)],
-                ..inp
-            });
-            // The springs follow B's slip; their force on B opposes it.
-            let f = -(e1 * step.force[0] + e2 * step.force[1]);
-            let work = -0.5 * (t_old + f).dot(&dd);
-            acc.friction += work - (step.energy - tang_energy);
-            s.tang_energy = step.energy;
-            s.tforce = f;
+            // The MDR spring row of a Hertz contact (sim::mdr).
+            super::mdr::shear(k, pc, s, dd, acc);
         }
         TangentialChoice::Md | TangentialChoice::Mdr => {
             // (Under MDR: the pairs with a surface energy or a law of `SET NORmal`.)
