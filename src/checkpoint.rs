@@ -45,7 +45,10 @@
 //! files never hold, and reads version 6 with the same types; version 8 may hold the new last
 //! variant `TangentialChoice::HertzMindlin` (`SET TANgential HM`), and reads 6 and 7 with
 //! the same types; version 9 adds the ledger's `unbooked` (the residual commands left, which
-//! the energy audit of every Cycle measures from; read as unknown from older files).
+//! the energy audit of every Cycle measures from; read as unknown from older files), the
+//! spring row of `SET TANgential MDR` (`mdr`) to the law-specific part of the contact state
+//! (read as none from older files, through `sim::contacts::old`), and may hold the new last
+//! variant `TangentialChoice::Mdr`, which older files never hold.
 //! Versions 1 to 8
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
@@ -224,13 +227,15 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
         VERSION => decode_all::<Scene, R>(r, version),
-        // Versions 6 to 8 differ in the ledger only (no `unbooked`, scene::old_ledger).
+        // Versions 6 to 8 differ in the ledger (no `unbooked`, scene::old_ledger) and the
+        // contact state (no `mdr`, sim::contacts::old).
         6..=8 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2
         // (scene::old_walls, old_settings), and have no cell (scene::old_cell).
-        // Version 5 differs in the contact laws only (no `pair_values`, scene::old_laws).
+        // Version 5 differs in the contact laws (no `pair_values`, scene::old_laws), and as
+        // 6 to 8.
         5 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         1..=4 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
             .map(|mut s| {

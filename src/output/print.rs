@@ -439,6 +439,7 @@ fn tangential_name(t: TangentialChoice) -> &'static str {
         TangentialChoice::NoSlip => "NoSlip",
         TangentialChoice::Walton => "Walton",
         TangentialChoice::HertzMindlin => "HM",
+        TangentialChoice::Mdr => "MDR",
     }
 }
 

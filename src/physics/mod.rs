@@ -5,6 +5,7 @@ pub mod dashpot;
 pub mod hertz;
 pub mod jkr;
 pub mod jkr_nguyen;
+pub mod mdr;
 pub mod modified_jkr;
 pub mod pasha_linear;
 pub mod restitution;

@@ -189,6 +189,7 @@ pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.tang = Default::default();
         e.walton = Default::default();
         e.tdelta = 0.0;
+        e.mdr = None;
         if let Some(l) = e.laws.as_deref_mut() {
             // The rolling spring's energy is lost with the contact (`sim::rolling`); the
             // history of the laws of `SET NORmal` stays.
@@ -714,7 +715,12 @@ fn tangential_step(
             s.tang_energy = step.energy;
             s.tforce = Vec3::from(step.force);
         }
-        TangentialChoice::Md => {
+        TangentialChoice::Mdr if pc.law == 0 && pcrit == 0.0 && s.gamma() == 0.0 => {
+            // The MDR spring row of a Hertz contact (sim::mdr).
+            super::mdr::shear(k, pc, s, dd, acc);
+        }
+        TangentialChoice::Md | TangentialChoice::Mdr => {
+            // (Under MDR: the pairs with a surface energy or a law of `SET NORmal`.)
             let t_old = s.tforce;
             let (a, tang_energy) = (s.a, s.tang_energy);
             let e = s.ext_mut();
@@ -893,6 +899,40 @@ mod tests {
         );
         assert!(s.tforce.x < 0.0, "the force on B opposes its slip");
         assert!(acc.friction > 0.0);
+    }
+
+    /// Under `SET TANgential MDR` a Hertz contact keeps the spring row (`physics::mdr`), a
+    /// JKR contact the Mindlin–Deresiewicz state instead (the MDR of the adhesive contact
+    /// is not derived); both give the row's or MD's force, and both free what they kept
+    /// when they separate.
+    #[test]
+    fn mdr_rows_for_hertz_contacts_and_md_for_jkr_ones() {
+        let laws = Laws {
+            tangential: TangentialChoice::Mdr,
+            ..laws()
+        };
+        for gamma in [0.0, 0.1] {
+            let pc = adhesive_pair(gamma);
+            let mut s = ContactState::default();
+            let mut acc = Acc::default();
+            for _ in 0..3 {
+                interact::<true, false>(&kin(-1e-7), &pc, &laws, &mut s, &mut acc);
+            }
+            assert!(s.touching && s.tforce.x < 0.0, "{gamma}: {:?}", s.tforce);
+            let e = s.ext();
+            if gamma == 0.0 {
+                let row = e.mdr.as_ref().expect("a row");
+                // Three steps of 0.1 µm, five times the sliding displacement
+                // μE*α/(4G*): the contact slides at μP.
+                let t = pc.mu * s.normal_force;
+                assert!((s.tforce.x + t).abs() < 1e-3 * t, "{} {t}", s.tforce.x);
+                assert!(row.a_ref == s.a && e.tang.t == 0.0);
+            } else {
+                assert!(e.mdr.is_none() && e.tang.t != 0.0);
+            }
+            interact::<true, false>(&kin(1e-3), &pc, &laws, &mut s, &mut acc);
+            assert!(!s.touching && s.ext().mdr.is_none());
+        }
     }
 
     /// An adhesive contact keeps it after detachment: its surface energy and a_s stay.

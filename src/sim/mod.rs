@@ -13,6 +13,7 @@ pub mod interact;
 pub mod lanes;
 pub mod leapfrog;
 pub mod liquid;
+pub mod mdr;
 pub mod model;
 pub mod parallel;
 pub mod params;

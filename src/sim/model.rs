@@ -80,6 +80,11 @@ pub enum TangentialChoice {
     /// (`physics::dashpot::tangential_coefficient`); the Mindlin springs of `SET NORmal MJKR
     /// EDEM` and `NGUYEN` pairs take the dashpot too. Appended last (checkpoint format 8).
     HertzMindlin,
+    /// The exact Hertz–Mindlin tangential contact by the method of dimensionality reduction
+    /// (Popov & Heß 2015): a row of springs that keeps the traction field
+    /// (`physics::mdr`); the pairs with a surface energy or a law of `SET NORmal` keep `Md`.
+    /// Appended last (checkpoint format 9).
+    Mdr,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -14,10 +14,13 @@ use trubal::sim::{Scene, Vec3};
 /// A small scene with a bit of everything: periodic x/y and open z, two size and material
 /// types, restitution and Rayleigh damping, liquid bridges, gravity, a servo-controlled wall,
 /// an agglomerate region, an advanced random generator, a PLot SAve reference, history rows,
-/// a sliding particle pair (tangential history and a bridge) and a particle on the wall; the
-/// last cycles with Walton's law (its history beside the Mindlin–Deresiewicz one); laws of
+/// a sliding particle pair (tangential history and a bridge) and a particle on the wall;
+/// cycles with Walton's law (its history beside the Mindlin–Deresiewicz one); laws of
 /// `SET NORmal` (a Thornton–Ning and a linear wall contact, a pair with LIGGGHTS' JKR held
-/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`).
+/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`);
+/// the last cycles with `MDR` (the spring row of the sliding pair, made from the force it
+/// held; the Thornton–Ning wall contact keeps the MD law). (`SET TANgential HM`, the last
+/// setting of the format-8 fixture, is a setting only: that fixture holds it.)
 const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set tol 40e-6
@@ -64,8 +67,9 @@ create 0.001 0.001 0.002 0 0 0 0 0 0 1 4
 create 0.001 0.001 0.00220002 0 0 0 0 0 0 1 4
 cycle 40
 set tangential walton
-cycle 10
-set tangential hm";
+cycle 5
+set tangential mdr
+cycle 5";
 
 fn session(lines: &str) -> Session {
     let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
@@ -145,6 +149,10 @@ fn contact_facts(s: &trubal::sim::contacts::ContactState) -> Value {
         "normal": normal_facts(&e.laws().normal),
         "roll": v3(&e.laws().roll), "roll_energy": f(e.laws().roll_energy),
         "roll_damp": v3(&e.laws().roll_damp),
+        "mdr": e.mdr.as_ref().map(|r| json!({
+            "a_ref": f(r.a_ref), "e1": fs(&r.e1),
+            "u": r.u.iter().map(|u| fs(u)).collect::<Vec<_>>(),
+        })),
     })
 }
 
@@ -445,6 +453,9 @@ fn the_whole_state_round_trips() {
     let pair = &sc.contacts().pair(0).s;
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
+    // Format 9: the MDR row of the sliding pair; the Thornton–Ning wall contact has none.
+    assert!(pair.ext().mdr.as_ref().is_some_and(|r| r.a_ref > 0.0));
+    assert!(sc.contacts().wall_pairs()[0].s.ext().mdr.is_none());
     let w = &pair.ext().walton;
     assert!(w.fn_prev > 0.0 && w.sense != 0 && w.stored > 0.0);
     let wall = &sc.contacts().wall_pairs()[0].s;

@@ -260,6 +260,34 @@ fn walton_scene_continues_bitwise() {
     check_continuation("walton", &setup, 6000, &[1, 2999, 4500, 5999]);
 }
 
+/// `SET TANgential MDR`: the dry frictional scene, its Hertz contacts with the spring rows
+/// of the MDR law (`physics::mdr`), whose 16 springs, frame and largest contact radius
+/// SAve/RESTart must keep to the bit.
+#[test]
+fn mdr_scene_continues_bitwise() {
+    let setup = format!("{DRY}\nset tangential mdr");
+    let dir = scratch("mdr-probe");
+    let mut s = session_in(&dir, &setup);
+    run(&mut s, "cycle 1500");
+    let sc = s.scene.as_ref().unwrap();
+    assert!(
+        sc.contacts().iter().any(|p| p.s.touching
+            && p.s
+                .ext()
+                .mdr
+                .as_ref()
+                .is_some_and(|r| r.a_ref > 0.0 && r.u.iter().any(|u| u[0] != 0.0 && u[1] != 0.0)))
+            && sc
+                .contacts()
+                .wall_pairs()
+                .iter()
+                .any(|p| p.s.ext().mdr.is_some()),
+        "the scene must have pair and wall contacts with MDR rows"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    check_continuation("mdr", &setup, 4000, &[1, 1500, 2345, 3999]);
+}
+
 /// Wet: the same agglomerate with pendular bridges (water, 1 % volume, viscous) and gravity,
 /// dropped onto a floor: bridges form, stretch and rupture.
 const WET: &str = "start 0.01 0.01 0.01 1000 100 2

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::scene::{Particles, Vec3};
 use crate::physics::bridge::{Bridge, BridgeCoeffs, BridgeModel};
+use crate::physics::mdr::MdrRow;
 use crate::physics::tangential::TangentialState;
 use crate::physics::walton::WaltonState;
 

@@ -5,12 +5,13 @@
 //! pair as isolated); versions 2 and 3 had no `walton` in the law-specific part (Walton's law
 //! did not exist), read as its default; versions 2 to 4 had no `laws` state there (the
 //! laws of `SET NORmal` did not exist), read as none, nor a rolling spring (`roll`, read as
-//! none).
+//! none); versions 5 to 8 had no `mdr` there (the spring row of `SET TANgential MDR`), read
+//! as none.
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
 
-use super::{BridgeState, ContactExt, TangentialState, Vec3, WaltonState};
+use super::{BridgeState, ContactExt, LawState, TangentialState, Vec3, WaltonState};
 
 thread_local! {
     /// The format version being decoded (0: the current one).
@@ -64,6 +65,7 @@ impl From<V1> for super::ContactState {
             released: o.released,
             walton: WaltonState::default(),
             laws: None,
+            mdr: None,
         };
         super::ContactState {
             touching: o.touching,
@@ -119,6 +121,7 @@ impl From<ExtV3> for ContactExt {
             released: o.released,
             walton: WaltonState::default(),
             laws: None,
+            mdr: None,
         }
     }
 }
@@ -127,8 +130,8 @@ fn ext_v3(e: Option<Box<ExtV3>>) -> Option<Box<ContactExt>> {
     e.map(|e| Box::new((*e).into()))
 }
 
-/// The contact state as format versions 3 and 4 wrote it, with the law-specific part of
-/// each (`ExtV3`, `ExtV4`; frozen: never change).
+/// The contact state as format versions 3 to 8 wrote it, with the law-specific part of
+/// each (`ExtV3`, `ExtV4`, `ExtV8`; frozen: never change).
 #[derive(Deserialize)]
 struct V3<E> {
     touching: bool,
@@ -206,6 +209,37 @@ impl From<ExtV4> for ContactExt {
             released: e.released,
             walton: e.walton,
             laws: None,
+            mdr: None,
+        }
+    }
+}
+
+/// The law-specific part of the contact state as format versions 5 to 8 wrote it (frozen:
+/// never change).
+#[derive(Deserialize)]
+struct ExtV8 {
+    a_s: f64,
+    gamma: f64,
+    delta: Vec3,
+    tdelta: f64,
+    tang: TangentialState,
+    released: [f64; 2],
+    walton: WaltonState,
+    laws: Option<Box<LawState>>,
+}
+
+impl From<ExtV8> for ContactExt {
+    fn from(e: ExtV8) -> Self {
+        ContactExt {
+            a_s: e.a_s,
+            gamma: e.gamma,
+            delta: e.delta,
+            tdelta: e.tdelta,
+            tang: e.tang,
+            released: e.released,
+            walton: e.walton,
+            laws: e.laws,
+            mdr: None,
         }
     }
 }
@@ -219,6 +253,7 @@ pub fn deserialize_state<'de, D: Deserializer<'de>>(
         2 => V2::deserialize(de).map(Into::into),
         3 => V3::<ExtV3>::deserialize(de).map(Into::into),
         4 => V4::deserialize(de).map(Into::into),
+        5..=8 => V3::<ExtV8>::deserialize(de).map(Into::into),
         _ => super::ContactState::deserialize(de),
     }
 }

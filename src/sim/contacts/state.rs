@@ -117,6 +117,10 @@ pub struct ContactExt {
     /// The state of the laws of `SET NORmal` and `SET ROLling` (checkpoint format 5), behind
     /// a pointer of its own: the contacts of the other laws keep their size.
     pub laws: Option<Box<LawState>>,
+    /// The spring row of `SET TANgential MDR` (`physics::mdr`; checkpoint format 9), behind
+    /// a pointer of its own (288 bytes): the contacts of the other laws pay for the pointer
+    /// only.
+    pub mdr: Option<Box<MdrRow>>,
 }
 
 /// The state of the laws of `SET NORmal` and `SET ROLling` in a contact.

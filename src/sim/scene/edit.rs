@@ -147,7 +147,22 @@ impl Scene {
 
     /// A `SET` of the settings: the contacts are re-evaluated before the next step.
     pub fn edit_settings(&mut self, f: impl FnOnce(&mut Settings)) {
+        let was_mdr = self.settings.tangential == TangentialChoice::Mdr;
         f(&mut self.settings);
+        if was_mdr && self.settings.tangential != TangentialChoice::Mdr {
+            // The spring rows of `SET TANgential MDR` stop following their contacts: drop
+            // them, so that a contact that comes back to MDR starts from its force then
+            // (`physics::mdr::MdrRow::holding`), not from a stale row.
+            let drop_row = |s: &mut crate::sim::contacts::ContactState| {
+                if let Some(e) = s.ext.as_deref_mut() {
+                    e.mdr = None;
+                }
+            };
+            self.contacts.for_each_state_mut(|_, s| drop_row(s));
+            for c in self.contacts.wall_pairs.iter_mut() {
+                drop_row(&mut c.s);
+            }
+        }
         self.contacts.mark_stale();
     }
 
