@@ -5,10 +5,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::interact::normal_strain;
+use super::contacts::ContactState;
 use super::scene::Scene;
 use super::walls::wall_r_star;
 use crate::physics::hertz;
+use crate::physics::jkr::Jkr;
 
 /// Accumulated energy terms (J).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -167,4 +168,30 @@ pub fn stored(scene: &Scene) -> Stored {
 /// periodic cell's deformation (`Cell::work`).
 pub fn residual(scene: &Scene) -> f64 {
     stored(scene).total() - (scene.ledger.input() + scene.cell.work - scene.ledger.dissipated())
+}
+
+/// Energy stored in the normal direction of a touching contact: Hertz strain energy
+/// 8/15 E* √R* α^{5/2}, or for JKR the elastic + surface energy since snap-in,
+/// U(a) − U(a0) (so that it equals the peeling work W_p (3.119) at separation).
+pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
+    if !s.touching {
+        return 0.0;
+    }
+    if let Some(l) = s.ext.as_deref().and_then(|e| e.laws.as_deref())
+        && !l.normal.is_none()
+    {
+        // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
+        return l.normal.stored();
+    }
+    let gamma = s.gamma();
+    if gamma > 0.0 {
+        let j = Jkr {
+            e_star,
+            r_star,
+            gamma,
+        };
+        j.energy_of_a(s.a) + j.peel_work()
+    } else {
+        hertz::energy(e_star, r_star, s.overlap)
+    }
 }

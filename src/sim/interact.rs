@@ -148,32 +148,6 @@ pub fn tangential_viscous(goldman: bool, b: BridgeChoice) -> bool {
     goldman || b == BridgeChoice::Rabinovich
 }
 
-/// Energy stored in the normal direction of a touching contact: Hertz strain energy
-/// 8/15 E* √R* α^{5/2}, or for JKR the elastic + surface energy since snap-in,
-/// U(a) − U(a0) (so that it equals the peeling work W_p (3.119) at separation).
-pub fn normal_strain(s: &ContactState, e_star: f64, r_star: f64) -> f64 {
-    if !s.touching {
-        return 0.0;
-    }
-    if let Some(l) = s.ext.as_deref().and_then(|e| e.laws.as_deref())
-        && !l.normal.is_none()
-    {
-        // The laws of `SET NORmal`: the energy on their reversible branch (sim::elastoplastic).
-        return l.normal.stored();
-    }
-    let gamma = s.gamma();
-    if gamma > 0.0 {
-        let j = Jkr {
-            e_star,
-            r_star,
-            gamma,
-        };
-        j.energy_of_a(s.a) + j.peel_work()
-    } else {
-        hertz::energy(e_star, r_star, s.overlap)
-    }
-}
-
 /// Ends a solid contact; the energy left in its tangential and rolling springs is lost
 /// (friction).
 pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
@@ -505,7 +479,7 @@ fn normal_law<const ADH: bool>(
                 acc.adhesion += if dt > 0.0 {
                     j.peel_work_with(a_s)
                 } else {
-                    normal_strain(s, pc.e_star, k.r_star)
+                    super::energy::normal_strain(s, pc.e_star, k.r_star)
                 };
                 reset_solid(s, acc);
             } else {
