@@ -172,12 +172,12 @@ impl Session {
 
     fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
         match cmd {
-            Command::Help { topic } => {
+            Command::Help { topic, item } => {
                 let text = match topic {
                     None => crate::lang::doc::help_index(),
-                    Some(t) => crate::lang::doc::help_for(t)?,
+                    Some(t) => crate::lang::doc::help_for(t, item.as_deref())?,
                 };
-                self.emit(&text);
+                self.emit(&crate::lang::doc::wrap(&text, terminal_width()));
                 return Ok(Flow::Continue);
             }
             Command::Stop => return Ok(Flow::Stop),
@@ -614,4 +614,20 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
         " ".repeat(col - 1 - from + lead.len()),
         "^".repeat(width)
     )
+}
+
+/// The width of the terminal standard output writes to; 80 when it is not a terminal.
+fn terminal_width() -> usize {
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() {
+        return 80;
+    }
+    // SAFETY: TIOCGWINSZ writes one `winsize` into the struct given; nothing else is touched.
+    let mut ws: libc::winsize = unsafe { std::mem::zeroed() };
+    let ok = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut ws) } == 0;
+    if ok && ws.ws_col > 0 {
+        ws.ws_col as usize
+    } else {
+        80
+    }
 }

@@ -284,10 +284,17 @@ fn version_quit_and_help_of_a_command() {
         assert!(out.status.success());
         assert!(String::from_utf8_lossy(&out.stdout).starts_with("trubal "));
     }
-    for word in ["quit", "exit"] {
-        let err = err_of(&format!("{word}\n"));
-        assert!(err.contains("STOp ends the session"), "{err}");
+    // `quit` and `exit` end the session as STOp does; `bye` is still pointed to STOp.
+    for word in ["quit", "exit", "QUIT"] {
+        let (ok, out, err) = run(
+            &format!("start 1 1 1 10 10 1\n{word}\nprint info\n"),
+            &["-"],
+        );
+        assert!(ok, "{err}");
+        assert!(!out.contains("balls"), "{word} ended the session: {out}");
     }
+    let err = err_of("bye\n");
+    assert!(err.contains("STOp ends the session"), "{err}");
     let (ok, out, _) = run("help print\nhelp plot\nhelp p\n", &["-"]);
     assert!(ok);
     for item in [
@@ -435,4 +442,76 @@ fn the_readme_says_how_to_install() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
     assert!(readme.contains("cargo install --path ."));
     assert!(readme.contains("Ctrl-C"));
+}
+
+/// Issue 51, item 5: messages that misled a new user.
+#[test]
+fn messages_say_what_is_wrong() {
+    // A whole number too large: said so, with the limit.
+    let err = err_of("start 1 1 1 10 10 1\ncycle 99999999999999999999999\n");
+    assert!(
+        err.contains("is too large: at most 9000000000000000"),
+        "{err}"
+    );
+    assert!(!err.contains("whole number"), "{err}");
+    // A size type: the limit is the number of size types.
+    let err = err_of("start 1 1 1 10 10 1\nrad 0.001 0\n");
+    assert!(
+        err.contains("`isize` must be between 1 and 64, got 0"),
+        "{err}"
+    );
+    let err = err_of("start 1 1 1 10 10 1\ndensity 2000 65\n");
+    assert!(err.contains("`mtyp` must be between 1 and 64"), "{err}");
+    // Did-you-mean prefers the item whose name the word starts.
+    let err = err_of("start 1 1 1 10 10 1\npr energies\n");
+    assert!(err.contains("did you mean ENErgy?"), "{err}");
+    let err = err_of("e\n");
+    assert!(err.contains("unknown command `e`"), "{err}");
+    assert!(!err.contains("did you mean"), "{err}");
+    // PRint Info on an empty scene: what the step waits for, not `inf`.
+    let (ok, out, err) = run(
+        "start 1 1 1 10 10 1\nprint info\nrad 0.01 1\nrgen 1 1 1 0\nprint info\n",
+        &["-"],
+    );
+    assert!(ok, "{err}");
+    assert!(out.contains("dt not yet known (no particles)"), "{out}");
+    assert!(
+        out.contains("dt not yet known (a material property is missing"),
+        "{out}"
+    );
+    assert!(!out.contains("inf"), "{out}");
+}
+
+/// Issue 51, item 5: help is wrapped (80 columns when not a terminal), SET's items have help
+/// of their own, and the index is in alphabetical order.
+#[test]
+fn help_is_wrapped_and_covers_set_items() {
+    let (ok, out, err) = run("help set\nhelp\nhelp cycle\n", &["-"]);
+    assert!(ok, "{err}");
+    let longest = out.lines().map(|l| l.chars().count()).max().unwrap();
+    assert!(longest <= 80, "a help line of {longest} characters:\n{out}");
+    assert!(out.contains("  - TUNnel STOP|DELETE"), "{out}");
+    let names: Vec<&str> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    let i_move = names.iter().position(|n| *n == "MOVe").unwrap();
+    assert_eq!(names[i_move - 1], "Mode", "{names:?}");
+    assert_eq!(names[i_move + 1], "New", "{names:?}");
+    let (ok, out, err) = run("help set outdir\nhelp set tun\nhelp print energy\n", &["-"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("SET OUTdir\n  OUTdir path"), "{out}");
+    assert!(out.contains("must be quoted"), "{out}");
+    assert!(out.contains("SET TUNnel\n  TUNnel STOP|DELETE"), "{out}");
+    assert!(out.contains("PRint ENErgy"), "{out}");
+    let err = err_of("help set zz\n");
+    assert!(err.contains("unknown SET item `zz`"), "{err}");
+    // The unquoted path gets SAve's quoting hint.
+    let err = err_of("start 1 1 1 10 10 1\nset outdir runs/a\n");
+    assert!(err.contains("with `/` must be quoted"), "{err}");
+    let (ok, _, err) = run("start 1 1 1 10 10 1\nset outdir \"runs/a\"\n", &["-"]);
+    assert!(ok, "{err}");
 }
