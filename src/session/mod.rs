@@ -590,8 +590,14 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
     let width = width.min(to.saturating_sub(col - 1).max(1));
     // A message that quotes a huge word (a binary file's line) quotes the word's ends; a
     // long message of ordinary words is shown whole.
-    let message = e
+    // The message quotes words of the line: their control characters (a binary file's NUL
+    // and ESC bytes) are shown as `?` like the excerpt's, never written raw to the terminal.
+    let message: String = e
         .message
+        .chars()
+        .map(|c| if c.is_control() && c != '\n' { '?' } else { c })
+        .collect();
+    let message = message
         .split(' ')
         .map(|w| {
             let m: Vec<char> = w.chars().collect();

@@ -515,3 +515,58 @@ fn help_is_wrapped_and_covers_set_items() {
     let (ok, _, err) = run("start 1 1 1 10 10 1\nset outdir \"runs/a\"\n", &["-"]);
     assert!(ok, "{err}");
 }
+
+/// Issue 51, item 4: a binary file is named as such (once, and not read further), and no
+/// message writes raw control bytes of the input to the terminal.
+#[test]
+fn binary_files_are_named_and_never_echoed_raw() {
+    let elf = std::fs::read(env!("CARGO_BIN_EXE_trubal")).unwrap();
+    let mut gzip = vec![0x1f, 0x8b, 0x08, 0x00, 0, 0, 0, 0, 0, 3];
+    let mut x = 12345u64;
+    let mut noise = Vec::new();
+    for _ in 0..4000 {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        noise.push((x >> 56) as u8);
+    }
+    gzip.extend(&noise);
+    // Compressed data without a NUL on its first line: mostly bytes that are not text.
+    let no_nul: Vec<u8> = noise
+        .iter()
+        .map(|&b| if b == 0 || b == b'\n' { 0xa7 } else { b })
+        .take(300)
+        .chain(*b"\n")
+        .collect();
+    let utf16: Vec<u8> = "start 1 1 1 10 10 1\nprint info\n"
+        .encode_utf16()
+        .flat_map(|u| u.to_le_bytes())
+        .collect();
+    for (tag, bytes, expect) in [
+        ("elf", &elf[..elf.len().min(1 << 16)], "NUL bytes"),
+        ("gzip", &gzip[..], "NUL bytes"),
+        ("nonul", &no_nul[..], "are not text"),
+        ("utf16", &utf16[..], "UTF-16 without a byte-order mark"),
+    ] {
+        for args in [&[][..], &["--keep-going"][..]] {
+            let (code, out, err) = run_file_bytes(tag, bytes, args);
+            assert_eq!(code, Some(1), "{tag}: {err}");
+            assert!(
+                err.contains("in.tru:1: error: this looks like a binary file"),
+                "{tag}: {err}"
+            );
+            assert!(err.contains(expect), "{tag}: {err}");
+            assert_eq!(
+                err.lines().count(),
+                1,
+                "{tag}: one error, nothing more read: {err}"
+            );
+            assert!(out.is_empty(), "{tag}: {out}");
+        }
+    }
+    // A stray control byte in an ordinary line: the message shows `?`, not the byte.
+    let (code, _, err) = run_file_bytes("esc", b"start 1 1 1 10 10 1\nprint \x1b[2Jinfo\n", &[]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown print item `?[2Jinfo`"), "{err}");
+    assert!(!err.chars().any(|c| c.is_control() && c != '\n'), "{err:?}");
+}
