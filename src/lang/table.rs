@@ -35,6 +35,11 @@ macro_rules! def {
     };
 }
 
+/// The largest FRAction accepted. At FRAction 1 a Hertz contact at 10 m/s lasts about 3
+/// steps (doc/timestep.md); at 10 it lasts a third of one, and contacts are stepped over.
+/// Up to 10, the blow-up tests (FRAction 3, 5, 10) can still show what an unstable step does.
+pub const MAX_FRACTION: f64 = 10.0;
+
 pub const PRINT_ITEMS: &[Keyword<PrintItem>] = &[
     kw("Balls", PrintItem::Balls),
     kw("BONds", PrintItem::Bonds),
@@ -325,11 +330,26 @@ pub const COMMANDS: &[CommandDef] = &[
                 f: if a.try_keyword(AUTO)?.is_some() {
                     None
                 } else {
-                    Some(a.positive("f")?)
+                    let t = a.peek();
+                    let f = a.positive("f")?;
+                    if f > MAX_FRACTION {
+                        return Err(ParseError::at(
+                            t.expect("positive() consumed a token"),
+                            format!(
+                                "FRAction {} is above {MAX_FRACTION}: accepted 0 < f <= {MAX_FRACTION} (0.2 is the default, 1 TRUBAL's; above about 1 most scenes blow up, doc/timestep.md)",
+                                if f < 1e6 {
+                                    format!("{f}")
+                                } else {
+                                    format!("{f:e}")
+                                }
+                            ),
+                        ));
+                    }
+                    Some(f)
                 },
             })
         },
-        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
+        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion; at most 10). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
     ),
     def!(
         "FRiction",

@@ -570,3 +570,37 @@ fn binary_files_are_named_and_never_echoed_raw() {
     assert!(err.contains("unknown print item `?[2Jinfo`"), "{err}");
     assert!(!err.chars().any(|c| c.is_control() && c != '\n'), "{err:?}");
 }
+
+/// Issue 51, item 6: values a user cannot have meant are refused with the accepted range, and
+/// change nothing.
+#[test]
+fn values_out_of_physical_sense_are_refused() {
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nrad 1e308 1\n");
+    assert!(
+        err.contains("a radius of 1e308 m is larger than the work-space (its largest side is 0.1 m): accepted 0 < r <= 0.1 m"),
+        "{err}"
+    );
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nrad 0.01 1 uniform 0.005 0.5\n");
+    assert!(
+        err.contains("a radius of 0.5 m is larger than the work-space"),
+        "{err}"
+    );
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nfraction 1e9\n");
+    assert!(
+        err.contains("FRAction 1e9 is above 10: accepted 0 < f <= 10"),
+        "{err}"
+    );
+    // The blow-up tests' values and TRUBAL's default stay accepted.
+    let (ok, out, err) = run(
+        "start 0.1 0.1 0.1 10 10 1\nrad 0.1 1\nfraction 10\nfraction 1\nrad 1e308 1\nprint settings\n",
+        &["-", "--keep-going"],
+    );
+    assert!(
+        !ok && err.lines().filter(|l| l.contains("error")).count() == 1,
+        "{err}"
+    );
+    assert!(
+        out.contains("fraction") || out.contains("FRAction"),
+        "{out}"
+    );
+}
