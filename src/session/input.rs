@@ -299,6 +299,7 @@ impl Helper for TrubalHelper {}
 /// stops the command (a `Cycle` at the end of its current step) and returns here. The
 /// history file is written after every line, so no exit loses it.
 pub fn run_interactive(session: &mut Session) -> Result<(), String> {
+    let _keep = KeepTypedAhead::on();
     session.emit(BANNER);
     session.flush();
     let mut rl = rustyline::Editor::<TrubalHelper, rustyline::history::DefaultHistory>::new()
@@ -351,6 +352,44 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
     }
     let _ = rl.save_history(&hist);
     Ok(())
+}
+
+/// Lines typed while a command runs wait in the terminal's input queue, which the terminal
+/// empties when Ctrl-C is pressed (POSIX: unless NOFLSH is set). Set for the session (the line
+/// editor keeps it: it restores the mode it found after every line), so that lines typed
+/// during a Cycle run after its Ctrl-C as after its normal end; the mode found is restored
+/// at the end of the session.
+struct KeepTypedAhead(Option<libc::termios>);
+
+impl KeepTypedAhead {
+    fn on() -> Self {
+        // SAFETY: tcgetattr/tcsetattr read and write one `termios` of standard input.
+        unsafe {
+            let mut t: libc::termios = std::mem::zeroed();
+            if libc::tcgetattr(libc::STDIN_FILENO, &mut t) != 0 {
+                return KeepTypedAhead(None);
+            }
+            let old = t;
+            t.c_lflag |= libc::NOFLSH;
+            libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t);
+            KeepTypedAhead(Some(old))
+        }
+    }
+}
+
+impl Drop for KeepTypedAhead {
+    fn drop(&mut self) {
+        if let Some(old) = &self.0 {
+            // SAFETY: as above; the mode found at the start, NOFLSH as it was.
+            unsafe {
+                let mut t: libc::termios = std::mem::zeroed();
+                if libc::tcgetattr(libc::STDIN_FILENO, &mut t) == 0 {
+                    t.c_lflag = (t.c_lflag & !libc::NOFLSH) | (old.c_lflag & libc::NOFLSH);
+                    libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t);
+                }
+            }
+        }
+    }
 }
 
 /// The first line of a terminal session.

@@ -135,7 +135,16 @@ impl Session {
             end,
         } in parsed
         {
-            match self.execute(&command) {
+            let logging = self.echo && self.log.is_some();
+            let r = self.execute(&command);
+            // The command that opened the log (`STArt ... Log`, `Log ON`) is its first line.
+            if !logging
+                && self.echo
+                && let Some(f) = &mut self.log
+            {
+                let _ = writeln!(f, "> {line}");
+            }
+            match r {
                 Ok(Flow::Continue) => {}
                 Ok(flow) => return Ok(flow),
                 Err(message) => {

@@ -206,7 +206,9 @@ fn log_file_echoes_commands() {
     let log = std::fs::read_to_string(dir.join("TRUBAL.OUT")).unwrap();
     assert!(log.contains("> print grid"), "{log}");
     assert_eq!(log.matches("work-space").count(), 2, "{log}");
-    assert_eq!(log.matches("> ").count(), 2, "{log}"); // `print grid` and `log off`
+    // `start ... log` (the line that opened it, first), `print grid` and `log off`.
+    assert!(log.starts_with("> start 1 1 1 1 1 1 log\n"), "{log}");
+    assert_eq!(log.matches("> ").count(), 3, "{log}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
