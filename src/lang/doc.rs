@@ -29,7 +29,7 @@ pub fn help_for(word: &str, item: Option<&str>) -> Result<String, String> {
         .keywords
         .iter()
         .enumerate()
-        .map(|(i, k)| kw(*k, i))
+        .map(|(i, k)| kw(k, i))
         .collect();
     if items.is_empty() {
         return Err(format!("{} takes no items or keywords", d.name));
