@@ -21,6 +21,10 @@ impl ParseError {
     }
 }
 
+/// The largest integer a parameter may have (integers are read as reals first: every whole
+/// number up to this is exact).
+pub const INT_LIMIT: i64 = 9_000_000_000_000_000;
+
 /// Tokens of the current line and the reading position.
 pub struct Args<'a> {
     pub toks: &'a [Token],
@@ -135,13 +139,32 @@ impl<'a> Args<'a> {
                 format!("expected an integer for `{name}`, found `{}`", t.text),
             )
         })?;
-        if v.fract() != 0.0 || v.abs() > 9.0e15 {
+        if v.fract() != 0.0 {
             return Err(ParseError::at(
                 t,
                 format!("`{name}` must be a whole number, found `{}`", t.text),
             ));
         }
+        if v.abs() > INT_LIMIT as f64 {
+            return Err(ParseError::at(
+                t,
+                format!(
+                    "`{name}` = {} is too large: at most {INT_LIMIT} in magnitude",
+                    t.text
+                ),
+            ));
+        }
         Ok(v as i64)
+    }
+
+    /// A size type number: 1 to the number of size types.
+    pub fn size_type(&mut self, name: &str) -> Result<usize, ParseError> {
+        Ok(self.int_in(name, 1, crate::sim::scene::MAX_SIZES as i64)? as usize)
+    }
+
+    /// A material type number: 1 to the number of material types.
+    pub fn material_type(&mut self, name: &str) -> Result<usize, ParseError> {
+        Ok(self.int_in(name, 1, crate::sim::scene::MAX_MATERIALS as i64)? as usize)
     }
 
     /// An integer in `lo..=hi`.
@@ -149,9 +172,14 @@ impl<'a> Args<'a> {
         let t = self.peek();
         let v = self.int(name)?;
         if v < lo || v > hi {
+            let range = if hi >= INT_LIMIT {
+                format!("at least {lo}")
+            } else {
+                format!("between {lo} and {hi}")
+            };
             return Err(ParseError::at(
                 t.expect("int() consumed a token"),
-                format!("`{name}` must be between {lo} and {hi}, got {v}"),
+                format!("`{name}` must be {range}, got {v}"),
             ));
         }
         Ok(v)

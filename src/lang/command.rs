@@ -237,6 +237,7 @@ pub enum Command {
     },
     Help {
         topic: Option<String>,
+        item: Option<String>,
     },
     Iset,
     Liquid {

@@ -96,10 +96,25 @@ pub fn match_keyword<K: Copy>(word: &str, set: &[Keyword<K>]) -> Result<K, Match
     }
 }
 
+/// The keyword a mistyped word most likely meant: among the keywords whose shortest form the
+/// word starts with (`energies` → ENErgy, not ENTries), else among those that share its first
+/// letter (`e` suggests nothing rather than CReate), the one at the smallest edit distance.
 fn closest<K>(w: &str, set: &[Keyword<K>]) -> Option<usize> {
+    let starts: Vec<usize> = (0..set.len())
+        .filter(|&i| w.starts_with(&minimal(set[i].name).to_ascii_lowercase()))
+        .collect();
+    let first = w.chars().next();
+    let pool: Vec<usize> = if starts.is_empty() {
+        (0..set.len())
+            .filter(|&i| set[i].name.chars().next().map(|c| c.to_ascii_lowercase()) == first)
+            .collect()
+    } else {
+        starts
+    };
     let mut best = None;
     let mut best_d = usize::MAX;
-    for (i, k) in set.iter().enumerate() {
+    for i in pool {
+        let k = &set[i];
         let name = k.name.to_ascii_lowercase();
         // Compare with the prefix of the same length (abbreviations are prefixes).
         let wl = w.chars().count().max(minimal(k.name).len());
@@ -190,5 +205,15 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert_eq!(match_keyword("zzzzzz", SET), Err(MatchError::Unknown(None)));
+        const EN: &[Keyword<u8>] = &[kw("ENErgy", 0), kw("ENTries", 1), kw("CReate", 2)];
+        assert_eq!(
+            match_keyword("energies", EN),
+            Err(MatchError::Unknown(Some(0)))
+        );
+        assert_eq!(
+            match_keyword("e", EN),
+            Err(MatchError::TooShort(vec![0, 1]))
+        );
+        assert_eq!(match_keyword("x", EN), Err(MatchError::Unknown(None)));
     }
 }

@@ -49,8 +49,9 @@ pub fn parse_line(line: &str) -> Result<Vec<Parsed>, ParseError> {
         {
             // A slash separates words (TRUBAL's syntax), so a path must be quoted.
             let between = line.get(toks[pos - 1].end..next.start).unwrap_or("");
-            let hint = if between.contains('/') && def.syntax.contains("file") {
-                ": a file name with `/` must be quoted, e.g. \"dir/name\""
+            let takes_path = def.syntax.contains("file") || def.name == "SET";
+            let hint = if between.contains('/') && takes_path {
+                ": a file or directory name with `/` must be quoted, e.g. \"dir/name\""
             } else {
                 ""
             };

@@ -35,6 +35,11 @@ macro_rules! def {
     };
 }
 
+/// The largest FRAction accepted. At FRAction 1 a Hertz contact at 10 m/s lasts about 3
+/// steps (doc/timestep.md); at 10 it lasts a third of one, and contacts are stepped over.
+/// Up to 10, the blow-up tests (FRAction 3, 5, 10) can still show what an unstable step does.
+pub const MAX_FRACTION: f64 = 10.0;
+
 pub const PRINT_ITEMS: &[Keyword<PrintItem>] = &[
     kw("Balls", PrintItem::Balls),
     kw("BONds", PrintItem::Bonds),
@@ -326,11 +331,26 @@ pub const COMMANDS: &[CommandDef] = &[
                 f: if a.try_keyword(AUTO)?.is_some() {
                     None
                 } else {
-                    Some(a.positive("f")?)
+                    let t = a.peek();
+                    let f = a.positive("f")?;
+                    if f > MAX_FRACTION {
+                        return Err(ParseError::at(
+                            t.expect("positive() consumed a token"),
+                            format!(
+                                "FRAction {} is above {MAX_FRACTION}: accepted 0 < f <= {MAX_FRACTION} (0.2 is the default, 1 TRUBAL's; above about 1 most scenes blow up, doc/timestep.md)",
+                                if f < 1e6 {
+                                    format!("{f}")
+                                } else {
+                                    format!("{f:e}")
+                                }
+                            ),
+                        ));
+                    }
+                    Some(f)
                 },
             })
         },
-        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
+        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion; at most 10). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
     ),
     def!(
         "FRiction",
@@ -371,11 +391,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "HELP",
-        "[command]",
+        "[command [item]]",
         &[],
         false,
         b_help,
-        "List the commands, or describe one."
+        "List the commands, or describe one, or one of its items or keywords (help set outdir). The text is wrapped to the terminal's width (80 columns when not a terminal)."
     ),
     def!(
         "Iset",
@@ -414,6 +434,17 @@ pub const COMMANDS: &[CommandDef] = &[
             n: a.int_in("n", 0, 1)?
         }),
         "Stress-servo mode: 0 velocity-increment control (each step the rate changes by -g × error), 1 velocity control (the rate is -g × error; does not hunt)."
+    ),
+    def!(
+        "MOVe",
+        "nagg dx dy dz",
+        &[],
+        false,
+        |a| Ok(Command::Move {
+            nagg: a.int_in("nagg", 1, 2)? as usize,
+            d: a.vec3(["dx", "dy", "dz"])?,
+        }),
+        "Translate every particle of agglomerate nagg (and its region) by (dx, dy, dz); contacts with other particles are re-made at the next cycle."
     ),
     def!(
         "New",
@@ -490,17 +521,6 @@ pub const COMMANDS: &[CommandDef] = &[
         "Radius (m) of size type isize. NORmal sd: generated particles draw radii from a normal distribution (mean r, standard deviation sd, truncated at 3 sd); UNIform rmin rmax: uniform in [rmin, rmax] (r is then the nominal radius); TABle r1 f1 r2 f2 ...: radius rk with number frequency fk (any unit: per cent or counts; they are normalised by their sum), e.g. Pasha 2013 Table 5.1 with its diameters halved. Existing particles of the type keep their radii unless the type is Fixed."
     ),
     def!(
-        "MOVe",
-        "nagg dx dy dz",
-        &[],
-        false,
-        |a| Ok(Command::Move {
-            nagg: a.int_in("nagg", 1, 2)? as usize,
-            d: a.vec3(["dx", "dy", "dz"])?,
-        }),
-        "Translate every particle of agglomerate nagg (and its region) by (dx, dy, dz); contacts with other particles are re-made at the next cycle."
-    ),
-    def!(
         "RELax",
         "kmax fmax nmax",
         &[],
@@ -575,13 +595,14 @@ pub const COMMANDS: &[CommandDef] = &[
             "GENoverlap",
             "FRAgment",
             "GOLdman",
+            "TUNnel",
             "NORmal",
             "ROLling",
             "PAIr"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON|HM|MDR (WALTON: Walton's incremental Mindlin–Deresiewicz law of Shang 1998; HM: the Hertz–Mindlin tangential law of EDEM and LIGGGHTS, the no-slip spring k_t = 8G*a with a dashpot from the pair's restitution, C_t = zeta (2/3 m* k_t)^(1/2), which the Mindlin springs of MJKR EDEM and NGUYEN pairs take too; MDR: the exact Hertz-Mindlin contact by the method of dimensionality reduction (Popov & Hess 2015), a row of 16 springs per contact that keeps the traction field, exact in small-angle impacts where MD is not; pairs with COHesion or a law of SET NORmal keep MD, doc/contact_laws.md); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path; VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR [EDEM [ROLLING]] | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap, with EDEM the limit of sliding friction on the repulsive (Hertzian) part of the force, 4E*a^3/(3R*), instead of P + 2Pc (EDEM's Hertz-Mindlin with JKR; Mindlin's no-slip spring whatever SET TANgential says, with its dashpot under HM), with ROLLING the limit of the rolling moment too, instead of P; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1])."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON|HM|MDR (WALTON: Walton's incremental Mindlin–Deresiewicz law of Shang 1998; HM: the Hertz–Mindlin tangential law of EDEM and LIGGGHTS, the no-slip spring k_t = 8G*a with a dashpot from the pair's restitution, C_t = zeta (2/3 m* k_t)^(1/2), which the Mindlin springs of MJKR EDEM and NGUYEN pairs take too; MDR: the exact Hertz-Mindlin contact by the method of dimensionality reduction (Popov & Hess 2015), a row of 16 springs per contact that keeps the traction field, exact in small-angle impacts where MD is not; pairs with COHesion or a law of SET NORmal keep MD, doc/contact_laws.md); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path (the directory of PLot's pictures and PLot HIStory's charts; a path with `/` must be quoted, SET OUTdir \"runs/a\", as `/` separates words); VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR [EDEM [ROLLING]] | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap, with EDEM the limit of sliding friction on the repulsive (Hertzian) part of the force, 4E*a^3/(3R*), instead of P + 2Pc (EDEM's Hertz-Mindlin with JKR; Mindlin's no-slip spring whatever SET TANgential says, with its dashpot under HM), with ROLLING the limit of the rolling moment too, instead of P; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1])."
     ),
     def!(
         "STArt",
@@ -597,7 +618,7 @@ pub const COMMANDS: &[CommandDef] = &[
         &[],
         true,
         |_| Ok(Command::Stop),
-        "End the session (the state is not saved)."
+        "End the session (the state is not saved); `quit` and `exit` do the same."
     ),
     def!(
         "VELocity",
@@ -646,7 +667,8 @@ pub const COMMANDS: &[CommandDef] = &[
 /// The command keywords, in table order (for matching and completion).
 /// Words that name a command outside the abbreviation rule: Appendix B.1's own example
 /// gives `p c` for `PRint Contacts`, although `p` is also the start of `PLot`.
-pub const ALIASES: &[(&str, &str)] = &[("P", "PRint")];
+/// `quit` and `exit` end the session as STOp does.
+pub const ALIASES: &[(&str, &str)] = &[("P", "PRint"), ("QUIT", "STOp"), ("EXIT", "STOp")];
 
 /// The command an alias names.
 pub fn alias(word: &str) -> Option<usize> {
@@ -674,7 +696,7 @@ pub fn command_keywords() -> Vec<Keyword<usize>> {
 }
 
 fn material(a: &mut Args) -> Result<usize, ParseError> {
-    a.index("mtyp")
+    a.material_type("mtyp")
 }
 
 fn b_agglomerate(a: &mut Args) -> Result<Command, ParseError> {
@@ -686,7 +708,7 @@ fn b_agglomerate(a: &mut Args) -> Result<Command, ParseError> {
 }
 
 fn b_agenerate(a: &mut Args) -> Result<Command, ParseError> {
-    let size = a.index("isize")?;
+    let size = a.size_type("isize")?;
     let material = material(a)?;
     let nagg = a.int_in("iagg", 0, 2)? as usize;
     let origin = a.vec3(["xo", "yo", "zo"])?;
@@ -816,7 +838,7 @@ fn b_create(a: &mut Args) -> Result<Command, ParseError> {
         pos: a.vec3(["x", "y", "z"])?,
         vel: a.vec3(["vx", "vy", "vz"])?,
         spin: a.vec3(["wx", "wy", "wz"])?,
-        size: a.index("isize")?,
+        size: a.size_type("isize")?,
         material: material(a)?,
     })
 }
@@ -905,7 +927,12 @@ fn b_help(a: &mut Args) -> Result<Command, ParseError> {
     } else {
         Some(a.word("command")?)
     };
-    Ok(Command::Help { topic })
+    let item = if a.at_end() {
+        None
+    } else {
+        Some(a.word("item")?)
+    };
+    Ok(Command::Help { topic, item })
 }
 
 fn b_liquid(a: &mut Args) -> Result<Command, ParseError> {
@@ -1029,7 +1056,7 @@ fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
     }
     const DISTS: &[Keyword<D>] = &[kw("NORmal", D::N), kw("UNIform", D::U), kw("TABle", D::T)];
     let r = a.positive("r")?;
-    let size = a.index("isize")?;
+    let size = a.size_type("isize")?;
     let dist = match a.try_keyword(DISTS)? {
         None => SizeDist::Fixed,
         Some(D::N) => {
@@ -1114,7 +1141,7 @@ fn b_rgenerate(a: &mut Args) -> Result<Command, ParseError> {
     }
     Ok(Command::Rgenerate {
         n: a.count("n")?,
-        size: a.index("isize")?,
+        size: a.size_type("isize")?,
         material: material(a)?,
         nagg: a.int_in("naggm", 0, 2)? as usize,
         walls: {

@@ -61,11 +61,11 @@ fn info(scene: &Scene) -> (String, Value) {
         }
     }
     let mut s = format!(
-        "cycle {}  time {:.6e} s  dt {:.6e} s\nballs {} (capacity {}, lost through open sides or walls crossed {})  walls {}\n\
+        "cycle {}  time {:.6e} s  dt {}\nballs {} (capacity {}, lost through open sides or walls crossed {})  walls {}\n\
          contacts {} particle-particle, {} particle-wall  ({} candidate pairs, {} touching or overlapping pairs)\n",
         scene.cycle(),
         scene.time(),
-        dt,
+        dt_text(scene, dt),
         scene.particles().len(),
         scene.nball(),
         scene.lost(),
@@ -102,6 +102,17 @@ fn info(scene: &Scene) -> (String, Value) {
         "wall_forces": scene.walls().iter().map(|w| w.normal_force).collect::<Vec<_>>(),
     });
     (s, j)
+}
+
+/// The time step for `PRint Info`, or what it still waits for.
+fn dt_text(scene: &Scene, dt: f64) -> String {
+    if dt.is_finite() && dt > 0.0 {
+        format!("{dt:.6e} s")
+    } else if scene.particles().is_empty() {
+        "not yet known (no particles)".to_string()
+    } else {
+        "not yet known (a material property is missing: the first Cycle names it)".to_string()
+    }
 }
 
 /// Pairs whose gap is at most 1e-6 of the smallest radius (touching within round-off).

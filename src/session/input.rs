@@ -58,6 +58,15 @@ impl Runner<'_> {
             }
             raw = raw.strip_prefix(&[0xef, 0xbb, 0xbf]).unwrap_or(raw);
         }
+        if let Some(why) = binary_line(raw) {
+            // Not a command file: one error, and the rest of it is not read.
+            self.session.emit_err(&format!(
+                "{}:{}: error: this looks like a binary file ({why}), not a command file; nothing more of it is read",
+                self.name, self.line
+            ));
+            self.end.errors += 1;
+            return false;
+        }
         let src = Source {
             name: self.name.to_string(),
             line: self.line,
@@ -96,6 +105,30 @@ impl Runner<'_> {
         }
         true
     }
+}
+
+/// Why a line is not text, if it is not: it holds NUL bytes (a binary, or UTF-16 without a
+/// byte-order mark), or mostly bytes that are neither printable nor blanks (compressed data).
+fn binary_line(raw: &[u8]) -> Option<String> {
+    let nul = raw.iter().filter(|&&b| b == 0).count();
+    if nul > 0 {
+        let odd_nul = raw.iter().skip(1).step_by(2).filter(|&&b| b == 0).count();
+        let even_nul = raw.iter().step_by(2).filter(|&&b| b == 0).count();
+        let half = raw.len() / 2;
+        if raw.len() >= 4 && (odd_nul >= half || even_nul >= half) {
+            return Some("NUL bytes between the characters: UTF-16 without a byte-order mark? save it as UTF-8".into());
+        }
+        return Some(format!("{nul} NUL bytes in line of {} bytes", raw.len()));
+    }
+    let text = String::from_utf8_lossy(raw);
+    let (mut bad, mut all) = (0usize, 0usize);
+    for c in text.chars() {
+        all += 1;
+        if c == '\u{fffd}' || (c.is_control() && c != '\t' && c != '\x0c') {
+            bad += 1;
+        }
+    }
+    (bad >= 2 && 3 * bad >= all).then(|| format!("{bad} of its {all} characters are not text"))
 }
 
 /// The error of a line longer than [`MAX_LINE`] (`len` bytes), quoting its first 60 bytes.
@@ -266,6 +299,7 @@ impl Helper for TrubalHelper {}
 /// stops the command (a `Cycle` at the end of its current step) and returns here. The
 /// history file is written after every line, so no exit loses it.
 pub fn run_interactive(session: &mut Session) -> Result<(), String> {
+    let _keep = KeepTypedAhead::on();
     session.emit(BANNER);
     session.flush();
     let mut rl = rustyline::Editor::<TrubalHelper, rustyline::history::DefaultHistory>::new()
@@ -318,6 +352,44 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
     }
     let _ = rl.save_history(&hist);
     Ok(())
+}
+
+/// Lines typed while a command runs wait in the terminal's input queue, which the terminal
+/// empties when Ctrl-C is pressed (POSIX: unless NOFLSH is set). Set for the session (the line
+/// editor keeps it: it restores the mode it found after every line), so that lines typed
+/// during a Cycle run after its Ctrl-C as after its normal end; the mode found is restored
+/// at the end of the session.
+struct KeepTypedAhead(Option<libc::termios>);
+
+impl KeepTypedAhead {
+    fn on() -> Self {
+        // SAFETY: tcgetattr/tcsetattr read and write one `termios` of standard input.
+        unsafe {
+            let mut t: libc::termios = std::mem::zeroed();
+            if libc::tcgetattr(libc::STDIN_FILENO, &mut t) != 0 {
+                return KeepTypedAhead(None);
+            }
+            let old = t;
+            t.c_lflag |= libc::NOFLSH;
+            libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t);
+            KeepTypedAhead(Some(old))
+        }
+    }
+}
+
+impl Drop for KeepTypedAhead {
+    fn drop(&mut self) {
+        if let Some(old) = &self.0 {
+            // SAFETY: as above; the mode found at the start, NOFLSH as it was.
+            unsafe {
+                let mut t: libc::termios = std::mem::zeroed();
+                if libc::tcgetattr(libc::STDIN_FILENO, &mut t) == 0 {
+                    t.c_lflag = (t.c_lflag & !libc::NOFLSH) | (old.c_lflag & libc::NOFLSH);
+                    libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t);
+                }
+            }
+        }
+    }
 }
 
 /// The first line of a terminal session.

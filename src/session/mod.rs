@@ -135,7 +135,16 @@ impl Session {
             end,
         } in parsed
         {
-            match self.execute(&command) {
+            let logging = self.echo && self.log.is_some();
+            let r = self.execute(&command);
+            // The command that opened the log (`STArt ... Log`, `Log ON`) is its first line.
+            if !logging
+                && self.echo
+                && let Some(f) = &mut self.log
+            {
+                let _ = writeln!(f, "> {line}");
+            }
+            match r {
                 Ok(Flow::Continue) => {}
                 Ok(flow) => return Ok(flow),
                 Err(message) => {
@@ -172,12 +181,12 @@ impl Session {
 
     fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
         match cmd {
-            Command::Help { topic } => {
+            Command::Help { topic, item } => {
                 let text = match topic {
                     None => crate::lang::doc::help_index(),
-                    Some(t) => crate::lang::doc::help_for(t)?,
+                    Some(t) => crate::lang::doc::help_for(t, item.as_deref())?,
                 };
-                self.emit(&text);
+                self.emit(&crate::lang::doc::wrap(&text, terminal_width()));
                 return Ok(Flow::Continue);
             }
             Command::Stop => return Ok(Flow::Stop),
@@ -590,8 +599,14 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
     let width = width.min(to.saturating_sub(col - 1).max(1));
     // A message that quotes a huge word (a binary file's line) quotes the word's ends; a
     // long message of ordinary words is shown whole.
-    let message = e
+    // The message quotes words of the line: their control characters (a binary file's NUL
+    // and ESC bytes) are shown as `?` like the excerpt's, never written raw to the terminal.
+    let message: String = e
         .message
+        .chars()
+        .map(|c| if c.is_control() && c != '\n' { '?' } else { c })
+        .collect();
+    let message = message
         .split(' ')
         .map(|w| {
             let m: Vec<char> = w.chars().collect();
@@ -614,4 +629,20 @@ pub fn format_error(src: &Source, line: &str, e: &LineError) -> String {
         " ".repeat(col - 1 - from + lead.len()),
         "^".repeat(width)
     )
+}
+
+/// The width of the terminal standard output writes to; 80 when it is not a terminal.
+fn terminal_width() -> usize {
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() {
+        return 80;
+    }
+    // SAFETY: TIOCGWINSZ writes one `winsize` into the struct given; nothing else is touched.
+    let mut ws: libc::winsize = unsafe { std::mem::zeroed() };
+    let ok = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut ws) } == 0;
+    if ok && ws.ws_col > 0 {
+        ws.ws_col as usize
+    } else {
+        80
+    }
 }

@@ -206,7 +206,9 @@ fn log_file_echoes_commands() {
     let log = std::fs::read_to_string(dir.join("TRUBAL.OUT")).unwrap();
     assert!(log.contains("> print grid"), "{log}");
     assert_eq!(log.matches("work-space").count(), 2, "{log}");
-    assert_eq!(log.matches("> ").count(), 2, "{log}"); // `print grid` and `log off`
+    // `start ... log` (the line that opened it, first), `print grid` and `log off`.
+    assert!(log.starts_with("> start 1 1 1 1 1 1 log\n"), "{log}");
+    assert_eq!(log.matches("> ").count(), 3, "{log}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -284,10 +286,17 @@ fn version_quit_and_help_of_a_command() {
         assert!(out.status.success());
         assert!(String::from_utf8_lossy(&out.stdout).starts_with("trubal "));
     }
-    for word in ["quit", "exit"] {
-        let err = err_of(&format!("{word}\n"));
-        assert!(err.contains("STOp ends the session"), "{err}");
+    // `quit` and `exit` end the session as STOp does; `bye` is still pointed to STOp.
+    for word in ["quit", "exit", "QUIT"] {
+        let (ok, out, err) = run(
+            &format!("start 1 1 1 10 10 1\n{word}\nprint info\n"),
+            &["-"],
+        );
+        assert!(ok, "{err}");
+        assert!(!out.contains("balls"), "{word} ended the session: {out}");
     }
+    let err = err_of("bye\n");
+    assert!(err.contains("STOp ends the session"), "{err}");
     let (ok, out, _) = run("help print\nhelp plot\nhelp p\n", &["-"]);
     assert!(ok);
     for item in [
@@ -435,4 +444,165 @@ fn the_readme_says_how_to_install() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
     assert!(readme.contains("cargo install --path ."));
     assert!(readme.contains("Ctrl-C"));
+}
+
+/// Issue 51, item 5: messages that misled a new user.
+#[test]
+fn messages_say_what_is_wrong() {
+    // A whole number too large: said so, with the limit.
+    let err = err_of("start 1 1 1 10 10 1\ncycle 99999999999999999999999\n");
+    assert!(
+        err.contains("is too large: at most 9000000000000000"),
+        "{err}"
+    );
+    assert!(!err.contains("whole number"), "{err}");
+    // A size type: the limit is the number of size types.
+    let err = err_of("start 1 1 1 10 10 1\nrad 0.001 0\n");
+    assert!(
+        err.contains("`isize` must be between 1 and 64, got 0"),
+        "{err}"
+    );
+    let err = err_of("start 1 1 1 10 10 1\ndensity 2000 65\n");
+    assert!(err.contains("`mtyp` must be between 1 and 64"), "{err}");
+    // Did-you-mean prefers the item whose name the word starts.
+    let err = err_of("start 1 1 1 10 10 1\npr energies\n");
+    assert!(err.contains("did you mean ENErgy?"), "{err}");
+    let err = err_of("e\n");
+    assert!(err.contains("unknown command `e`"), "{err}");
+    assert!(!err.contains("did you mean"), "{err}");
+    // PRint Info on an empty scene: what the step waits for, not `inf`.
+    let (ok, out, err) = run(
+        "start 1 1 1 10 10 1\nprint info\nrad 0.01 1\nrgen 1 1 1 0\nprint info\n",
+        &["-"],
+    );
+    assert!(ok, "{err}");
+    assert!(out.contains("dt not yet known (no particles)"), "{out}");
+    assert!(
+        out.contains("dt not yet known (a material property is missing"),
+        "{out}"
+    );
+    assert!(!out.contains("inf"), "{out}");
+}
+
+/// Issue 51, item 5: help is wrapped (80 columns when not a terminal), SET's items have help
+/// of their own, and the index is in alphabetical order.
+#[test]
+fn help_is_wrapped_and_covers_set_items() {
+    let (ok, out, err) = run("help set\nhelp\nhelp cycle\n", &["-"]);
+    assert!(ok, "{err}");
+    let longest = out.lines().map(|l| l.chars().count()).max().unwrap();
+    assert!(longest <= 80, "a help line of {longest} characters:\n{out}");
+    assert!(out.contains("  - TUNnel STOP|DELETE"), "{out}");
+    let names: Vec<&str> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    let i_move = names.iter().position(|n| *n == "MOVe").unwrap();
+    assert_eq!(names[i_move - 1], "Mode", "{names:?}");
+    assert_eq!(names[i_move + 1], "New", "{names:?}");
+    let (ok, out, err) = run("help set outdir\nhelp set tun\nhelp print energy\n", &["-"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("SET OUTdir\n  OUTdir path"), "{out}");
+    assert!(out.contains("must be quoted"), "{out}");
+    assert!(out.contains("SET TUNnel\n  TUNnel STOP|DELETE"), "{out}");
+    assert!(out.contains("PRint ENErgy"), "{out}");
+    let err = err_of("help set zz\n");
+    assert!(err.contains("unknown SET item `zz`"), "{err}");
+    // The unquoted path gets SAve's quoting hint.
+    let err = err_of("start 1 1 1 10 10 1\nset outdir runs/a\n");
+    assert!(err.contains("with `/` must be quoted"), "{err}");
+    let (ok, _, err) = run("start 1 1 1 10 10 1\nset outdir \"runs/a\"\n", &["-"]);
+    assert!(ok, "{err}");
+}
+
+/// Issue 51, item 4: a binary file is named as such (once, and not read further), and no
+/// message writes raw control bytes of the input to the terminal.
+#[test]
+fn binary_files_are_named_and_never_echoed_raw() {
+    let elf = std::fs::read(env!("CARGO_BIN_EXE_trubal")).unwrap();
+    let mut gzip = vec![0x1f, 0x8b, 0x08, 0x00, 0, 0, 0, 0, 0, 3];
+    let mut x = 12345u64;
+    let mut noise = Vec::new();
+    for _ in 0..4000 {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        noise.push((x >> 56) as u8);
+    }
+    gzip.extend(&noise);
+    // Compressed data without a NUL on its first line: mostly bytes that are not text.
+    let no_nul: Vec<u8> = noise
+        .iter()
+        .map(|&b| if b == 0 || b == b'\n' { 0xa7 } else { b })
+        .take(300)
+        .chain(*b"\n")
+        .collect();
+    let utf16: Vec<u8> = "start 1 1 1 10 10 1\nprint info\n"
+        .encode_utf16()
+        .flat_map(|u| u.to_le_bytes())
+        .collect();
+    for (tag, bytes, expect) in [
+        ("elf", &elf[..elf.len().min(1 << 16)], "NUL bytes"),
+        ("gzip", &gzip[..], "NUL bytes"),
+        ("nonul", &no_nul[..], "are not text"),
+        ("utf16", &utf16[..], "UTF-16 without a byte-order mark"),
+    ] {
+        for args in [&[][..], &["--keep-going"][..]] {
+            let (code, out, err) = run_file_bytes(tag, bytes, args);
+            assert_eq!(code, Some(1), "{tag}: {err}");
+            assert!(
+                err.contains("in.tru:1: error: this looks like a binary file"),
+                "{tag}: {err}"
+            );
+            assert!(err.contains(expect), "{tag}: {err}");
+            assert_eq!(
+                err.lines().count(),
+                1,
+                "{tag}: one error, nothing more read: {err}"
+            );
+            assert!(out.is_empty(), "{tag}: {out}");
+        }
+    }
+    // A stray control byte in an ordinary line: the message shows `?`, not the byte.
+    let (code, _, err) = run_file_bytes("esc", b"start 1 1 1 10 10 1\nprint \x1b[2Jinfo\n", &[]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown print item `?[2Jinfo`"), "{err}");
+    assert!(!err.chars().any(|c| c.is_control() && c != '\n'), "{err:?}");
+}
+
+/// Issue 51, item 6: values a user cannot have meant are refused with the accepted range, and
+/// change nothing.
+#[test]
+fn values_out_of_physical_sense_are_refused() {
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nrad 1e308 1\n");
+    assert!(
+        err.contains("a radius of 1e308 m is larger than the work-space (its largest side is 0.1 m): accepted 0 < r <= 0.1 m"),
+        "{err}"
+    );
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nrad 0.01 1 uniform 0.005 0.5\n");
+    assert!(
+        err.contains("a radius of 0.5 m is larger than the work-space"),
+        "{err}"
+    );
+    let err = err_of("start 0.1 0.1 0.1 10 10 1\nfraction 1e9\n");
+    assert!(
+        err.contains("FRAction 1e9 is above 10: accepted 0 < f <= 10"),
+        "{err}"
+    );
+    // The blow-up tests' values and TRUBAL's default stay accepted.
+    let (ok, out, err) = run(
+        "start 0.1 0.1 0.1 10 10 1\nrad 0.1 1\nfraction 10\nfraction 1\nrad 1e308 1\nprint settings\n",
+        &["-", "--keep-going"],
+    );
+    assert!(
+        !ok && err.lines().filter(|l| l.contains("error")).count() == 1,
+        "{err}"
+    );
+    assert!(
+        out.contains("fraction") || out.contains("FRAction"),
+        "{out}"
+    );
 }

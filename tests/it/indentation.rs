@@ -246,7 +246,11 @@ fn bad_dies_indenters_tables_and_servos() {
     let e = s
         .run_line("dwall cylinder 0.0105 0.01 0 0 0 1 0.0004")
         .expect_err("die around nothing");
-    assert!(e.message.contains("outside the die"), "{}", e.message);
+    assert!(
+        e.message.contains("with the centre outside the die"),
+        "{}",
+        e.message
+    );
     let run = trubal_json(
         &format!(
             "{base}create 0.01 0.01 0.0005 0 0 0 0 0 0 1 1\ndwall ob 0.01 0.01 0.0028 0.002 m 2\n"

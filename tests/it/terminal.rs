@@ -185,6 +185,33 @@ fn ctrl_c_stops_a_cycle_at_a_step_and_the_state_continues_bitwise() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 51, item 2: a line typed while a Cycle runs (after the line editor has handed the
+/// Cycle over) runs after a Ctrl-C too; the terminal does not drop it.
+#[test]
+fn lines_typed_during_a_cycle_run_after_its_ctrl_c() {
+    let mut t = Pty::start("ahead-ctrlc", &[]);
+    t.wait_for("trubal> ", 1);
+    for l in SCENE.lines() {
+        t.send(&format!("{l}\r"));
+    }
+    t.send("cycle 100000000\r");
+    t.wait_for("particle-steps/s", 1);
+    // Typed during the Cycle: it waits in the terminal's queue.
+    t.send("print info\r");
+    std::thread::sleep(Duration::from_millis(300));
+    t.send("\x03");
+    let out = t.wait_for("interrupted: Cycle stopped after ", 1);
+    let after = out
+        .split("interrupted: Cycle stopped after ")
+        .nth(1)
+        .unwrap();
+    let ran: u64 = after.split_whitespace().next().unwrap().parse().unwrap();
+    t.wait_for(&format!("cycle {ran}  time"), 1);
+    let (code, _, dir) = t.stop();
+    assert_eq!(code, Some(0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn no_progress_line_with_json_on_a_terminal() {
     let mut t = Pty::start("json", &["--json"]);
