@@ -43,16 +43,7 @@ pub fn shortest(scene: &Scene, model: &Model) -> Option<Fastest> {
     if p.is_empty() {
         return None;
     }
-    // The two largest speeds.
-    let (mut v1, mut i1, mut v2) = (0.0f64, usize::MAX, 0.0f64);
-    for (i, v) in p.vel.iter().enumerate() {
-        let s = v.norm();
-        if s > v1 {
-            (v2, v1, i1) = (v1, s, i);
-        } else if s > v2 {
-            v2 = s;
-        }
-    }
+    let (v1, i1, v2) = two_fastest(&p.vel);
     let walls: Vec<(usize, f64)> = scene
         .walls
         .iter()
@@ -107,6 +98,21 @@ pub fn shortest(scene: &Scene, model: &Model) -> Option<Fastest> {
     })
 }
 
+/// The largest speed, its particle, and the second largest (the fastest other particle of
+/// every particle but the fastest).
+fn two_fastest(vel: &[super::scene::Vec3]) -> (f64, usize, f64) {
+    let (mut v1, mut i1, mut v2) = (0.0f64, usize::MAX, 0.0f64);
+    for (i, v) in vel.iter().enumerate() {
+        let s = v.norm();
+        if s > v1 {
+            (v2, v1, i1) = (v1, s, i);
+        } else if s > v2 {
+            v2 = s;
+        }
+    }
+    (v1, i1, v2)
+}
+
 /// The warning for a step that gives the fastest contact fewer than [`WARN_STEPS`] steps:
 /// the particle, its speed, the steps per contact and the FRAction that would give
 /// [`AUTO_STEPS`] (`fraction`: the one in use).
@@ -157,15 +163,7 @@ pub fn auto_step(scene: &Scene, model: &Model, base: f64) -> f64 {
 /// the fastest other particle or wall surface (∞ when nothing moves).
 fn travel_step(scene: &Scene) -> f64 {
     let p = &scene.particles;
-    let (mut v1, mut i1, mut v2) = (0.0f64, usize::MAX, 0.0f64);
-    for (i, v) in p.vel.iter().enumerate() {
-        let s = v.norm();
-        if s > v1 {
-            (v2, v1, i1) = (v1, s, i);
-        } else if s > v2 {
-            v2 = s;
-        }
-    }
+    let (v1, i1, v2) = two_fastest(&p.vel);
     let walls = scene.walls.iter().map(surface_speed).fold(0.0f64, f64::max);
     let mut dt = f64::INFINITY;
     for i in 0..p.len() {
