@@ -436,16 +436,18 @@ const WATCH_FRACTION: f64 = 0.25;
 /// - a pair whose overlap exceeds the smaller radius (one centre inside the other sphere:
 ///   beyond anything a contact law holds), checked on the stored contacts whenever the
 ///   particles may have moved by [`WATCH_FRACTION`] of the smallest radius since the last
-///   check (`moved` keeps that count between steps), and along the paths of the step for
+///   check (`watch` keeps that count between steps), and along the paths of the step for
 ///   every pair within reach when a step moves particles by more than [`JUMP_FRACTION`] of
 ///   it relative to each other.
+///
+/// - a servo wall that hunts ([`watch_servos`]).
 ///
 /// `rmin`: the smallest radius of the Cycle's start (deletions only make it larger).
 pub(super) fn after_step(
     scene: &mut Scene,
     dt: f64,
     rmin: f64,
-    moved: &mut f64,
+    watch: &mut StepWatch,
 ) -> Result<(), Blowup> {
     let p = &scene.particles;
     if p.is_empty() {
@@ -479,19 +481,19 @@ pub(super) fn after_step(
             }
         }
     }
-    *moved += 2.0 * step;
+    watch.moved += 2.0 * step;
     if 2.0 * step > JUMP_FRACTION * rmin {
-        *moved = 0.0;
+        watch.moved = 0.0;
         if let Some(e) = pairs_through(scene, dt, 2.0 * step) {
             return Err(e);
         }
-    } else if *moved >= WATCH_FRACTION * rmin {
-        *moved = 0.0;
+    } else if watch.moved >= WATCH_FRACTION * rmin {
+        watch.moved = 0.0;
         if let Some(e) = deep_contacts(scene, dt) {
             return Err(e);
         }
     }
-    Ok(())
+    watch_servos(scene, watch)
 }
 
 /// The closest approach of the relative path `d0 → d1` (a straight segment over the step)
@@ -645,7 +647,7 @@ pub const HUNT_ERROR: f64 = 0.01;
 #[derive(Default)]
 pub(super) struct StepWatch {
     /// The particles' relative travel since the last check of the contacts' overlaps.
-    pub moved: f64,
+    moved: f64,
     /// Per wall: the servo's speed of the last two steps and how many consecutive steps it
     /// changed sign without decaying.
     servo: Vec<([f64; 2], u32)>,
@@ -656,7 +658,7 @@ pub(super) struct StepWatch {
 /// off its target (a loop gain above 2, or a limit cycle at ±vmax) — stops the run: the scheme cannot book the work of a wall that reverses
 /// at every step (the books drift by several % of the input), so its results are not to be
 /// trusted. The message gives the gain that holds.
-pub(super) fn watch_servos(scene: &Scene, watch: &mut StepWatch) -> Result<(), Blowup> {
+fn watch_servos(scene: &Scene, watch: &mut StepWatch) -> Result<(), Blowup> {
     if watch.servo.len() != scene.walls.len() {
         watch.servo = vec![([0.0; 2], 0); scene.walls.len()];
     }

@@ -176,8 +176,7 @@ fn run_steps(
             });
         }
         if result.is_ok() {
-            result = after_step(scene, model.dt, rmin, &mut step_watch.moved)
-                .and_then(|()| watch_servos(scene, &mut step_watch));
+            result = after_step(scene, model.dt, rmin, &mut step_watch);
         }
         if let Err(e) = result {
             return Err(stop(scene, snapshot, e));
@@ -476,11 +475,11 @@ pub fn one_step(
     let model = &*model;
     let xres = xres_in_use(scene, xres);
     let mut renumbered = false;
-    // Particles behind a wall's surface at a Cycle's first step or a rebuild (commands may
-    // have put them there; a crossing in a step is found after that step, `after_step`);
-    // before those that left the work-space are removed (one may have left through the
-    // wall first).
-    if !scene.walls.is_empty() && (rebuilt || first) {
+    // Particles behind a wall's surface at a Cycle's first step (commands may have put them
+    // there; a crossing in a step is found after that step, every particle when the list is
+    // due for a re-mapping, `after_step`); before those that left the work-space are
+    // removed (one may have left through the wall first).
+    if !scene.walls.is_empty() && first {
         let behind = behind_walls(scene, true);
         if !behind.is_empty() {
             match scene.settings.tunnel {
