@@ -307,9 +307,11 @@ impl Session {
             self.emit_err(&format!("warning: {w}"));
         }
         if timing {
-            // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle.
+            // Benchmark hook (scripts/bench): wall-clock and CPU time of this Cycle, and
+            // the pollers' changes and time asleep so far (`sim::parallel::awake`).
+            let (changes, asleep) = crate::sim::parallel::awake::asleep_so_far();
             self.emit_err(&format!(
-                "TRUBAL_TIMING cycles={n} balls={balls} cycle_wall_s={:.6} cycle_cpu_s={:.6}",
+                "TRUBAL_TIMING cycles={n} balls={balls} cycle_wall_s={:.6} cycle_cpu_s={:.6} pollers_changed={changes} pollers_asleep_s={asleep:.3}",
                 t0.elapsed().as_secs_f64(),
                 (cpu_ns() - c0) * 1e-9
             ));

@@ -71,8 +71,8 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
         ),
         ("wide", 0.04, 6000, "", 1000),
         // Three force tasks in one region (one task with a neighbour on each side) on the
-        // two cores: each step waits for the task that has no core (up to 2 ms), so this one
-        // runs fewer steps.
+        // two cores: a task waits a while for one that has no core, so this one runs fewer
+        // steps.
         ("three", 0.02, 1500, "", 300),
     ] {
         let deck = format!(
@@ -139,6 +139,53 @@ fn a_periodic_damped_bed_with_fixed_and_lost_particles_saves_the_same_bytes() {
         assert!(
             saved[0] == saved[k],
             "the checkpoints differ (1 thread; {t} threads, regions {regions:?})"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The pollers (`sim::parallel::awake`) put to sleep and woken every few steps, as on a busy
+/// machine, at every phase of the step: the Cycle's thread then runs the other task itself.
+/// The saved state is the same bytes as with one thread.
+#[test]
+fn pollers_put_to_sleep_and_woken_mid_cycle_change_no_bit() {
+    let dir = std::env::temp_dir().join(format!("trubal_threads_pace_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = |f: &std::path::Path| {
+        format!(
+            "start 0.02 0.02 0.08 3000 3000 6\nset open all\nrad 1e-3 1\ndensity 2500 1\n\
+             ymd 1e7 1\npra 0.3 1\nfriction 0.5 1\ndamping restitution 0.5\ngravity 0 0 -9.81\n\
+             fraction 0.2\ndwall p 1 0 0 0\ndwall p -1 0 0 -0.02\ndwall p 0 1 0 0\n\
+             dwall p 0 -1 0 -0.02\ndwall p 0 0 1 0\nrgenerate 1500 1 1 0\ncycle 1500\n\
+             save \"{}\"\n",
+            f.display()
+        )
+    };
+    let run = |threads: usize, f: &std::path::Path| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let lines = deck(f);
+        pool.install(|| drop(crate::common::session(&lines)));
+        std::fs::read(f).unwrap()
+    };
+    let one = run(1, &dir.join("one.sav"));
+    for every in [1, 7, 64] {
+        let (before, _) = trubal::sim::parallel::awake::asleep_so_far();
+        trubal::sim::parallel::awake::change_every(every);
+        let two = run(2, &dir.join(format!("two_{every}.sav")));
+        trubal::sim::parallel::awake::change_every(0);
+        let (after, _) = trubal::sim::parallel::awake::asleep_so_far();
+        if trubal::sim::parallel::awake::cores() >= 2 {
+            assert!(
+                after - before >= 1500 / every,
+                "{every}: {before} → {after}"
+            );
+        }
+        assert!(
+            one == two,
+            "the checkpoints differ (pollers changed every {every} steps)"
         );
     }
     let _ = std::fs::remove_dir_all(&dir);

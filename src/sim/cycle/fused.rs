@@ -88,10 +88,15 @@ impl std::ops::Index<usize> for View<'_> {
     }
 }
 
-/// How long a task that has updated its own chunks waits for the other tasks' pairs, to
-/// share the late chunks with them (the region is used with no more threads than cores,
-/// so a waiting task holds no core another task needs).
+/// How long at most a task that has updated its own chunks waits for the other tasks'
+/// pairs, to share the late chunks with them: a fraction of its own time (`WAIT_SHARE`,
+/// the tasks are balanced to end together), at least `MIN_WAIT` and at most `MAX_WAIT`. It
+/// waits only while every task has started: a task not started yet runs after this one on
+/// the same thread (no other worker took it), and one that is slow to end has lost its core
+/// to another program — waiting for it would only hold this core.
 const MAX_WAIT: std::time::Duration = std::time::Duration::from_millis(2);
+const MIN_WAIT: std::time::Duration = std::time::Duration::from_micros(20);
+const WAIT_SHARE: u32 = 8;
 
 /// A chunk no task updates before every task's pairs are done.
 const LATE: u32 = u32::MAX;
@@ -395,6 +400,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         mv,
         fixed: (&p.mass[..], &p.agg[..], &p.fixed[..], &p.radius[..]),
         keep,
+        started: AtomicUsize::new(0),
         done: AtomicUsize::new(0),
         next_late: AtomicUsize::new(0),
     };
@@ -432,8 +438,8 @@ fn task_lists<'a>(
 }
 
 /// What the tasks of one region share: the arrays (see [`Shared`]), the split and its
-/// chunk plan, the update's constants, and the counters of the tasks done and of the late
-/// chunks taken.
+/// chunk plan, the update's constants, and the counters of the tasks started, of those done
+/// and of the late chunks taken.
 struct Region<'r> {
     sh: Shared,
     inc: &'r Incidence,
@@ -442,6 +448,7 @@ struct Region<'r> {
     fixed: Fixed<'r>,
     /// Keep the forces after the update (otherwise cleared chunk by chunk).
     keep: bool,
+    started: AtomicUsize,
     done: AtomicUsize,
     next_late: AtomicUsize,
 }
@@ -456,12 +463,14 @@ impl Region<'_> {
         (t, pairs, blocks, wp): TaskLists<'_>,
         inputs: ForceInputs<'_, '_>,
     ) -> (Vec<Acc>, Vec<Acc>, f64) {
+        self.started.fetch_add(1, Ordering::AcqRel);
         let t0 = std::time::Instant::now();
         let (accs, wall_accs) = self.task_forces::<ADH, LIQ>(t, (pairs, blocks, wp), inputs);
         self.done.fetch_add(1, Ordering::AcqRel);
         self.own_chunks(t);
-        let secs = t0.elapsed().as_secs_f64();
-        self.late_chunks();
+        let took = t0.elapsed();
+        self.late_chunks((took / WAIT_SHARE).clamp(MIN_WAIT, MAX_WAIT));
+        let secs = took.as_secs_f64();
         (accs, wall_accs, secs)
     }
 
@@ -514,14 +523,17 @@ impl Region<'_> {
     }
 
     /// The late chunks go to the tasks still here once every task's pairs are done: wait
-    /// for that a while. A task that gives up leaves them to the last one to be done,
-    /// which does not wait: no task waits longer than `MAX_WAIT`, even for a task that has
-    /// not started (if the same worker is to run both).
+    /// for that at most `patience`, and only while every task has started (see
+    /// `MAX_WAIT`). A task that gives up leaves them to the last one to be done, which
+    /// does not wait.
     #[inline]
-    fn late_chunks(&self) {
+    fn late_chunks(&self, patience: std::time::Duration) {
         let ntasks = self.inc.ranges.len();
         let wait = std::time::Instant::now();
-        while self.done.load(Ordering::Acquire) < ntasks && wait.elapsed() < MAX_WAIT {
+        while self.done.load(Ordering::Acquire) < ntasks
+            && self.started.load(Ordering::Acquire) == ntasks
+            && wait.elapsed() < patience
+        {
             std::hint::spin_loop();
         }
         if self.done.load(Ordering::Acquire) == ntasks {

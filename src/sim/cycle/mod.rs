@@ -83,7 +83,7 @@ pub fn run_watched(
 ) -> Result<(Model, u64), Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    let r = super::parallel::awake::while_running(|| run_steps(scene, n, watch));
+    let r = super::parallel::awake::while_running(|pacer| run_steps(scene, n, watch, pacer));
     // (Derived per step; not kept between commands.)
     scene.derived.reach_ext = Vec::new();
     scene.contacts.step.margins = [0.0; 2];
@@ -95,6 +95,7 @@ fn run_steps(
     scene: &mut Scene,
     n: u64,
     watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+    pacer: &mut super::parallel::awake::Pacer,
 ) -> Result<(Model, u64), Blowup> {
     let mut model = check(scene).map_err(|m| Blowup {
         cycle: scene.cycle,
@@ -186,6 +187,7 @@ fn run_steps(
         {
             super::record_history(scene);
         }
+        pacer.step_done();
         if last {
             ran = step + 1;
             break;

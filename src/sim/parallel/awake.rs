@@ -1,4 +1,5 @@
-//! The thread pool's other workers kept awake through a `Cycle`.
+//! The thread pool's other workers kept awake through a `Cycle`, and put to sleep when the
+//! machine is too busy for them to help.
 //!
 //! A step has parallel regions (the force step's tasks with the update of their own
 //! chunks, `cycle::fused`; with two regions, then the update's chunks; the rebuild's loops)
@@ -9,13 +10,62 @@
 //! 0.12 s of a 2.3 s run in the force step alone, doc/performance.md). Here each other
 //! worker runs a polling job for the length of the `Cycle`: it takes any work that is posted
 //! (`rayon::yield_now`) and otherwise spins, calling `sched_yield` now and then so that
-//! other processes on the machine still get the core. Which thread runs which task never
-//! changes a result (the sums are made in a fixed order), so this is a matter of time only.
+//! other processes on the machine still get the core.
+//!
+//! **A busy machine.** A poller that must share its core with another program costs the
+//! step twice: its spinning takes the core from the step's own serial parts, and a task it
+//! took stalls the region while it waits for the core (two threads ran 3.6 × slower than
+//! one on S1 with a busy loop on the other core). So the pollers note the time the system
+//! took them off the core while they spun ([`Pacer`]); when that is more than a few per cent
+//! of a window, the Cycle's thread times one window with the pollers asleep on a condition
+//! variable — it then runs every task itself, in the same order — and keeps whichever way
+//! made more steps per second, for a hold that doubles while the choice stays the same.
+//! Which thread runs which task never changes a result (the tasks are the same and their
+//! sums are made in a fixed order), so all of this is a matter of time only: the bits are
+//! the same whatever the pollers do (`tests/it/threads.rs`).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Condvar, Mutex};
+use std::time::{Duration, Instant};
 
 /// Idle polls (each 64 spin hints, well under a microsecond) between two `sched_yield`s.
 const POLLS_PER_YIELD: u32 = 16;
+/// An idle poll that took longer than this: the poller was off its core for that long.
+const GAP: Duration = Duration::from_micros(50);
+/// The length of a measuring window (at least one step).
+const WINDOW: Duration = Duration::from_millis(25);
+/// The pollers' time off their cores, as a fraction of a window's, that makes the Cycle
+/// time a window with them asleep.
+const BUSY: f64 = 0.05;
+/// How long a choice is kept before it is timed again: at first, and at most (the hold
+/// doubles while the choice stays the same).
+const HOLD_FIRST: Duration = Duration::from_millis(250);
+const HOLD_MAX: Duration = Duration::from_secs(4);
+
+/// The pollers' changes (to sleep or awake) and nanoseconds asleep in this process, for
+/// the benchmark hook (`TRUBAL_TIMING`).
+static CHANGES: AtomicU64 = AtomicU64::new(0);
+static ASLEEP_NS: AtomicU64 = AtomicU64::new(0);
+
+/// The pollers' changes and seconds asleep since the process started.
+pub fn asleep_so_far() -> (u64, f64) {
+    (
+        CHANGES.load(Ordering::Relaxed),
+        ASLEEP_NS.load(Ordering::Relaxed) as f64 * 1e-9,
+    )
+}
+
+/// For tests: the pollers change (asleep, awake) every this many steps instead of by timing
+/// (0: by timing).
+static CHANGE_EVERY: AtomicU64 = AtomicU64::new(0);
+
+/// For tests (`tests/it/threads.rs`): every Cycle of the process from now on puts its
+/// pollers to sleep and wakes them every `steps` steps, whatever the timing (0: back to
+/// timing). The results must not change.
+#[doc(hidden)]
+pub fn change_every(steps: u64) {
+    CHANGE_EVERY.store(steps, Ordering::Relaxed);
+}
 
 /// The number of cores the process may run on (asked once).
 pub fn cores() -> usize {
@@ -23,40 +73,79 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
+/// What the Cycle's thread and the pollers share.
+#[derive(Default)]
+struct Shared {
+    stop: AtomicBool,
+    /// The pollers sleep (on `wake`) while this is set.
+    asleep: AtomicBool,
+    lock: Mutex<()>,
+    wake: Condvar,
+    /// Nanoseconds the pollers were off their cores while polling.
+    off_core: AtomicU64,
+}
+
+impl Shared {
+    /// Sets `flag` (`stop` or `asleep`) under the lock, so that no poller misses the
+    /// change between its test and its wait, and wakes the sleepers.
+    fn set(&self, flag: &AtomicBool, value: bool) {
+        let _guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+        flag.store(value, Ordering::Release);
+        self.wake.notify_all();
+    }
+
+    /// Sleeps while the pollers are told to and not told to stop.
+    fn rest(&self) {
+        let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+        while self.asleep.load(Ordering::Acquire) && !self.stop.load(Ordering::Acquire) {
+            guard = self.wake.wait(guard).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+}
+
 /// Runs `f` on the current thread while the pool's other workers poll for work; they stop
-/// when `f` returns or unwinds. Without effect with one thread, or with more threads than
-/// the machine has cores (a polling worker would then take a core from a working one).
-pub fn while_running<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+/// when `f` returns or unwinds. `f` calls [`Pacer::step_done`] after each step. Without
+/// pollers with one thread, or with more threads than the machine has cores (a polling
+/// worker would then take a core from a working one).
+pub fn while_running<R: Send>(f: impl FnOnce(&mut Pacer) -> R + Send) -> R {
     let threads = rayon::current_num_threads();
     if threads < 2 || threads > cores() {
-        return f();
+        return f(&mut Pacer::new(None));
     }
-    let stop = AtomicBool::new(false);
-    let stop = &stop;
+    let shared = Shared::default();
+    let shared = &shared;
     rayon::scope(move |s| {
         // Set when `f` returns or panics (a panic must not leave the pollers running, or
         // the scope would wait for them for ever).
-        let _stop = StopOnDrop(stop);
+        let _stop = StopOnDrop(shared);
         for _ in 1..threads {
-            s.spawn(move |_| poll_until(stop));
+            s.spawn(move |_| poll_until(shared));
         }
-        f()
+        f(&mut Pacer::new(Some(shared)))
     })
 }
 
-struct StopOnDrop<'a>(&'a AtomicBool);
+struct StopOnDrop<'a>(&'a Shared);
 
 impl Drop for StopOnDrop<'_> {
     fn drop(&mut self) {
-        self.0.store(true, Ordering::Release);
+        self.0.set(&self.0.stop, true);
     }
 }
 
-/// Takes posted work until `stop` is set.
-fn poll_until(stop: &AtomicBool) {
+/// Takes posted work until told to stop, sleeping while told to; notes the time it spent
+/// off its core while it polled.
+fn poll_until(sh: &Shared) {
     let mut idle = 0u32;
-    while !stop.load(Ordering::Acquire) {
+    let mut last = Instant::now();
+    while !sh.stop.load(Ordering::Acquire) {
+        if sh.asleep.load(Ordering::Acquire) {
+            sh.rest();
+            last = Instant::now();
+            continue;
+        }
         if rayon::yield_now() == Some(rayon::Yield::Executed) {
+            last = Instant::now();
             continue;
         }
         for _ in 0..64 {
@@ -65,6 +154,174 @@ fn poll_until(stop: &AtomicBool) {
         idle = idle.wrapping_add(1);
         if idle.is_multiple_of(POLLS_PER_YIELD) {
             std::thread::yield_now();
+        }
+        let now = Instant::now();
+        let gap = now - last;
+        if gap > GAP {
+            let ns = u64::try_from(gap.as_nanos()).unwrap_or(u64::MAX);
+            sh.off_core.fetch_add(ns, Ordering::Relaxed);
+        }
+        last = now;
+    }
+}
+
+/// The Cycle's side of the pollers: times windows of steps and puts the pollers to sleep
+/// or wakes them ([`Pace`] decides).
+pub struct Pacer<'a> {
+    shared: Option<&'a Shared>,
+    pace: Pace,
+    start: Instant,
+    steps: u64,
+    off_start: u64,
+}
+
+impl<'a> Pacer<'a> {
+    fn new(shared: Option<&'a Shared>) -> Pacer<'a> {
+        let now = Instant::now();
+        Pacer {
+            shared,
+            pace: Pace::new(now),
+            start: now,
+            steps: 0,
+            off_start: 0,
+        }
+    }
+
+    /// Called after every step: at the end of a window, lets [`Pace`] decide whether the
+    /// pollers sleep through the next.
+    pub fn step_done(&mut self) {
+        let Some(sh) = self.shared else {
+            return;
+        };
+        self.steps += 1;
+        let every = CHANGE_EVERY.load(Ordering::Relaxed);
+        if every > 0 {
+            if self.steps.is_multiple_of(every) {
+                sh.set(&sh.asleep, !sh.asleep.load(Ordering::Relaxed));
+                CHANGES.fetch_add(1, Ordering::Relaxed);
+            }
+            return;
+        }
+        let now = Instant::now();
+        let span = now - self.start;
+        if span < WINDOW {
+            return;
+        }
+        let off = sh.off_core.load(Ordering::Relaxed);
+        let secs = span.as_secs_f64();
+        let window = Window {
+            rate: self.steps as f64 / secs,
+            off_core: (off - self.off_start) as f64 * 1e-9 / secs,
+        };
+        if sh.asleep.load(Ordering::Relaxed) {
+            let ns = u64::try_from(span.as_nanos()).unwrap_or(u64::MAX);
+            ASLEEP_NS.fetch_add(ns, Ordering::Relaxed);
+        }
+        if let Some(asleep) = self.pace.window(now, window) {
+            sh.set(&sh.asleep, asleep);
+            CHANGES.fetch_add(1, Ordering::Relaxed);
+        }
+        self.start = Instant::now();
+        self.steps = 0;
+        self.off_start = off;
+    }
+}
+
+/// One window's measures: steps per second, and the pollers' time off their cores per
+/// second of it.
+#[derive(Clone, Copy, Debug)]
+struct Window {
+    rate: f64,
+    off_core: f64,
+}
+
+/// Where the choice between pollers awake and asleep stands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Phase {
+    /// Awake, watching the pollers' time off their cores (from `quiet` on).
+    Awake { quiet: Instant },
+    /// One window asleep, to compare with the awake window's rate.
+    TryAsleep { awake: f64 },
+    /// Asleep until `until`.
+    Asleep { until: Instant },
+    /// One window awake, to compare with the last asleep window's rate.
+    TryAwake { asleep: f64 },
+}
+
+/// The decision: pollers awake until they are often off their cores; then a window of
+/// each, and the faster kept for a hold that doubles while the same way keeps winning.
+#[derive(Clone, Copy, Debug)]
+struct Pace {
+    phase: Phase,
+    hold: Duration,
+    /// The way chosen last (`Some(true)`: asleep).
+    chosen: Option<bool>,
+    /// The last window's rate asleep.
+    asleep_rate: f64,
+}
+
+impl Pace {
+    fn new(now: Instant) -> Pace {
+        Pace {
+            phase: Phase::Awake { quiet: now },
+            hold: HOLD_FIRST,
+            chosen: None,
+            asleep_rate: 0.0,
+        }
+    }
+
+    /// The hold of a choice (`asleep` or not), doubled if the same way won last time.
+    fn hold_for(&mut self, asleep: bool) -> Duration {
+        self.hold = if self.chosen == Some(asleep) {
+            (self.hold * 2).min(HOLD_MAX)
+        } else {
+            HOLD_FIRST
+        };
+        self.chosen = Some(asleep);
+        self.hold
+    }
+
+    /// The end of a window at `now`: `Some(asleep)` when the pollers are to change.
+    fn window(&mut self, now: Instant, w: Window) -> Option<bool> {
+        match self.phase {
+            Phase::Awake { quiet } => {
+                if now >= quiet && w.off_core > BUSY {
+                    self.phase = Phase::TryAsleep { awake: w.rate };
+                    return Some(true);
+                }
+                None
+            }
+            Phase::TryAsleep { awake } => {
+                let asleep = w.rate > awake;
+                let hold = self.hold_for(asleep);
+                if asleep {
+                    self.asleep_rate = w.rate;
+                    self.phase = Phase::Asleep { until: now + hold };
+                    None
+                } else {
+                    self.phase = Phase::Awake { quiet: now + hold };
+                    Some(false)
+                }
+            }
+            Phase::Asleep { until } => {
+                self.asleep_rate = w.rate;
+                if now >= until {
+                    self.phase = Phase::TryAwake { asleep: w.rate };
+                    return Some(false);
+                }
+                None
+            }
+            Phase::TryAwake { asleep } => {
+                let stay_asleep = w.rate <= asleep;
+                let hold = self.hold_for(stay_asleep);
+                if stay_asleep {
+                    self.phase = Phase::Asleep { until: now + hold };
+                    Some(true)
+                } else {
+                    self.phase = Phase::Awake { quiet: now + hold };
+                    None
+                }
+            }
         }
     }
 }
@@ -93,7 +350,7 @@ mod tests {
     #[test]
     fn the_work_is_done_and_the_pollers_stop() {
         let sums = in_two_threads(|| {
-            while_running(|| {
+            while_running(|_| {
                 // Several parallel regions, as in a Cycle.
                 (0..50)
                     .map(|k| (0..10_000u64).into_par_iter().map(|x| x * k).sum::<u64>())
@@ -107,9 +364,83 @@ mod tests {
     #[test]
     fn a_panic_stops_the_pollers_too() {
         let caught = in_two_threads(|| {
-            std::panic::catch_unwind(|| while_running(|| -> u32 { panic!("inside the Cycle") }))
+            std::panic::catch_unwind(|| while_running(|_| -> u32 { panic!("inside the Cycle") }))
                 .is_err()
         });
         assert_eq!(caught, Some(true));
+    }
+
+    /// Several parallel regions, as in a Cycle.
+    fn regions() -> Vec<u64> {
+        (0..50)
+            .map(|k| (0..10_000u64).into_par_iter().map(|x| x * k).sum::<u64>())
+            .collect()
+    }
+
+    #[test]
+    fn with_the_pollers_asleep_the_cycles_thread_does_the_work() {
+        let sums = in_two_threads(|| {
+            while_running(|pacer| {
+                let sh = pacer.shared.expect("pollers with two threads");
+                sh.set(&sh.asleep, true);
+                let asleep = regions();
+                sh.set(&sh.asleep, false);
+                let awake = regions();
+                sh.set(&sh.asleep, true);
+                (asleep, awake)
+            })
+        });
+        let expected: Vec<u64> = (0..50).map(|k| k * (9_999 * 10_000 / 2)).collect();
+        // (And the sleeping pollers stopped: the pool returned.)
+        assert_eq!(sums, Some((expected.clone(), expected)));
+    }
+
+    fn window(rate: f64, off_core: f64) -> Window {
+        Window { rate, off_core }
+    }
+
+    #[test]
+    fn an_idle_machine_never_puts_the_pollers_to_sleep() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        for k in 1..1000 {
+            let now = t0 + WINDOW * k;
+            assert_eq!(pace.window(now, window(1000.0, 0.01)), None);
+        }
+    }
+
+    #[test]
+    fn a_busy_machine_keeps_the_faster_way_and_times_it_again_later() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        // Off their cores 30 % of the time: one window asleep is timed.
+        assert_eq!(pace.window(at(25), window(300.0, 0.3)), Some(true));
+        // Asleep made more steps: kept (no change) for the first hold.
+        assert_eq!(pace.window(at(50), window(500.0, 0.0)), None);
+        assert_eq!(pace.window(at(100), window(500.0, 0.0)), None);
+        // At the hold's end, one window awake.
+        assert_eq!(pace.window(at(50 + 250), window(500.0, 0.0)), Some(false));
+        // Awake still slower: asleep again, for twice the hold.
+        assert_eq!(pace.window(at(325), window(320.0, 0.3)), Some(true));
+        assert_eq!(pace.window(at(325 + 499), window(500.0, 0.0)), None);
+        assert_eq!(pace.window(at(325 + 500), window(500.0, 0.0)), Some(false));
+        // The other program has gone: awake is faster and stays.
+        assert_eq!(pace.window(at(850), window(900.0, 0.0)), None);
+        for k in 1..100 {
+            assert_eq!(pace.window(at(850 + 25 * k), window(900.0, 0.0)), None);
+        }
+    }
+
+    #[test]
+    fn awake_kept_when_it_wins_even_on_a_busy_machine() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert_eq!(pace.window(at(25), window(800.0, 0.2)), Some(true));
+        // Asleep was slower: awake again, and no new trial within the hold.
+        assert_eq!(pace.window(at(50), window(500.0, 0.0)), Some(false));
+        assert_eq!(pace.window(at(75), window(800.0, 0.2)), None);
+        assert_eq!(pace.window(at(50 + 250), window(800.0, 0.2)), Some(true));
     }
 }
