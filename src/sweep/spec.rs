@@ -79,7 +79,8 @@ pub const USAGE: &str = "usage: trubal sweep (FILE.tru | FILE.sweep) --out DIR [
                        values; the files it writes are linked into every run's directory
   --jobs N             runs at once on this machine (default: the cores); with --slurm, at most
                        N array tasks at once
-  --threads N          threads per run (default 1, or --cpus with --slurm)
+  --threads N          threads per run (default: the cores / --jobs, at least 1; --cpus with
+                       --slurm)
   --measure [A=]KIND.FIELD[#K]  a column of results.csv: FIELD of the last (or K-th; -K from
                        the end) PRint KIND of each run (`bonds.damage_ratio`, `energy.dissipated.viscous`);
                        default: every number of the last PRint of each kind
@@ -367,9 +368,15 @@ impl Spec {
         }
     }
 
-    /// Threads per run.
+    /// Threads per run: `--threads`, else `--cpus` (SLURM), else the cores shared among
+    /// the `--jobs` run here at once (1 when `--jobs` is not given: as many runs as cores).
     pub fn run_threads(&self) -> usize {
-        self.threads.or(self.slurm.cpus).unwrap_or(1)
+        self.threads
+            .or(self.slurm.cpus)
+            .unwrap_or_else(|| match (self.mode, self.jobs) {
+                (Mode::Local, Some(jobs)) => (crate::sim::parallel::awake::cores() / jobs).max(1),
+                _ => 1,
+            })
     }
 }
 
@@ -434,5 +441,19 @@ mod tests {
         assert!(s.grids.is_empty());
         s.read_sweep_file(Path::new("b.sweep"), "gird v=1\njobs\n", &mut errors);
         assert_eq!(errors.len(), 2, "{errors:?}");
+    }
+
+    #[test]
+    fn threads_per_run_share_the_cores_among_the_jobs() {
+        let cores = crate::sim::parallel::awake::cores();
+        let threads = |line: &str| Spec::from_args(&args(line)).map(|s| s.run_threads());
+        assert_eq!(threads("f.tru --out d"), Ok(1));
+        assert_eq!(threads("f.tru --out d --jobs 1"), Ok(cores));
+        assert_eq!(threads("f.tru --out d --jobs 1 --threads 3"), Ok(3));
+        assert_eq!(
+            threads(&format!("f.tru --out d --jobs {}", 2 * cores)),
+            Ok(1)
+        );
+        assert_eq!(threads("f.tru --out d --jobs 1 --slurm"), Ok(1));
     }
 }
