@@ -14,6 +14,8 @@
 #   PEERS="liggghts lammps"  peers to run when installed (missing ones are skipped)
 #   PEER_RANKS="1"       MPI ranks for the peers ("1 2" adds 2-rank runs)
 #   TRUBAL_THREADS="1 2" trubal thread counts (--threads; par label t1, t2)
+#   BUSY=1               also run trubal at each thread count while a busy loop holds one
+#                        core (another program on a shared machine; par label t1busy, t2busy)
 #   TANG=noslip          trubal's tangential law (noslip = the peers' Mindlin no-slip + Coulomb; md)
 #   MOIST_LIGGGHTS=1     also run the LIGGGHTS easo/capillary/viscous deck (if present)
 #   QUIET_CORES=         if set (e.g. 1), wait before each run (up to MAX_WAIT=600 s) until
@@ -37,6 +39,7 @@ S2_STEPS=${S2_STEPS:-20000}
 PEERS=${PEERS:-"liggghts lammps"}
 PEER_RANKS=${PEER_RANKS:-"1"}
 TRUBAL_THREADS=${TRUBAL_THREADS:-"1 2"}
+BUSY=${BUSY:-0}
 TANG=${TANG:-noslip}
 MOIST_LIGGGHTS=${MOIST_LIGGGHTS:-1}
 MAX_WAIT=${MAX_WAIT:-600}
@@ -90,12 +93,20 @@ case " $SCENES " in *" s2 "*|*" moist "*)
   fi
 ;; esac
 
-# trubal_runs SCENE N STEPS REP LOGNAME DECK: the deck at every thread count of TRUBAL_THREADS.
+# trubal_runs SCENE N STEPS REP LOGNAME DECK: the deck at every thread count of TRUBAL_THREADS
+# (and, with BUSY=1, again at each while a busy loop holds one core).
 trubal_runs() {
-  local scene=$1 n=$2 steps=$3 rep=$4 name=$5 deck=$6 t
+  local scene=$1 n=$2 steps=$3 rep=$4 name=$5 deck=$6 t busy
   for t in $TRUBAL_THREADS; do
     (cd "$OUT" && run_timed "$scene" trubal "$n" "t$t" "$steps" "$rep" "$OUT/logs/${name}_t${t}_r$rep" \
       "$TRUBAL" --threads "$t" "$deck")
+  done
+  [ "$BUSY" = 1 ] || return 0
+  for t in $TRUBAL_THREADS; do
+    sh -c 'while :; do :; done' & busy=$!
+    (cd "$OUT" && run_timed "$scene" trubal "$n" "t${t}busy" "$steps" "$rep" "$OUT/logs/${name}_t${t}busy_r$rep" \
+      "$TRUBAL" --threads "$t" "$deck")
+    kill "$busy"; wait "$busy" 2>/dev/null
   done
 }
 

@@ -49,6 +49,10 @@ def f(x):
 
 
 def cores(par):
+    """The cores a run can get: its threads or ranks; one with a busy loop on the other core
+    (par t1busy, t2busy)."""
+    if par.endswith("busy"):
+        return 1
     d = "".join(ch for ch in par if ch.isdigit())
     return int(d) if d else 1
 
@@ -171,12 +175,13 @@ def main():
             if r:
                 print("  %-5s N=%-6s steps=%-6s trubal %-3s vs %-8s %-4s  %.3f [%.3f-%.3f] n=%d" % (
                     scene, n, steps, par, c2, p2, r[0], r[1], r[2], r[3]))
-        if par != "t1":
-            one = reps.get((scene, code, n, "t1", steps))
+        if par not in ("t1", "t1busy"):
+            base = "t1busy" if par.endswith("busy") else "t1"
+            one = reps.get((scene, code, n, base, steps))
             r = paired(one, a) if one else None
             if r:
-                print("  %-5s N=%-6s steps=%-6s trubal %s vs t1 (thread scaling)      %.3f [%.3f-%.3f] n=%d" % (
-                    scene, n, steps, par, r[0], r[1], r[2], r[3]))
+                print("  %-5s N=%-6s steps=%-6s trubal %s vs %s (thread scaling)      %.3f [%.3f-%.3f] n=%d" % (
+                    scene, n, steps, par, base, r[0], r[1], r[2], r[3]))
 
     print("\ncost of liquid bridges = loop(moist) / loop(dry), same particles and steps")
     for (scene, code, n, par, steps), v in s.items():
