@@ -176,11 +176,25 @@ pub struct Pacer<'a> {
 }
 
 impl<'a> Pacer<'a> {
+    /// The pacer of a Cycle: the choice the last Cycle of the process left (a busy machine
+    /// is still busy at the next Cycle: a script of many short Cycles is not timed anew at
+    /// each), with the pollers asleep if that was the choice.
     fn new(shared: Option<&'a Shared>) -> Pacer<'a> {
         let now = Instant::now();
+        let pace = match shared {
+            Some(sh) => {
+                let pace = LAST
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .map_or(Pace::new(now), |p| p.resumed(now));
+                sh.asleep.store(pace.asleep(), Ordering::Release);
+                pace
+            }
+            None => Pace::new(now),
+        };
         Pacer {
             shared,
-            pace: Pace::new(now),
+            pace,
             start: now,
             steps: 0,
             off_start: 0,
@@ -227,6 +241,18 @@ impl<'a> Pacer<'a> {
     }
 }
 
+impl Drop for Pacer<'_> {
+    /// Leaves the choice to the next Cycle.
+    fn drop(&mut self) {
+        if self.shared.is_some() {
+            *LAST.lock().unwrap_or_else(|e| e.into_inner()) = Some(self.pace);
+        }
+    }
+}
+
+/// The choice the last Cycle with pollers left.
+static LAST: Mutex<Option<Pace>> = Mutex::new(None);
+
 /// One window's measures: steps per second, and the pollers' time off their cores per
 /// second of it.
 #[derive(Clone, Copy, Debug)]
@@ -268,6 +294,22 @@ impl Pace {
             chosen: None,
             asleep_rate: 0.0,
         }
+    }
+
+    /// The pollers sleep in this phase.
+    fn asleep(&self) -> bool {
+        matches!(self.phase, Phase::TryAsleep { .. } | Phase::Asleep { .. })
+    }
+
+    /// The pace at the start of a new Cycle: a trial that was under way is dropped (its
+    /// window was cut), the choice and its hold kept.
+    fn resumed(mut self, now: Instant) -> Pace {
+        self.phase = match self.phase {
+            Phase::TryAsleep { .. } => Phase::Awake { quiet: now },
+            Phase::TryAwake { .. } => Phase::Asleep { until: now },
+            p => p,
+        };
+        self
     }
 
     /// The hold of a choice (`asleep` or not), doubled if the same way won last time.
@@ -442,5 +484,27 @@ mod tests {
         assert_eq!(pace.window(at(50), window(500.0, 0.0)), Some(false));
         assert_eq!(pace.window(at(75), window(800.0, 0.2)), None);
         assert_eq!(pace.window(at(50 + 250), window(800.0, 0.2)), Some(true));
+    }
+
+    #[test]
+    fn the_next_cycle_keeps_the_choice_and_drops_a_cut_trial() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert_eq!(pace.window(at(25), window(300.0, 0.3)), Some(true));
+        // Cut in its trial: the next Cycle starts awake and may try again at once.
+        let next = pace.resumed(at(30));
+        assert!(!next.asleep());
+        assert_eq!(next.phase, Phase::Awake { quiet: at(30) });
+        // Asleep by choice: the next Cycle starts asleep, with the same hold.
+        assert_eq!(pace.window(at(50), window(500.0, 0.0)), None);
+        let next = pace.resumed(at(60));
+        assert!(next.asleep());
+        assert_eq!(next.phase, pace.phase);
+        // Cut in a trial awake: asleep, timed awake at the next window.
+        assert_eq!(pace.window(at(300), window(500.0, 0.0)), Some(false));
+        let mut next = pace.resumed(at(310));
+        assert!(next.asleep());
+        assert_eq!(next.window(at(335), window(500.0, 0.0)), Some(false));
     }
 }
