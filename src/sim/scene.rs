@@ -5,13 +5,19 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::contacts::ContactStore;
-use super::energy::Ledger;
 use super::rng::Rng;
 use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
 
 mod access;
+pub(in crate::sim) mod cell;
 mod check;
 mod edit;
+mod ledger;
+mod overlap;
+mod reference;
+pub use ledger::Ledger;
+pub use overlap::{CreateIndex, OverlapIndex};
+pub use reference::Reference;
 
 pub type Vec3 = Vector3<f64>;
 
@@ -193,6 +199,17 @@ impl Particles {
 
     pub fn inertia(&self, i: usize) -> f64 {
         0.4 * self.mass[i] * self.radius[i] * self.radius[i]
+    }
+
+    /// The kinetic energies of translation and rotation, Σ ½ m v² and Σ ½ I ω² (J, with the
+    /// half-step velocities of the leap-frog scheme), each summed in particle order.
+    pub fn kinetic_parts(&self) -> (f64, f64) {
+        let (mut translation, mut rotation) = (0.0, 0.0);
+        for i in 0..self.len() {
+            translation += 0.5 * self.mass[i] * self.vel[i].norm_squared();
+            rotation += 0.5 * self.inertia(i) * self.spin[i].norm_squared();
+        }
+        (translation, rotation)
     }
 }
 
@@ -406,12 +423,12 @@ pub struct Scene {
     /// Particles removed through open sides.
     pub(in crate::sim) lost: u64,
     /// Reference state (`PLot SAve`).
-    pub(in crate::sim) reference: Option<super::reference::Reference>,
+    pub(in crate::sim) reference: Option<Reference>,
     pub(in crate::sim) history: super::history::History,
     /// The periodic cell's deformation (`GRID`, stress servo), [`super::cell`]; checkpoints
     /// before format 4 have none (read as at rest).
     #[serde(deserialize_with = "old_cell")]
-    pub(in crate::sim) cell: super::cell::Cell,
+    pub(in crate::sim) cell: cell::Cell,
     /// The contact laws per material pair (`SET NORmal`, `SET ROLling`); checkpoints before
     /// format 5 have none (Hertz/JKR everywhere, no rolling friction).
     #[serde(deserialize_with = "old_laws")]
@@ -429,7 +446,7 @@ pub struct Scene {
 pub struct Derived {
     /// The stress servo of the running Cycle (`Cycle n S0 σ`, set by the session for the
     /// Cycle; derived, not saved).
-    pub servo: Option<super::cell::Servo>,
+    pub servo: Option<cell::Servo>,
     /// Some particle may be outside the work-space (derived, not saved: set at the start of
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     pub maybe_outside: bool,
@@ -450,7 +467,7 @@ pub struct Derived {
     pub lattice_run: Option<LatticeRun>,
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
     /// dropped by any other command before it runs: `Session::execute`).
-    pub create_index: Option<super::generate::CreateIndex>,
+    pub create_index: Option<CreateIndex>,
     /// The books' residual when the last `Cycle` ended (or its blow-up snapshot was
     /// restored, or the scene was read from a checkpoint; 0 for a new scene): what the
     /// residual moved by since then, commands moved (`cycle::Audit`).
@@ -652,10 +669,10 @@ struct WallV2 {
 
 /// Reads the cell in the layout of the checkpoint being decoded: formats 1–3 had none (a
 /// cell at rest, nothing read).
-fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<super::cell::Cell, D::Error> {
+fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<cell::Cell, D::Error> {
     match super::contacts::old::version() {
         1..=3 => Ok(Default::default()),
-        _ => super::cell::Cell::deserialize(de),
+        _ => cell::Cell::deserialize(de),
     }
 }
 
@@ -687,7 +704,7 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
 /// `unbooked` (read as unknown, NaN).
 fn old_ledger<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Ledger, D::Error> {
     match super::contacts::old::version() {
-        1..=8 => super::energy::LedgerV8::deserialize(de).map(Into::into),
+        1..=8 => ledger::LedgerV8::deserialize(de).map(Into::into),
         _ => Ledger::deserialize(de),
     }
 }
