@@ -608,49 +608,6 @@ impl Scene {
             .copied()
             .fold(f64::INFINITY, f64::min)
     }
-
-    /// Minimum-image separation vector b − a for the periodic axes (with the Lees–Edwards
-    /// offset of a sheared cell).
-    #[inline]
-    pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
-        nearest_image(b - a, self.size, self.settings.periodic, self.cell.shift)
-    }
-}
-
-/// The nearest periodic image of the branch vector `d` (unchanged along open axes). One test
-/// for the usual scene without periodic axes: in the pair loop, a test per component cost 7 %
-/// of the S1 run. `shift`: the Lees–Edwards offset of a sheared cell (`sim::cell`): an image
-/// one cell up in y is `shift` further along x, so y is reduced first.
-#[inline(always)]
-pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3], shift: f64) -> Vec3 {
-    if periodic != [false; 3] {
-        let sheared = shift != 0.0 && periodic[1];
-        if sheared {
-            let n = images(d.y / size[1]);
-            d.y -= size[1] * n;
-            d.x -= shift * n;
-        }
-        for k in 0..3 {
-            if periodic[k] && !(sheared && k == 1) {
-                let l = size[k];
-                d[k] -= l * images(d[k] / l);
-            }
-        }
-    }
-    d
-}
-
-/// `q.round()`, without the call to the C library's `round` that the baseline x86-64 build
-/// makes (no rounding instruction before SSE4.1) in the usual case `|q| < 0.5` (two
-/// particles of the work-space closer than half its width), where it is ±0 with the sign of
-/// `q`, as `round` gives: the same bits for every input.
-#[inline(always)]
-fn images(q: f64) -> f64 {
-    if q.abs() < 0.5 {
-        0.0f64.copysign(q)
-    } else {
-        q.round()
-    }
 }
 
 /// A wall as checkpoint formats 1 and 2 wrote it (frozen: never change): without `travel`,
@@ -729,36 +686,5 @@ fn old_walls<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Vec<Wall>, D::Er
                 .collect()
         }),
         _ => Vec::<Wall>::deserialize(de),
-    }
-}
-
-#[cfg(test)]
-mod image_tests {
-    use super::images;
-
-    #[test]
-    fn images_is_round_to_the_bit() {
-        let mut xs = vec![
-            0.0,
-            -0.0,
-            0.49999999999999994,
-            -0.49999999999999994,
-            0.5,
-            -0.5,
-            1.5,
-            -1.5,
-            2.5,
-            1e300,
-            f64::MIN_POSITIVE,
-            -f64::MIN_POSITIVE,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        let mut r = crate::sim::rng::Rng::new(5);
-        xs.extend((0..10_000).map(|_| r.normal()));
-        for x in xs {
-            assert_eq!(images(x).to_bits(), x.round().to_bits(), "{x:e}");
-        }
     }
 }
