@@ -1,6 +1,7 @@
 //! The map and the rules of ARCHITECTURE.md hold: every path it names exists, the core
-//! imports nothing from the command language, and the core reads no environment beyond its
-//! one documented knob.
+//! imports nothing from the command language, the core reads no environment beyond its
+//! one documented knob, `src/sim` stands in the layers its module doc declares, and files
+//! and functions stay short.
 
 use std::path::{Path, PathBuf};
 
