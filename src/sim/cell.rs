@@ -25,6 +25,10 @@
 //! Work: the cell puts in `−V σ:G Δt` per step (σ the average stress, compression positive,
 //! kinetic part included: [`super::stress`]), booked as `Cell::work`, an input of the
 //! energy books.
+//!
+//! Where the rest is: the cell's state (`Cell`, and the stress servo's targets `Servo`) is
+//! the scene's (`scene/cell.rs`, re-exported here); the step books the work and calls the
+//! servo's rule each step (`cycle::update`); `PRObe` cycles the cell (`sim::probe`).
 pub use super::scene::cell::{Cell, HUNTING_STEPS, Servo, StressTarget};
 use super::scene::{Scene, Vec3};
 
