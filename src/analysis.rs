@@ -32,7 +32,7 @@ pub fn bond_counts(reference: &[(u32, u32)], now: &[(u32, u32)]) -> (usize, usiz
 /// otherwise.
 pub fn bonds_now(scene: &Scene) -> (Vec<(u32, u32)>, bool) {
     let wet = scene.liquid().is_some_and(|l| l.pvol > 0.0);
-    (scene.contacts().bonded_pairs(scene.particles(), wet), wet)
+    (scene.contacts().bonded_pairs(wet), wet)
 }
 
 pub fn bonds_item(scene: &Scene) -> (String, Value) {

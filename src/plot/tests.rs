@@ -10,7 +10,7 @@ use super::*;
 use crate::lang::command::{PlotItem, View, WallGeom};
 use crate::sim::Vec3;
 use crate::sim::contacts::{BridgeState, ContactState, PairWithState, WallPair};
-use crate::sim::reference::Reference;
+use crate::sim::scene::Reference;
 use crate::sim::scene::Wall;
 
 const R: f64 = 0.01;
@@ -791,7 +791,7 @@ fn pictures_and_charts_are_wide_pngs() {
     }
     for k in 0..5 {
         *s.unchecked().cycle = 10 * k;
-        crate::sim::record_history(&mut s);
+        crate::sim::cycle::record_history(&mut s);
     }
     let (w, h) = png_size(&png_bytes(&s, &[PlotItem::History]).expect("chart"));
     assert!(w >= 1000 && h >= 600, "{w} x {h}");

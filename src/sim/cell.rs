@@ -25,105 +25,12 @@
 //! Work: the cell puts in `−V σ:G Δt` per step (σ the average stress, compression positive,
 //! kinetic part included: [`super::stress`]), booked as `Cell::work`, an input of the
 //! energy books.
-use serde::{Deserialize, Serialize};
-
+//!
+//! Where the rest is: the cell's state (`Cell`, and the stress servo's targets `Servo`) is
+//! the scene's (`scene/cell.rs`, re-exported here); the step books the work and calls the
+//! servo's rule each step (`cycle::update`); `PRObe` cycles the cell (`sim::probe`).
+pub use super::scene::cell::{Cell, HUNTING_STEPS, Servo, StressTarget};
 use super::scene::{Scene, Vec3};
-
-/// The state of the periodic cell's deformation (saved in checkpoints from format 4).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Cell {
-    /// The strain rates of `GRID`: ed11 ed22 ed33 ed12 ed23 ed31 (1/s).
-    pub rate: [f64; 6],
-    /// The strains accumulated since the start, ∫ ed dt (same order).
-    pub strain: [f64; 6],
-    /// Lees–Edwards offset: x displacement of the images above the cell (y + L_y), in
-    /// [0, L_x) (m).
-    pub shift: f64,
-    /// The stress servo's gain g (1/(s Pa): the rate, or in mode 0 its change per step, per
-    /// pascal of error) and the largest strain rate it may set (1/s) (`GAIN g edmax`).
-    pub gain: [f64; 2],
-    /// Servo mode: 0 velocity-increment control, 1 velocity control (`Mode n`).
-    pub mode: u8,
-    /// A bound of how much the mean field changed the branch vector of a pair within reach
-    /// since the last rebuild of the candidate list (m, [`deform`]); saved, so that a
-    /// restarted run rebuilds when the continued one does.
-    pub travel: f64,
-    /// Work put in by the cell's deformation, −∫ V σ:G dt (J), up to the state of the
-    /// last forces: a term of the energy books' input (`energy::residual`). Each step's
-    /// deformation is booked by the trapezoid rule, `−½ V (σⁿ + σⁿ⁺¹):G Δt`, once the
-    /// forces at its end are known (the next step), like the other terms of the books.
-    pub work: f64,
-    /// `−½ V G Δt` of the last step's deformation, whose second half `σⁿ⁺¹ : half` is still
-    /// to be booked.
-    pub half: [[f64; 3]; 3],
-    /// The first half of the last step's work, `σⁿ : half`, booked with the second.
-    pub pending: f64,
-}
-
-impl Cell {
-    /// The velocity gradient G (G[i][j] = ∂v_i/∂x_j) of the rates.
-    pub fn gradient(&self) -> [[f64; 3]; 3] {
-        let r = &self.rate;
-        [[r[0], r[3], 0.0], [0.0, r[1], 0.0], [0.0, 0.0, r[2]]]
-    }
-
-    /// Whether the cell moves at all (a strain rate is set).
-    pub fn is_active(&self) -> bool {
-        self.rate.iter().any(|&r| r != 0.0)
-    }
-
-    /// Whether the pair loop must know of the cell: it moves, or a Lees–Edwards offset is
-    /// left from a shear.
-    pub fn in_use(&self) -> bool {
-        self.is_active() || self.shift != 0.0
-    }
-
-    /// Whether the end of a step needs the average stress: the cell moves or is sheared, or
-    /// the last deformation's second half is still to be booked.
-    pub fn needs_stress(&self) -> bool {
-        self.in_use() || self.half != [[0.0; 3]; 3]
-    }
-
-    /// The mean-field velocity difference `G l` across a branch vector `l`.
-    #[inline(always)]
-    pub fn field(&self, l: &Vec3) -> Vec3 {
-        let r = &self.rate;
-        Vec3::new(r[0] * l.x + r[3] * l.y, r[1] * l.y, r[2] * l.z)
-    }
-}
-
-/// A stress the servo holds (`Cycle n S0 σ`, …), compression positive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StressTarget {
-    /// The mean stress (σ11 + σ22 + σ33)/3.
-    Mean,
-    /// The mean in the x–y plane (σ11 + σ22)/2.
-    Mean12,
-    /// One principal direction: σ11, σ22 or σ33 (axis 0, 1, 2).
-    Axis(usize),
-    /// The angle θ of the major principal stress in the x–y plane, from x towards y
-    /// (TRUBAL's `RING`, ring shear; the target is θ in degrees): see [`ring_error`].
-    Ring,
-}
-
-/// The stress servo of one `Cycle`: its targets and the axes each adjusts (derived: set by
-/// the session for the Cycle, not saved).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Servo {
-    /// Each target, its value and the rates it adjusts (ed11, ed22, ed33, ed12; only a
-    /// `Ring` target adjusts ed12).
-    pub targets: Vec<(StressTarget, f64, [bool; 4])>,
-    /// The strain rates when the Cycle started: in mode 1 a rate that only the `Ring`
-    /// target adjusts is this plus the servo's part (a prescribed shear rate stays the
-    /// base of a ring-shear servo).
-    pub base: [f64; 6],
-    /// Consecutive steps in which an adjusted rate jumped from one limit ±edmax to the
-    /// other: the servo hunting, a sign of a gain too high for the packing it has made.
-    pub flips: u32,
-}
-
-/// Steps of hunting between ±edmax after which the Cycle stops (`cycle::update`).
-pub const HUNTING_STEPS: u32 = 200;
 
 impl Servo {
     /// The servo of `targets` in a cell: σii adjusts ed_ii; the means adjust the axes they
@@ -209,37 +116,6 @@ pub fn ring_error(theta: f64, s: &[[f64; 3]; 3]) -> f64 {
     s[0][1] * cs - 0.5 * (s[0][0] - s[1][1]) * sn
 }
 
-/// The servo's loop gain per step, `g (M Δt + η)`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a
-/// the Hertz stiffness of each touching contact, l its branch length), an upper bound of the
-/// assembly's modulus dσ/dε under an affine strain, and `η = Σ_c c_n l² / V` (c_n the
-/// restitution dashpot's coefficient `dash (m*² R* α)^{1/4}`, `physics::dashpot`), the
-/// stress the dashpots add per unit strain rate at once: a strain rate set from the stress
-/// (mode 1) feeds back through them in the same step. Mode 1 relaxes the error by about
-/// `(1 − gain)` per step (it overshoots above 1 and diverges above 2); mode 0 oscillates
-/// about the target and diverges above 4 (doc/cell.md, "Choosing the servo gain").
-pub fn servo_loop_gain(scene: &Scene, model: &super::params::Model, dt: f64) -> f64 {
-    let p = &scene.particles;
-    let (mut m, mut eta) = (0.0, 0.0);
-    for c in scene.contacts.iter() {
-        if !c.s.touching {
-            continue;
-        }
-        let (i, j) = (c.i as usize, c.j as usize);
-        let (ka, kb) = (p.material[i] as usize, p.material[j] as usize);
-        let (a, b) = (&scene.materials[ka - 1], &scene.materials[kb - 1]);
-        let es = crate::physics::hertz::e_star(a.young, a.poisson, b.young, b.poisson);
-        let l2 = scene.branch(&p.pos[i], &p.pos[j]).norm_squared();
-        m += 2.0 * es * c.s.a * l2;
-        let dash = model.pair(ka, kb).dash;
-        if dash > 0.0 && c.s.overlap > 0.0 {
-            let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-            let m_star = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-            eta += dash * (m_star * m_star * r_star * c.s.overlap).powf(0.25) * l2;
-        }
-    }
-    scene.cell.gain[0] * (m * dt + eta) / super::stress::volume(scene)
-}
-
 /// One servo update after a step (TRUBAL's `GAIN g edmax`, `Mode`): with the error
 /// `e = target − measured` (compression positive), mode 0 (velocity-increment control)
 /// changes each adjusted rate by `−g e`, mode 1 (velocity control) sets it to `−g e`; the
@@ -308,60 +184,8 @@ pub fn servo_step(cell: &mut Cell, servo: &mut Servo, s: &[[f64; 3]; 3]) {
     servo.flips = if flipped { servo.flips + 1 } else { 0 };
 }
 
-/// The cell's share of the end of a step (`cycle::update::finish_move`): its work with the
-/// stress of this step's forces, the deformation ([`deform`], which also wraps the
-/// particles) and the servo's new rates. `fl`: Σ f ⊗ l of this step's particle pairs
-/// (row-major), summed by the pair loop for the components 11, 22, 33 and 12 (those that
-/// the work `σ:G` and the servo read; the others are 0). Returns whether the particles
-/// were wrapped.
-pub fn end_step(scene: &mut Scene, servo: Option<&mut Servo>, fl: &[f64; 9], dt: f64) -> bool {
-    let v = super::stress::volume(scene);
-    let active = scene.cell.is_active();
-    // Σ m C ⊗ C of the velocities of this step (before the field's share of it).
-    let kin = if active {
-        deform(scene, dt)
-    } else {
-        kinetic_sum(&scene.particles)
-    };
-    let mut s = super::stress::Stress::default();
-    for a in 0..3 {
-        for b in 0..3 {
-            s.contact[a][b] = fl[3 * a + b] / v;
-            s.kinetic[a][b] = kin[a][b] / v;
-        }
-    }
-    let total = s.total();
-    let dot = |h: &[[f64; 3]; 3]| -> f64 {
-        let mut w = 0.0;
-        for a in 0..3 {
-            for b in 0..3 {
-                w += total[a][b] * h[a][b];
-            }
-        }
-        w
-    };
-    // The last step's deformation, now that the forces at its end are known.
-    let c = &mut scene.cell;
-    c.work += c.pending + dot(&c.half);
-    c.half = [[0.0; 3]; 3];
-    c.pending = 0.0;
-    if active {
-        let g = c.gradient();
-        for a in 0..3 {
-            for b in 0..3 {
-                c.half[a][b] = -0.5 * v * g[a][b] * dt;
-            }
-        }
-        c.pending = dot(&c.half);
-    }
-    if let Some(servo) = servo {
-        servo_step(&mut scene.cell, servo, &total);
-    }
-    active
-}
-
 /// Σ m C ⊗ C over the particles, in particle order (`stress::kinetic_part` times V).
-fn kinetic_sum(p: &super::scene::Particles) -> [[f64; 3]; 3] {
+pub fn kinetic_sum(p: &super::scene::Particles) -> [[f64; 3]; 3] {
     let mut k = Kinetic::default();
     for i in 0..p.len() {
         k.add(p.mass[i], &p.vel[i]);
@@ -390,44 +214,6 @@ impl Kinetic {
         let [xx, yy, zz, xy, yz, zx] = self.0;
         [[xx, xy, zx], [xy, yy, yz], [zx, yz, zz]]
     }
-}
-
-/// The strain of a probe (`PRObe`): small enough to stay elastic in a Hertz packing
-/// whose overlaps are ~1e-3 of the radius.
-pub const PROBE_STRAIN: f64 = 1e-5;
-/// TRUBAL's probe: cycles at zero strain, probing cycles, cycles at zero strain again.
-pub const PROBE_CYCLES: [u64; 3] = [500, 250, 500];
-
-/// TRUBAL's `PRObe`: from the current state, 500 cycles at zero strain rate, 250 cycles
-/// straining along `dir` (rates proportional to `dir`, a total strain of
-/// [`PROBE_STRAIN`] along it), 500 cycles at zero strain rate; returns the change of the
-/// average stress per unit probe strain (Pa). The scene is then put back exactly as it was
-/// (a clone: every bit, the contact states included).
-pub fn probe(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], super::cycle::Blowup> {
-    let kept = scene.clone();
-    let r = probe_run(scene, dir);
-    *scene = kept;
-    r
-}
-
-fn probe_run(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], super::cycle::Blowup> {
-    let [quiet, strain, settle] = PROBE_CYCLES;
-    scene.cell.rate = [0.0; 6];
-    let model = super::cycle::run(scene, quiet)?;
-    let before = super::stress::of(scene).total();
-    let rate = PROBE_STRAIN / (strain as f64 * model.dt);
-    scene.cell.rate = dir.map(|d| d * rate);
-    super::cycle::run(scene, strain)?;
-    scene.cell.rate = [0.0; 6];
-    super::cycle::run(scene, settle)?;
-    let after = super::stress::of(scene).total();
-    let mut m = [[0.0; 3]; 3];
-    for a in 0..3 {
-        for b in 0..3 {
-            m[a][b] = (after[a][b] - before[a][b]) / PROBE_STRAIN;
-        }
-    }
-    Ok(m)
 }
 
 /// Why a `GRID` cannot be used in this work-space (None: it can).
@@ -621,6 +407,52 @@ fn wrap_one(x: &mut Vec3, size: [f64; 3], periodic: [bool; 3], shift: Option<f64
     }
 }
 
+/// The scene's branch vectors through the periodic images.
+impl Scene {
+    /// Minimum-image separation vector b − a for the periodic axes (with the Lees–Edwards
+    /// offset of a sheared cell).
+    #[inline]
+    pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
+        nearest_image(b - a, self.size, self.settings.periodic, self.cell.shift)
+    }
+}
+
+/// The nearest periodic image of the branch vector `d` (unchanged along open axes). One test
+/// for the usual scene without periodic axes: in the pair loop, a test per component cost 7 %
+/// of the S1 run. `shift`: the Lees–Edwards offset of a sheared cell (above): an image
+/// one cell up in y is `shift` further along x, so y is reduced first.
+#[inline(always)]
+pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3], shift: f64) -> Vec3 {
+    if periodic != [false; 3] {
+        let sheared = shift != 0.0 && periodic[1];
+        if sheared {
+            let n = images(d.y / size[1]);
+            d.y -= size[1] * n;
+            d.x -= shift * n;
+        }
+        for k in 0..3 {
+            if periodic[k] && !(sheared && k == 1) {
+                let l = size[k];
+                d[k] -= l * images(d[k] / l);
+            }
+        }
+    }
+    d
+}
+
+/// `q.round()`, without the call to the C library's `round` that the baseline x86-64 build
+/// makes (no rounding instruction before SSE4.1) in the usual case `|q| < 0.5` (two
+/// particles of the work-space closer than half its width), where it is ±0 with the sign of
+/// `q`, as `round` gives: the same bits for every input.
+#[inline(always)]
+fn images(q: f64) -> f64 {
+    if q.abs() < 0.5 {
+        0.0f64.copysign(q)
+    } else {
+        q.round()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -718,6 +550,37 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod image_tests {
+    use super::images;
+
+    #[test]
+    fn images_is_round_to_the_bit() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.49999999999999994,
+            -0.49999999999999994,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            1e300,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut r = crate::sim::rng::Rng::new(5);
+        xs.extend((0..10_000).map(|_| r.normal()));
+        for x in xs {
+            assert_eq!(images(x).to_bits(), x.round().to_bits(), "{x:e}");
         }
     }
 }

@@ -9,7 +9,7 @@
 //! (`ContactExt::normal`, booked as normal strain).
 
 use super::contacts::{ContactState, NormalHistory};
-use super::interact::{Acc, Kin, Laws};
+use super::kinematics::{Acc, Kin, Laws};
 use super::params::{PairConst, PairLaw};
 use super::scene::Vec3;
 use crate::physics::jkr::Jkr;
@@ -173,7 +173,7 @@ pub fn normal(
         acc.adhesion += work - (u_new - u_old);
     }
     if was_touching && !s.touching {
-        super::interact::reset_solid(s, acc);
+        super::kinematics::reset_solid(s, acc);
     }
     s.overlap = alpha;
     out

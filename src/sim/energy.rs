@@ -6,65 +6,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::contacts::ContactState;
+pub use super::scene::Ledger;
 use super::scene::Scene;
 use super::walls::wall_r_star;
 use crate::physics::hertz;
 use crate::physics::jkr::Jkr;
-
-/// Accumulated energy terms (J).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Ledger {
-    /// Energy changed by commands (creation, VELocity, Zero, FRO, ...) — the initial energy of
-    /// a scene enters here when its particles are created.
-    pub commands: f64,
-    pub gravity: f64,
-    pub walls: f64,
-    pub friction: f64,
-    pub damping_mass: f64,
-    pub damping_contact: f64,
-    pub viscous: f64,
-    pub adhesion: f64,
-    pub rupture: f64,
-    /// The books' residual that commands left (energy they changed without booking it),
-    /// summed over the scene's life: the energy audit of a `Cycle` (`cycle::Audit`) holds
-    /// the residual's growth beyond this — the energy cycling created since the scene was
-    /// made — against a tolerance, whatever the lengths of the Cycles. NaN in a scene read
-    /// from a checkpoint of format 8 or older (unknown: taken as the residual at the next
-    /// Cycle's start). Not an input nor a loss: no sum of the books includes it.
-    pub unbooked: f64,
-}
-
-/// The ledger as checkpoint formats 1 to 8 wrote it (frozen: never change): without
-/// `unbooked`.
-#[derive(Deserialize)]
-pub(super) struct LedgerV8 {
-    commands: f64,
-    gravity: f64,
-    walls: f64,
-    friction: f64,
-    damping_mass: f64,
-    damping_contact: f64,
-    viscous: f64,
-    adhesion: f64,
-    rupture: f64,
-}
-
-impl From<LedgerV8> for Ledger {
-    fn from(o: LedgerV8) -> Ledger {
-        Ledger {
-            commands: o.commands,
-            gravity: o.gravity,
-            walls: o.walls,
-            friction: o.friction,
-            damping_mass: o.damping_mass,
-            damping_contact: o.damping_contact,
-            viscous: o.viscous,
-            adhesion: o.adhesion,
-            rupture: o.rupture,
-            unbooked: f64::NAN,
-        }
-    }
-}
 
 /// Energies that are functions of the current state (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -88,20 +34,6 @@ impl Stored {
     }
 }
 
-impl Ledger {
-    pub fn input(&self) -> f64 {
-        self.commands + self.gravity + self.walls
-    }
-    pub fn dissipated(&self) -> f64 {
-        self.friction
-            + self.damping_mass
-            + self.damping_contact
-            + self.viscous
-            + self.adhesion
-            + self.rupture
-    }
-}
-
 /// Kinetic energy (translation + rotation) with the half-step velocities.
 pub fn kinetic(scene: &Scene) -> f64 {
     (0..scene.particles.len())
@@ -120,11 +52,12 @@ pub fn kinetic_of(scene: &Scene, i: usize) -> f64 {
 /// Kinetic energy with the half-step velocities of the leap-frog scheme.
 pub fn stored(scene: &Scene) -> Stored {
     let p = &scene.particles;
-    let mut s = Stored::default();
-    for i in 0..p.len() {
-        s.kinetic_translation += 0.5 * p.mass[i] * p.vel[i].norm_squared();
-        s.kinetic_rotation += 0.5 * p.inertia(i) * p.spin[i].norm_squared();
-    }
+    let (kinetic_translation, kinetic_rotation) = p.kinetic_parts();
+    let mut s = Stored {
+        kinetic_translation,
+        kinetic_rotation,
+        ..Stored::default()
+    };
     let e_star = |m1: usize, m2: usize| {
         let (a, b) = (&scene.materials[m1 - 1], &scene.materials[m2 - 1]);
         hertz::e_star(a.young, a.poisson, b.young, b.poisson)

@@ -13,7 +13,7 @@
 //! with R* and m* those of the wall contact).
 
 use super::contacts::ContactState;
-use super::interact::Kin;
+use super::kinematics::Kin;
 use super::params::PairConst;
 use super::scene::Vec3;
 use crate::physics::{dashpot, hertz, tangential};

@@ -34,7 +34,7 @@ pub fn share_request(share: f64, pvol: f64, r1: f64, r2: f64) -> [f64; 2] {
 /// than each particle has left; the bridge is rebuilt if it got less), ruptured bridges give
 /// it back as it was drawn (Olsson 2017 §2.2.5). Sequential, in pair order: deterministic.
 pub fn settle(scene: &mut Scene) {
-    let model = super::interact::bridge_model(scene.settings.bridge);
+    let model = crate::sim::model::bridge_model(scene.settings.bridge);
     let p = &mut scene.particles;
     scene.contacts.for_each_state_mut(|c, s| {
         let (i, j) = (c.i as usize, c.j as usize);
@@ -115,7 +115,7 @@ pub fn total_liquid(scene: &Scene) -> (f64, f64) {
 /// (so re-issuing `LIQuid` to change the viscosity or surface tension adds no liquid).
 pub fn reissue(scene: &mut Scene) {
     let Some(l) = scene.liquid else { return };
-    let model = super::interact::bridge_model(scene.settings.bridge);
+    let model = crate::sim::model::bridge_model(scene.settings.bridge);
     let conserve = scene.settings.liquid_mode == LiquidMode::Conserve;
     let p = &mut scene.particles;
     if conserve {

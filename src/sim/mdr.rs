@@ -2,7 +2,7 @@
 //! (`physics::mdr`) turned into the contact plane, moved by the step's slip, and booked.
 
 use super::contacts::ContactState;
-use super::interact::{Acc, Kin};
+use super::kinematics::{Acc, Kin};
 use super::params::PairConst;
 use super::scene::Vec3;
 use crate::physics::mdr::{self, MdrInput, MdrRow};

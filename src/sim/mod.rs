@@ -1,5 +1,33 @@
 //! The simulation core: state, generation, contact search, contact forces, time stepping and
 //! the energy ledger. No I/O happens here: the session asks and formats.
+//!
+//! # Layers
+//!
+//! The modules stand in layers, lowest first. A module imports only from its own layer or
+//! below, and no two modules import each other, directly or around a circle; a module that
+//! needs something from above is handed it (a function argument, a plain value). A
+//! module's files (`cycle/update.rs` of `cycle`) are in its layer unless named here.
+//! `tests/it/architecture.rs` reads this list and holds the code to it.
+//!
+//! 1. **base** (`model`, `rng`, `history`, `parallel`): what knows no scene: the model
+//!    choices a scene stores, the random numbers, the history's columns, how a `Cycle`
+//!    runs on threads (`parallel::plan`, `parallel::awake`).
+//! 2. **state** (`scene`, `contacts`): the scene as plain data: particles,
+//!    walls, materials, settings, the contact store (with its split among threads), the
+//!    cell's strains and servo targets, the ledger's accounts, the index that generation
+//!    keeps, the reference of `PLot SAve`; reading it, checking a decoded one.
+//! 3. **geometry** (`walls`, `cell`): wall gaps, normals and motion; the periodic cell's
+//!    images, deformation and stress servo rule.
+//! 4. **measures** (`energy`, `stress`): what a state holds: the energy stored and the books'
+//!    residual, the average stress.
+//! 5. **laws** (`params`, `kinematics`, `interact`, `elastoplastic`, `mdr`, `rolling`,
+//!    `liquid`, `lanes`, `contact_time`): the per-pair constants, the force of one contact,
+//!    rolling, liquid bridges, the step limit.
+//! 6. **search** (`search`): the candidate pairs (cell lists, the Lees–Edwards cell).
+//! 7. **step** (`cycle`, `leapfrog`, `parallel/schedule`): a `Cycle`: forces, update,
+//!    checks, the cell's share of a step, the history's rows, the split among threads.
+//! 8. **drivers** (`place`, `generate`, `probe`, `scene/edit`, `sim`): what commands do to a
+//!    scene: placement and generation, `PRObe`, every edit; this module, which re-exports.
 
 pub mod cell;
 pub mod contact_time;
@@ -10,6 +38,7 @@ pub mod energy;
 pub mod generate;
 pub mod history;
 pub mod interact;
+pub mod kinematics;
 pub mod lanes;
 pub mod leapfrog;
 pub mod liquid;
@@ -18,7 +47,7 @@ pub mod model;
 pub mod parallel;
 pub mod params;
 pub mod place;
-pub mod reference;
+pub mod probe;
 pub mod rng;
 pub mod rolling;
 pub mod scene;
@@ -27,32 +56,3 @@ pub mod stress;
 pub mod walls;
 
 pub use scene::{Scene, Vec3};
-
-/// Appends one row to the history (columns of [`history::COLUMNS`]).
-pub fn record_history(scene: &mut Scene) {
-    let st = energy::stored(scene);
-    let (c, cw) = scene.contacts.active_counts();
-    let (b, bw) = scene.contacts.bridge_counts();
-    let wf: f64 = scene.walls.iter().map(|w| w.normal_force).sum();
-    let mut row = vec![
-        scene.cycle as f64,
-        scene.time,
-        st.kinetic_translation + st.kinetic_rotation,
-        st.strain_normal + st.strain_tangential + st.bridge,
-        scene.ledger.input() + scene.cell.work,
-        scene.ledger.dissipated(),
-        energy::residual(scene),
-        (c + cw) as f64,
-        (b + bw) as f64,
-        wf,
-    ];
-    // The average stress (`stress`: total, compression positive, Pa; rows recorded before
-    // checkpoint format 4 hold 0) and the granular temperature ⟨C·C⟩/3.
-    let s = stress::of(scene).total();
-    row.extend([s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[2][0]]);
-    row.push(stress::temperature(scene));
-    // The periodic cell's accumulated strains (`sim::cell`).
-    let e = scene.cell.strain;
-    row.extend([e[0], e[1], e[2], e[3]]);
-    scene.history.rows.push(row);
-}

@@ -7,6 +7,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::physics::bridge::{self, BridgeModel};
+
 /// Radius distribution of a size type: every generated particle draws its radius.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum SizeDist {
@@ -255,4 +257,32 @@ impl ContactLaws {
             self.normal.push((pairs, law));
         }
     }
+}
+
+/// The bridge model of `physics::bridge` that a `SET BRIdge` choice names.
+pub fn bridge_model(b: BridgeChoice) -> BridgeModel {
+    match b {
+        BridgeChoice::Fit => BridgeModel::Fit,
+        BridgeChoice::Toroidal => BridgeModel::Toroidal,
+        BridgeChoice::Laplace => BridgeModel::Laplace,
+        BridgeChoice::Rabinovich => BridgeModel::Rabinovich,
+    }
+}
+
+/// The default minimum gap of a bridge's viscous forces as a fraction of R*: Lian's R*/100
+/// (doc/spec/DECISIONS.md), Olsson's 0.1 % for his Rabinovich model (§3.3.2).
+#[inline]
+pub fn smin_ratio(b: BridgeChoice) -> f64 {
+    if b == BridgeChoice::Rabinovich {
+        bridge::rabinovich::OLSSON_SMIN_RATIO
+    } else {
+        0.01
+    }
+}
+
+/// The tangential viscous force of bridges acts: `SET GOLdman ON`, or Olsson's model, which
+/// has Nase's tangential force (56) (the same Goldman form).
+#[inline]
+pub fn tangential_viscous(goldman: bool, b: BridgeChoice) -> bool {
+    goldman || b == BridgeChoice::Rabinovich
 }

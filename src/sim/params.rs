@@ -100,7 +100,7 @@ pub struct Model {
     pub uniform: Option<Uniform>,
     /// How the `Cycle` runs (threads, parallel regions, vector instructions): decided once
     /// per `Cycle`, never changes a result.
-    pub plan: crate::sim::cycle::plan::ExecPlan,
+    pub plan: crate::sim::parallel::plan::ExecPlan,
 }
 
 impl Model {
@@ -305,7 +305,7 @@ fn step_limits(
         let smin = scene
             .settings
             .smin
-            .unwrap_or(rstar * super::interact::smin_ratio(scene.settings.bridge));
+            .unwrap_or(rstar * crate::sim::model::smin_ratio(scene.settings.bridge));
         let c = 6.0 * std::f64::consts::PI * l.eta * rstar * rstar / smin;
         let mmin = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
         dt = dt.min(mmin / (14.0 * c));
@@ -349,7 +349,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
     } = pairs;
     let rotation = pairs.rotation
         || scene.particles.spin.iter().any(|w| w.norm_squared() > 0.0)
-        || (super::interact::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
+        || (crate::sim::model::tangential_viscous(scene.settings.goldman, scene.settings.bridge)
             && scene.liquid.is_some_and(|l| l.eta > 0.0));
     let adhesion = pairs.adhesion;
     // Rayleigh critical step over the sizes and materials present.
@@ -380,6 +380,6 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         fraction,
         dt_rayleigh: dt_r,
         uniform: Uniform::of(p),
-        plan: crate::sim::cycle::plan::ExecPlan::detect(),
+        plan: crate::sim::parallel::plan::ExecPlan::detect(),
     })
 }

@@ -5,9 +5,10 @@
 //! per-unit-radius moment sums cannot hold; so the moments go to a per-particle array that
 //! the update adds (`cycle::finish_chunk`). A scene without rolling friction skips it.
 
+use super::cell::nearest_image;
 use super::contacts::ContactState;
 use super::params::Model;
-use super::scene::{Scene, Vec3, nearest_image};
+use super::scene::{Scene, Vec3};
 use super::walls::WallShape;
 use crate::physics::{hertz, rolling, tangential, walton};
 use crate::sim::model::NormalLaw;

@@ -5,13 +5,19 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::contacts::ContactStore;
-use super::energy::Ledger;
 use super::rng::Rng;
 use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
 
 mod access;
+pub(in crate::sim) mod cell;
 mod check;
 mod edit;
+mod ledger;
+mod overlap;
+mod reference;
+pub use ledger::Ledger;
+pub use overlap::{CreateIndex, OverlapIndex};
+pub use reference::Reference;
 
 pub type Vec3 = Vector3<f64>;
 
@@ -193,6 +199,17 @@ impl Particles {
 
     pub fn inertia(&self, i: usize) -> f64 {
         0.4 * self.mass[i] * self.radius[i] * self.radius[i]
+    }
+
+    /// The kinetic energies of translation and rotation, Σ ½ m v² and Σ ½ I ω² (J, with the
+    /// half-step velocities of the leap-frog scheme), each summed in particle order.
+    pub fn kinetic_parts(&self) -> (f64, f64) {
+        let (mut translation, mut rotation) = (0.0, 0.0);
+        for i in 0..self.len() {
+            translation += 0.5 * self.mass[i] * self.vel[i].norm_squared();
+            rotation += 0.5 * self.inertia(i) * self.spin[i].norm_squared();
+        }
+        (translation, rotation)
     }
 }
 
@@ -406,12 +423,12 @@ pub struct Scene {
     /// Particles removed through open sides.
     pub(in crate::sim) lost: u64,
     /// Reference state (`PLot SAve`).
-    pub(in crate::sim) reference: Option<super::reference::Reference>,
+    pub(in crate::sim) reference: Option<Reference>,
     pub(in crate::sim) history: super::history::History,
     /// The periodic cell's deformation (`GRID`, stress servo), [`super::cell`]; checkpoints
     /// before format 4 have none (read as at rest).
     #[serde(deserialize_with = "old_cell")]
-    pub(in crate::sim) cell: super::cell::Cell,
+    pub(in crate::sim) cell: cell::Cell,
     /// The contact laws per material pair (`SET NORmal`, `SET ROLling`); checkpoints before
     /// format 5 have none (Hertz/JKR everywhere, no rolling friction).
     #[serde(deserialize_with = "old_laws")]
@@ -429,7 +446,7 @@ pub struct Scene {
 pub struct Derived {
     /// The stress servo of the running Cycle (`Cycle n S0 σ`, set by the session for the
     /// Cycle; derived, not saved).
-    pub servo: Option<super::cell::Servo>,
+    pub servo: Option<cell::Servo>,
     /// Some particle may be outside the work-space (derived, not saved: set at the start of
     /// every `Cycle` and by the integration step; saves a scan per step when false).
     pub maybe_outside: bool,
@@ -450,7 +467,7 @@ pub struct Derived {
     pub lattice_run: Option<LatticeRun>,
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
     /// dropped by any other command before it runs: `Session::execute`).
-    pub create_index: Option<super::generate::CreateIndex>,
+    pub create_index: Option<CreateIndex>,
     /// The books' residual when the last `Cycle` ended (or its blow-up snapshot was
     /// restored, or the scene was read from a checkpoint; 0 for a new scene): what the
     /// residual moved by since then, commands moved (`cycle::Audit`).
@@ -591,49 +608,6 @@ impl Scene {
             .copied()
             .fold(f64::INFINITY, f64::min)
     }
-
-    /// Minimum-image separation vector b − a for the periodic axes (with the Lees–Edwards
-    /// offset of a sheared cell).
-    #[inline]
-    pub fn branch(&self, a: &Vec3, b: &Vec3) -> Vec3 {
-        nearest_image(b - a, self.size, self.settings.periodic, self.cell.shift)
-    }
-}
-
-/// The nearest periodic image of the branch vector `d` (unchanged along open axes). One test
-/// for the usual scene without periodic axes: in the pair loop, a test per component cost 7 %
-/// of the S1 run. `shift`: the Lees–Edwards offset of a sheared cell (`sim::cell`): an image
-/// one cell up in y is `shift` further along x, so y is reduced first.
-#[inline(always)]
-pub fn nearest_image(mut d: Vec3, size: [f64; 3], periodic: [bool; 3], shift: f64) -> Vec3 {
-    if periodic != [false; 3] {
-        let sheared = shift != 0.0 && periodic[1];
-        if sheared {
-            let n = images(d.y / size[1]);
-            d.y -= size[1] * n;
-            d.x -= shift * n;
-        }
-        for k in 0..3 {
-            if periodic[k] && !(sheared && k == 1) {
-                let l = size[k];
-                d[k] -= l * images(d[k] / l);
-            }
-        }
-    }
-    d
-}
-
-/// `q.round()`, without the call to the C library's `round` that the baseline x86-64 build
-/// makes (no rounding instruction before SSE4.1) in the usual case `|q| < 0.5` (two
-/// particles of the work-space closer than half its width), where it is ±0 with the sign of
-/// `q`, as `round` gives: the same bits for every input.
-#[inline(always)]
-fn images(q: f64) -> f64 {
-    if q.abs() < 0.5 {
-        0.0f64.copysign(q)
-    } else {
-        q.round()
-    }
 }
 
 /// A wall as checkpoint formats 1 and 2 wrote it (frozen: never change): without `travel`,
@@ -652,10 +626,10 @@ struct WallV2 {
 
 /// Reads the cell in the layout of the checkpoint being decoded: formats 1–3 had none (a
 /// cell at rest, nothing read).
-fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<super::cell::Cell, D::Error> {
+fn old_cell<'de, D: serde::Deserializer<'de>>(de: D) -> Result<cell::Cell, D::Error> {
     match super::contacts::old::version() {
         1..=3 => Ok(Default::default()),
-        _ => super::cell::Cell::deserialize(de),
+        _ => cell::Cell::deserialize(de),
     }
 }
 
@@ -687,7 +661,7 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
 /// `unbooked` (read as unknown, NaN).
 fn old_ledger<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Ledger, D::Error> {
     match super::contacts::old::version() {
-        1..=8 => super::energy::LedgerV8::deserialize(de).map(Into::into),
+        1..=8 => ledger::LedgerV8::deserialize(de).map(Into::into),
         _ => Ledger::deserialize(de),
     }
 }
@@ -712,36 +686,5 @@ fn old_walls<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Vec<Wall>, D::Er
                 .collect()
         }),
         _ => Vec::<Wall>::deserialize(de),
-    }
-}
-
-#[cfg(test)]
-mod image_tests {
-    use super::images;
-
-    #[test]
-    fn images_is_round_to_the_bit() {
-        let mut xs = vec![
-            0.0,
-            -0.0,
-            0.49999999999999994,
-            -0.49999999999999994,
-            0.5,
-            -0.5,
-            1.5,
-            -1.5,
-            2.5,
-            1e300,
-            f64::MIN_POSITIVE,
-            -f64::MIN_POSITIVE,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        let mut r = crate::sim::rng::Rng::new(5);
-        xs.extend((0..10_000).map(|_| r.normal()));
-        for x in xs {
-            assert_eq!(images(x).to_bits(), x.round().to_bits(), "{x:e}");
-        }
     }
 }

@@ -337,7 +337,7 @@ fn a_probe_gives_the_closed_form_modulus_and_restores_the_state() {
         .collect();
     let e_star = 1e8 / (2.0 * (1.0 - 0.09));
     let p = |alpha: f64| 4.0 / 3.0 * e_star * (0.5 * r).sqrt() * alpha.powf(1.5);
-    let eps = trubal::sim::cell::PROBE_STRAIN;
+    let eps = trubal::sim::probe::PROBE_STRAIN;
     let before = p(d0 - d[0]) / (d[1] * d[2]);
     let after = p(d0 - d[0] * eps.exp()) / (d[1] * d[2]);
     let want = -(after - before) / eps;

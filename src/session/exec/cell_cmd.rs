@@ -40,7 +40,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
     }
 }
 
-/// `PRObe E11 ...` (`sim::cell::probe`): the modulus of the named strain, the state put back
+/// `PRObe E11 ...` (`sim::probe::probe`): the modulus of the named strain, the state put back
 /// bitwise.
 pub fn probe(
     scene: &mut Scene,
@@ -73,16 +73,16 @@ pub fn probe(
     if let Some(m) = crate::sim::cell::grid_refusal(&dir, scene.settings().periodic) {
         return Err(format!("PRObe {name}: {m}"));
     }
-    let m = crate::sim::cell::probe(scene, dir).map_err(|e| e.message)?;
+    let m = crate::sim::probe::probe(scene, dir).map_err(|e| e.message)?;
     let modulus = if half {
         -(m[a][a] - m[b][b]) / 2.0
     } else {
         -m[a][b]
     };
-    let [c0, c1, c2] = crate::sim::cell::PROBE_CYCLES;
+    let [c0, c1, c2] = crate::sim::probe::PROBE_CYCLES;
     let text = format!(
         "PRObe {name}: strain {:e} over {c1} cycles between {c0} and {c2} at zero strain rate; state restored\n  modulus {modulus:.6e} Pa\n  dsigma/strain (Pa) {:.6e} {:.6e} {:.6e} / {:.6e} {:.6e} {:.6e} / {:.6e} {:.6e} {:.6e}\n",
-        crate::sim::cell::PROBE_STRAIN,
+        crate::sim::probe::PROBE_STRAIN,
         m[0][0],
         m[0][1],
         m[0][2],
@@ -94,6 +94,6 @@ pub fn probe(
         m[2][2]
     );
     let j = serde_json::json!({"print": "probe", "probe": name, "modulus": modulus,
-        "dstress_per_strain": m, "strain": crate::sim::cell::PROBE_STRAIN, "cycle": scene.cycle()});
+        "dstress_per_strain": m, "strain": crate::sim::probe::PROBE_STRAIN, "cycle": scene.cycle()});
     Ok((text, j))
 }

@@ -85,7 +85,7 @@ fn liquid_warnings(
     choice: crate::sim::model::BridgeChoice,
     l: &crate::sim::scene::Liquid,
 ) -> Result<String, String> {
-    let model = crate::sim::interact::bridge_model(choice);
+    let model = crate::sim::model::bridge_model(choice);
     let mut radii: Vec<f64> = scene.particles().radius.clone();
     radii.sort_by(f64::total_cmp);
     let (rmin, rmax) = (

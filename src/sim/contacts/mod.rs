@@ -5,19 +5,23 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::scene::{Particles, Vec3};
 use crate::physics::bridge::{Bridge, BridgeCoeffs, BridgeModel};
 use crate::physics::mdr::MdrRow;
 use crate::physics::tangential::TangentialState;
 use crate::physics::walton::WaltonState;
 
+/// The vector of the simulation (`scene::Vec3`, the same type: the store sits below the
+/// scene and names it itself).
+type Vec3 = nalgebra::Vector3<f64>;
+
 mod keys;
 pub mod old;
 mod serial;
+mod split;
 mod state;
 mod walls;
-pub use crate::sim::parallel::schedule::*;
 pub use keys::*;
+pub use split::*;
 pub use state::*;
 pub use walls::*;
 
@@ -723,7 +727,7 @@ impl ContactStore {
 
     /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges
     /// (`bridges` true), as sorted id pairs.
-    pub fn bonded_pairs(&self, _p: &Particles, bridges: bool) -> Vec<(u32, u32)> {
+    pub fn bonded_pairs(&self, bridges: bool) -> Vec<(u32, u32)> {
         let mut v: Vec<(u32, u32)> = self
             .iter()
             .filter(|p| {

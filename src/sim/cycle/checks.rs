@@ -30,12 +30,12 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
 }
 
 /// A servo whose gain would make the cell's stress diverge at the present contacts
-/// (`cell::servo_loop_gain`) is refused before cycling.
+/// ([`servo_loop_gain`]) is refused before cycling.
 fn check_gain(scene: &Scene, model: &Model) -> Result<(), String> {
     if scene.derived.servo.is_none() {
         return Ok(());
     }
-    let lg = crate::sim::cell::servo_loop_gain(scene, model, model.dt);
+    let lg = servo_loop_gain(scene, model, model.dt);
     let limit = if scene.cell.mode == 0 { 4.0 } else { 2.0 };
     if lg > limit {
         return Err(format!(
@@ -689,4 +689,35 @@ fn watch_servos(scene: &Scene, watch: &mut StepWatch) -> Result<(), Blowup> {
         }
     }
     Ok(())
+}
+
+/// The servo's loop gain per step, `g (M Δt + η)`, with `M = Σ_c k_n l² / V` (k_n = 2 E* a
+/// the Hertz stiffness of each touching contact, l its branch length), an upper bound of the
+/// assembly's modulus dσ/dε under an affine strain, and `η = Σ_c c_n l² / V` (c_n the
+/// restitution dashpot's coefficient `dash (m*² R* α)^{1/4}`, `physics::dashpot`), the
+/// stress the dashpots add per unit strain rate at once: a strain rate set from the stress
+/// (mode 1) feeds back through them in the same step. Mode 1 relaxes the error by about
+/// `(1 − gain)` per step (it overshoots above 1 and diverges above 2); mode 0 oscillates
+/// about the target and diverges above 4 (doc/cell.md, "Choosing the servo gain").
+fn servo_loop_gain(scene: &Scene, model: &Model, dt: f64) -> f64 {
+    let p = &scene.particles;
+    let (mut m, mut eta) = (0.0, 0.0);
+    for c in scene.contacts.iter() {
+        if !c.s.touching {
+            continue;
+        }
+        let (i, j) = (c.i as usize, c.j as usize);
+        let (ka, kb) = (p.material[i] as usize, p.material[j] as usize);
+        let (a, b) = (&scene.materials[ka - 1], &scene.materials[kb - 1]);
+        let es = crate::physics::hertz::e_star(a.young, a.poisson, b.young, b.poisson);
+        let l2 = scene.branch(&p.pos[i], &p.pos[j]).norm_squared();
+        m += 2.0 * es * c.s.a * l2;
+        let dash = model.pair(ka, kb).dash;
+        if dash > 0.0 && c.s.overlap > 0.0 {
+            let r_star = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+            let m_star = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+            eta += dash * (m_star * m_star * r_star * c.s.overlap).powf(0.25) * l2;
+        }
+    }
+    scene.cell.gain[0] * (m * dt + eta) / crate::sim::stress::volume(scene)
 }

@@ -40,7 +40,6 @@ mod distances;
 mod forces;
 mod fused;
 mod pairs;
-pub mod plan;
 mod reach;
 mod update;
 mod wall_loop;
@@ -185,7 +184,7 @@ fn run_steps(
         if scene.settings.history_every > 0
             && scene.cycle.is_multiple_of(scene.settings.history_every)
         {
-            super::record_history(scene);
+            record_history(scene);
         }
         pacer.step_done();
         if last {
@@ -547,6 +546,35 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
     finish_deferred(scene, model.rotation);
     let after = super::energy::stored(scene).total();
     scene.ledger.commands += after - before;
+}
+
+/// Appends one row to the history (columns of [`super::history::COLUMNS`]).
+pub fn record_history(scene: &mut Scene) {
+    let st = super::energy::stored(scene);
+    let (c, cw) = scene.contacts.active_counts();
+    let (b, bw) = scene.contacts.bridge_counts();
+    let wf: f64 = scene.walls.iter().map(|w| w.normal_force).sum();
+    let mut row = vec![
+        scene.cycle as f64,
+        scene.time,
+        st.kinetic_translation + st.kinetic_rotation,
+        st.strain_normal + st.strain_tangential + st.bridge,
+        scene.ledger.input() + scene.cell.work,
+        scene.ledger.dissipated(),
+        super::energy::residual(scene),
+        (c + cw) as f64,
+        (b + bw) as f64,
+        wf,
+    ];
+    // The average stress (`stress`: total, compression positive, Pa; rows recorded before
+    // checkpoint format 4 hold 0) and the granular temperature ⟨C·C⟩/3.
+    let s = super::stress::of(scene).total();
+    row.extend([s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[2][0]]);
+    row.push(super::stress::temperature(scene));
+    // The periodic cell's accumulated strains (`sim::cell`).
+    let e = scene.cell.strain;
+    row.extend([e[0], e[1], e[2], e[3]]);
+    scene.history.rows.push(row);
 }
 
 #[cfg(test)]

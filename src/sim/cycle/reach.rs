@@ -20,9 +20,10 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
+use super::super::cell::nearest_image;
 use super::super::contacts::HotPair;
 use super::super::lanes::SUB;
-use super::super::scene::{Vec3, nearest_image};
+use super::super::scene::Vec3;
 use super::{EXT_GROUP, PairCtx};
 
 // One bit a candidate of a sub-batch.
@@ -305,7 +306,7 @@ unsafe fn mask_avx2(
         let x = _mm256_permute2f128_pd::<0x20>(t0, t2);
         let y = _mm256_permute2f128_pd::<0x20>(t1, t3);
         let z = _mm256_permute2f128_pd::<0x31>(t0, t2);
-        // The nearest image along the periodic axes (`scene::nearest_image`): the same
+        // The nearest image along the periodic axes (`cell::nearest_image`): the same
         // distance to the bit, but for a separation of exactly half the cell, where the two
         // images are equally far (rounding half to even here, away from zero there: the
         // sign of the component differs, its square does not).

@@ -4,6 +4,8 @@
 //! open side.
 
 use super::*;
+use crate::sim::cell::{self, Servo};
+use crate::sim::stress;
 
 /// Step 2 of a cycle: wall forces and motion, then the particle update.
 pub(super) fn move_all(
@@ -474,17 +476,17 @@ pub(super) fn finish_move(
     // The deforming cell (`sim::cell`): its work, the mean field's share of the motion with
     // the wrap, and the stress servo.
     let wrapped = (scene.cell.needs_stress() || servo.is_some())
-        && crate::sim::cell::end_step(scene, servo.as_mut(), &acc.stress, dt);
+        && cell_end_step(scene, servo.as_mut(), &acc.stress, dt);
     let hunting = servo
         .as_ref()
-        .is_some_and(|s| s.flips >= crate::sim::cell::HUNTING_STEPS);
+        .is_some_and(|s| s.flips >= cell::HUNTING_STEPS);
     scene.derived.servo = servo;
     if hunting {
         return Err(Blowup {
             cycle: scene.cycle + 1,
             message: format!(
                 "the stress servo hunts: its strain rates jumped between +edmax and -edmax for {} steps up to cycle {} (the packing it made is too stiff, or too damped, for GAIN {:e}); reduce GAIN (doc/cell.md, \"Choosing the servo gain\")",
-                crate::sim::cell::HUNTING_STEPS,
+                cell::HUNTING_STEPS,
                 scene.cycle + 1,
                 scene.cell.gain[0]
             ),
@@ -492,7 +494,7 @@ pub(super) fn finish_move(
     }
     if !wrapped {
         // Wrap periodic coordinates (across a sheared side at the image).
-        crate::sim::cell::wrap(scene);
+        cell::wrap(scene);
     }
     let p = &mut scene.particles;
     if scene.zero_always {
@@ -529,6 +531,58 @@ pub(super) fn finish_move(
     scene.cycle += 1;
     scene.time += dt;
     Ok(())
+}
+
+/// The periodic cell's share of the end of a step ([`finish_move`]; `sim::cell`): its work
+/// with the stress of this step's forces, the deformation ([`cell::deform`], which also wraps the
+/// particles) and the servo's new rates. `fl`: Σ f ⊗ l of this step's particle pairs
+/// (row-major), summed by the pair loop for the components 11, 22, 33 and 12 (those that
+/// the work `σ:G` and the servo read; the others are 0). Returns whether the particles
+/// were wrapped.
+fn cell_end_step(scene: &mut Scene, servo: Option<&mut Servo>, fl: &[f64; 9], dt: f64) -> bool {
+    let v = stress::volume(scene);
+    let active = scene.cell.is_active();
+    // Σ m C ⊗ C of the velocities of this step (before the field's share of it).
+    let kin = if active {
+        cell::deform(scene, dt)
+    } else {
+        cell::kinetic_sum(&scene.particles)
+    };
+    let mut s = stress::Stress::default();
+    for a in 0..3 {
+        for b in 0..3 {
+            s.contact[a][b] = fl[3 * a + b] / v;
+            s.kinetic[a][b] = kin[a][b] / v;
+        }
+    }
+    let total = s.total();
+    let dot = |h: &[[f64; 3]; 3]| -> f64 {
+        let mut w = 0.0;
+        for a in 0..3 {
+            for b in 0..3 {
+                w += total[a][b] * h[a][b];
+            }
+        }
+        w
+    };
+    // The last step's deformation, now that the forces at its end are known.
+    let c = &mut scene.cell;
+    c.work += c.pending + dot(&c.half);
+    c.half = [[0.0; 3]; 3];
+    c.pending = 0.0;
+    if active {
+        let g = c.gradient();
+        for a in 0..3 {
+            for b in 0..3 {
+                c.half[a][b] = -0.5 * v * g[a][b] * dt;
+            }
+        }
+        c.pending = dot(&c.half);
+    }
+    if let Some(servo) = servo {
+        cell::servo_step(&mut scene.cell, servo, &total);
+    }
+    active
 }
 
 /// Δt/m·inv and Δt/I·inv (I = 0.4 m R², a solid sphere) for a chunk of particles, as the

@@ -4,11 +4,10 @@
 //! `ContactStore::mark_stale` and [`super::Derived`]; see ARCHITECTURE.md, "The scene's
 //! flags").
 
+use super::cell::Cell;
 use super::*;
-use crate::sim::cell::Cell;
 use crate::sim::history::History;
 use crate::sim::model::{ContactLaws, SizeDist};
-use crate::sim::reference::Reference;
 
 impl Scene {
     /// The work-space's size (x, y, z), m: the periodic cell's current size.

@@ -233,7 +233,7 @@ impl Scene {
     }
 
     /// The stress servo of the `Cycle` about to run (`None` after it).
-    pub fn set_servo(&mut self, servo: Option<crate::sim::cell::Servo>) {
+    pub fn set_servo(&mut self, servo: Option<super::cell::Servo>) {
         self.derived.servo = servo;
     }
 
@@ -257,7 +257,7 @@ impl Scene {
     /// booked when the next Cycle evaluates the contacts (`cycle::prime`). A `CReate`
     /// (`create`) appends one particle: the total after it is the total before plus its
     /// term, the same bits as the sum over all (`energy::kinetic_of`), and a run of `CReate`s
-    /// keeps the total between them (`generate::CreateIndex`). `f` must change nothing when
+    /// keeps the total between them (`scene::CreateIndex`). `f` must change nothing when
     /// it fails.
     pub fn booked_edit<T>(
         &mut self,
@@ -290,7 +290,7 @@ impl Scene {
     /// its bonds.
     pub fn take_reference(&mut self) {
         crate::sim::cycle::prime_if_stale(self);
-        self.reference = Some(crate::sim::reference::Reference::take(self));
+        self.reference = Some(super::Reference::take(self));
     }
 
     /// Frees the spare capacity of the particle arrays (a decoded checkpoint's arrays grew by

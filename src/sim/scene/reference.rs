@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::Scene;
+use super::Scene;
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Reference {
@@ -26,7 +26,7 @@ pub struct Reference {
 impl Reference {
     pub fn take(scene: &Scene) -> Self {
         let p = &scene.particles;
-        let st = super::energy::stored(scene);
+        let (translation, rotation) = p.kinetic_parts();
         let mut bond_energy = 0.0;
         for c in scene.contacts.iter() {
             let (i, j) = (c.i as usize, c.j as usize);
@@ -52,9 +52,9 @@ impl Reference {
             ids: p.id.clone(),
             pos: p.pos.iter().map(|v| [v.x, v.y, v.z]).collect(),
             rot: p.rot.iter().map(|v| [v.x, v.y, v.z]).collect(),
-            contacts: scene.contacts.bonded_pairs(&scene.particles, false),
-            bridges: scene.contacts.bonded_pairs(&scene.particles, true),
-            kinetic: st.kinetic_translation + st.kinetic_rotation,
+            contacts: scene.contacts.bonded_pairs(false),
+            bridges: scene.contacts.bonded_pairs(true),
+            kinetic: translation + rotation,
             bond_energy,
         }
     }
