@@ -19,7 +19,8 @@ pub const USAGE: &str =
                       a value keeps its colour for all the columns (ours solid, the thesis dashed)
   --keys V1,V2,...    the order of the --by values: the colours go by position in this list, so
                       that a series keeps its colour in every chart of a table (values not
-                      listed follow; listed values without data are left out)
+                      listed follow; listed values without data are left out); --key V gives
+                      one value (which may hold commas), and may be repeated
   --label NAME=TEXT   the legend's text for a column or a --by value (\"\" leaves the column's
                       name out: the legend says the --by value only)
   --title TEXT        the title;  --xlabel TEXT, --ylabel TEXT  axis names with units
@@ -101,6 +102,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
             "--ref" => o.refs.extend(list(v)),
             "--by" => o.by.extend(list(v)),
             "--keys" => o.keys.extend(list(v)),
+            "--key" => o.keys.push(v.to_string()),
             "--out" | "-o" => o.out = v.to_string(),
             "--title" => o.title = v.to_string(),
             "--xlabel" => o.xlabel = Some(v.to_string()),
