@@ -35,7 +35,13 @@ pub enum Style {
     Dashed,
     /// Markers only.
     Points,
+    /// A solid line without markers (what [`Style::Line`] becomes over more than
+    /// [`MAX_MARKERS`] points: a dense curve).
+    Solid,
 }
+
+/// The most points of a series drawn with markers.
+pub const MAX_MARKERS: usize = 60;
 
 /// One series: its legend text, its colour (an index into [`PALETTE`]; the marker's shape
 /// follows it too), its style and its points (drawn in the order given).
@@ -147,34 +153,22 @@ fn log_axis(lo: f64, hi: f64, spec: &AxisSpec) -> Axis {
     if !(hi > lo) {
         (lo, hi) = (lo / 2.0, hi * 2.0);
     }
-    let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
-    let mantissas: &[f64] = if e1 - e0 <= 3 {
+    // The ends a little outside the data (4 % of the decades shown, at least 5 %).
+    let pad = (hi / lo).powf(0.04).max(1.05);
+    let a = spec.min.unwrap_or(lo / pad);
+    let b = spec.max.unwrap_or(hi * pad);
+    let decades = (b / a).log10();
+    let mantissas: &[f64] = if decades > 3.0 {
+        &[1.0]
+    } else if decades > 0.7 {
         &[1.0, 2.0, 5.0]
     } else {
-        &[1.0]
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
     };
-    let all: Vec<f64> = (e0..=e1)
+    let (e0, e1) = (a.log10().floor() as i32, b.log10().ceil() as i32);
+    let ticks = (e0..=e1)
         .flat_map(|e| mantissas.iter().map(move |m| clean(m * 10f64.powi(e))))
-        .collect();
-    let tol = 1e-9;
-    let a = match spec.min {
-        Some(v) => v,
-        None => *all
-            .iter()
-            .rev()
-            .find(|t| **t <= lo * (1.0 + tol))
-            .unwrap_or(&all[0]),
-    };
-    let b = match spec.max {
-        Some(v) => v,
-        None => *all
-            .iter()
-            .find(|t| **t >= hi * (1.0 - tol))
-            .unwrap_or(&all[all.len() - 1]),
-    };
-    let ticks = all
-        .into_iter()
-        .filter(|t| *t >= a * (1.0 - tol) && *t <= b * (1.0 + tol))
+        .filter(|t| *t >= a && *t <= b)
         .collect();
     Axis {
         lo: a,
@@ -267,6 +261,13 @@ pub fn axes(ch: &XyChart) -> Result<(Axis, Axis), String> {
 /// The PNG bytes of the chart.
 pub fn xy_png(ch: &XyChart) -> Result<Vec<u8>, String> {
     font()?;
+    let mut ch = ch.clone();
+    for s in &mut ch.series {
+        if s.style == Style::Line && s.points.len() > MAX_MARKERS {
+            s.style = Style::Solid;
+        }
+    }
+    let ch = &ch;
     let (xa, ya) = axes(ch)?;
     let (w, h) = SIZE;
     let mut buf = vec![255u8; (w as usize) * (h as usize) * 3];
@@ -402,15 +403,17 @@ fn draw_plot(
                 ))
                 .map_err(err)?;
             }
-            Style::Line | Style::Points => {
-                if s.style == Style::Line {
+            Style::Line | Style::Points | Style::Solid => {
+                if s.style != Style::Points {
                     c.draw_series(LineSeries::new(
                         pts.iter().copied(),
                         ShapeStyle::from(&col).stroke_width(2),
                     ))
                     .map_err(err)?;
                 }
-                markers(c.plotting_area(), &pts, s.colour, col)?;
+                if s.style != Style::Solid {
+                    markers(c.plotting_area(), &pts, s.colour, col)?;
+                }
             }
         }
     }
@@ -483,14 +486,16 @@ fn draw_legend(
                 ))
                 .map_err(err)?,
             Some(s) => {
-                if *s == Style::Line {
+                if *s != Style::Points {
                     area.draw(&PathElement::new(
                         vec![(4, y), (4 + sw, y)],
                         ShapeStyle::from(&col).stroke_width(2),
                     ))
                     .map_err(err)?;
                 }
-                markers(area, &[(4 + sw / 2, y)], *colour, col)?;
+                if *s != Style::Solid {
+                    markers(area, &[(4 + sw / 2, y)], *colour, col)?;
+                }
             }
             None => area
                 .draw(&DashedPathElement::new(
@@ -580,13 +585,17 @@ mod tests {
     #[test]
     fn log_ticks_are_one_two_five() {
         let log = AxisSpec { log: true, ..lin() };
-        let a = axis(0.3, 8.0, &log);
-        assert_eq!(a.ticks, [0.2, 0.5, 1.0, 2.0, 5.0, 10.0]);
-        assert_eq!((a.lo, a.hi), (0.2, 10.0));
+        let a = axis(0.2, 8.0, &log);
+        assert_eq!(a.ticks, [0.2, 0.5, 1.0, 2.0, 5.0]);
+        assert!(a.lo < 0.2 && a.lo > 0.16 && a.hi > 8.0 && a.hi < 9.5, "{a:?}");
         let texts: Vec<String> = a.ticks.iter().map(|t| tick_text(*t, a.step)).collect();
-        assert_eq!(texts, ["0.2", "0.5", "1", "2", "5", "10"]);
+        assert_eq!(texts, ["0.2", "0.5", "1", "2", "5"]);
         let a = axis(1200.0, 3.2e6, &log);
-        assert_eq!(a.ticks, [1e3, 1e4, 1e5, 1e6, 1e7]);
+        assert_eq!(a.ticks, [1e3, 1e4, 1e5, 1e6]);
+        let a = axis(1.2, 2.9, &log);
+        assert_eq!(a.ticks, [2.0, 3.0]);
+        let a = axis(0.9, 3.5, &log);
+        assert_eq!(a.ticks, [0.9, 1.0, 2.0, 3.0]);
         assert_eq!(tick_text(1e6, 0.0), "1e6");
     }
 
