@@ -206,6 +206,18 @@ pub fn tick_text(v: f64, step: f64) -> String {
     }
 }
 
+/// The text of a tick of axis `a`: on a log axis that reaches 1e5 or 1e-3, every tick as
+/// `1e4` (not `1000`, `10000`, `1e5` side by side).
+pub fn axis_text(a: &Axis, v: f64) -> String {
+    let big = a.ticks.iter().any(|t| t.abs() >= 1e5 || t.abs() < 1e-3);
+    if a.log && big && v != 0.0 {
+        let s = format!("{:e}", clean(v));
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        return format!("{m}e{e}");
+    }
+    tick_text(v, a.step)
+}
+
 fn rgb(c: Rgb) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
@@ -357,7 +369,7 @@ fn draw_plot(
             let d = (t - v).abs();
             d <= 1e-9 * t.abs().max(v.abs()) || d == 0.0
         });
-        tick_text(near.unwrap_or(v), a.step)
+        axis_text(a, near.unwrap_or(v))
     };
     let fx = |v: &f64| label(xa, *v);
     let fy = |v: &f64| label(ya, *v);
@@ -592,6 +604,8 @@ mod tests {
         assert_eq!(texts, ["0.2", "0.5", "1", "2", "5"]);
         let a = axis(1200.0, 3.2e6, &log);
         assert_eq!(a.ticks, [1e3, 1e4, 1e5, 1e6]);
+        let texts: Vec<String> = a.ticks.iter().map(|t| axis_text(&a, *t)).collect();
+        assert_eq!(texts, ["1e3", "1e4", "1e5", "1e6"]);
         let a = axis(1.2, 2.9, &log);
         assert_eq!(a.ticks, [2.0, 3.0]);
         let a = axis(0.9, 3.5, &log);
