@@ -21,6 +21,8 @@ pub const USAGE: &str =
                       that a series keeps its colour in every chart of a table (values not
                       listed follow; listed values without data are left out); --key V gives
                       one value (which may hold commas), and may be repeated
+  --dashed V          the series of --by value V drawn dashed (a reference), may be repeated
+  --omit V            leave the rows of --by value V out, may be repeated
   --label NAME=TEXT   the legend's text for a column or a --by value (\"\" leaves the column's
                       name out: the legend says the --by value only)
   --title TEXT        the title;  --xlabel TEXT, --ylabel TEXT  axis names with units
@@ -41,6 +43,8 @@ pub struct Options {
     pub refs: Vec<String>,
     pub by: Vec<String>,
     pub keys: Vec<String>,
+    pub dashed: Vec<String>,
+    pub omit: Vec<String>,
     pub labels: Vec<(String, String)>,
     pub title: String,
     pub xlabel: Option<String>,
@@ -103,6 +107,8 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
             "--by" => o.by.extend(list(v)),
             "--keys" => o.keys.extend(list(v)),
             "--key" => o.keys.push(v.to_string()),
+            "--dashed" => o.dashed.push(v.to_string()),
+            "--omit" => o.omit.push(v.to_string()),
             "--out" | "-o" => o.out = v.to_string(),
             "--title" => o.title = v.to_string(),
             "--xlabel" => o.xlabel = Some(v.to_string()),
@@ -266,6 +272,7 @@ pub fn build(o: &Options, t: &Table) -> Result<XyChart, String> {
             keys.push(k);
         }
     }
+    keys.retain(|k| !o.omit.contains(k));
     let label_of = |name: &str| {
         o.labels
             .iter()
@@ -302,7 +309,11 @@ pub fn build(o: &Options, t: &Table) -> Result<XyChart, String> {
             series.push(XySeries {
                 label,
                 colour: if by.is_empty() { ci } else { ki },
-                style,
+                style: if o.dashed.contains(key) {
+                    Style::Dashed
+                } else {
+                    style
+                },
                 points: pts,
             });
         }
