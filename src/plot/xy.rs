@@ -599,7 +599,10 @@ mod tests {
         let log = AxisSpec { log: true, ..lin() };
         let a = axis(0.2, 8.0, &log);
         assert_eq!(a.ticks, [0.2, 0.5, 1.0, 2.0, 5.0]);
-        assert!(a.lo < 0.2 && a.lo > 0.16 && a.hi > 8.0 && a.hi < 9.5, "{a:?}");
+        assert!(
+            a.lo < 0.2 && a.lo > 0.16 && a.hi > 8.0 && a.hi < 9.5,
+            "{a:?}"
+        );
         let texts: Vec<String> = a.ticks.iter().map(|t| tick_text(*t, a.step)).collect();
         assert_eq!(texts, ["0.2", "0.5", "1", "2", "5"]);
         let a = axis(1200.0, 3.2e6, &log);

@@ -224,10 +224,10 @@ fn every_figure_in_doc_is_shown_and_every_shown_figure_exists() {
                 continue;
             }
             let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            let named = pages.iter().any(|(_, t)| t.contains(&format!("{dir}/{name}")))
-                || pages
-                    .iter()
-                    .any(|(_, t)| t.contains(&format!("`{name}`")));
+            let named = pages
+                .iter()
+                .any(|(_, t)| t.contains(&format!("{dir}/{name}")))
+                || pages.iter().any(|(_, t)| t.contains(&format!("`{name}`")));
             assert!(
                 shown.contains(&p.canonicalize().unwrap()) || named,
                 "{dir}/{name} is shown by no page: delete it, or show it"

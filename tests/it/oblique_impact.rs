@@ -360,4 +360,3 @@ fn write_the_comparison_chart() {
     std::fs::write(dir.join("oblique_impact.csv"), csv).unwrap();
     // The charts: scripts/oblique_impact_charts.sh (`trubal chart`).
 }
-
