@@ -134,13 +134,15 @@ def draw(rows):
     """The chart: each measure over Lun's prediction, against the solid fraction."""
     run_table.chart(
         os.path.join(ROOT, "doc", "img", "lun_shear.png"),
-        "SIMPLE SHEAR OF SMOOTH SPHERES, E = 0.95: TRUBAL OVER LUN'S THEORY",
-        [(lab, [(r["phi"], r[k] / r["lun_" + k]) for r in rows]) for lab, k in [("PXY", "pxy"), ("PYY", "pyy"), ("3T", "3T")]],
-        "SOLID FRACTION",
-        "TRUBAL / THEORY",
-        refs=[("THEORY", [(r["phi"], 1.0) for r in rows])],
-        cap=False,
+        "Simple shear of smooth spheres, e = 0.95: trubal over Lun's theory",
+        [(lab, [(r["phi"], r[k] / r["lun_" + k]) for r in rows])
+         for lab, k in [("P_xy", "pxy"), ("P_yy", "pyy"), ("3T", "3T")]],
+        "solid fraction φ",
+        "trubal / theory",
+        hlines=[1.0],
+        hline_label="Lun et al. (1984): 1",
     )
+
 
 if __name__ == "__main__":
     main()

@@ -1,19 +1,19 @@
 #!/usr/bin/env python3
 """Olsson 2017's regime map (Fig. 4:7) from a run of scripts/sweeps/olsson_regime.sweep.
 
-usage: olsson_regime_map.py SWEEP_DIR [--png doc/img/olsson_regime_map.png] [--csv doc/data/olsson_regime.csv]
+usage: olsson_regime_map.py SWEEP_DIR [--chart-only] [--png doc/img/olsson_regime_map.png] [--csv doc/data/olsson_regime.csv]
 
 Reads every finished run's output (SWEEP_DIR/runs/*/output.jsonl, the last printout) and
 writes, per run: Olsson's total fragmentation (4000 - the largest DBSCAN fragment, particles
 lost through the open work-space counted as fragmented), the number of fragments (DBSCAN
 fragments besides the largest) and singles + binaries (Table 4:2's numbers in parentheses:
 the particles in no fragment), the capture ratio and Delta (PRint BONds `delta`, his (67):
-incident kinetic energy over the summed bond energy of the initial contacts). The PNG has
-two panels: total fragmentation against impact velocity, ours against his Table 4:1, with
-the regime borders 3, 20 and 50 % (PNG_fragmentation.png); and the regime map (PNG), liquid content against Delta, each
-run coloured by its regime, with the borders interpolated linearly in Delta as he drew them,
-and his border velocities (Table 4:1 interpolated in v^2) placed on our Delta axis (Delta is
-proportional to v^2 for one agglomerate).
+incident kinetic energy over the summed bond energy of the initial contacts). Two charts
+(`trubal chart`): total fragmentation against impact velocity, ours against his Table 4:1,
+with the regime borders 3, 20 and 50 % (PNG_fragmentation.png); and the regime map (PNG):
+fragmentation against Delta (log), one line per liquid content, the borders as grey lines,
+his Table 4:1 placed on our Delta axis (Delta is proportional to v^2 for one agglomerate).
+--chart-only draws both again from the CSV (SWEEP_DIR is then not read).
 """
 import argparse
 import csv
@@ -118,7 +118,14 @@ def main():
     ap.add_argument("sweep")
     ap.add_argument("--png", default="doc/img/olsson_regime_map.png")
     ap.add_argument("--csv", default="doc/data/olsson_regime.csv")
+    ap.add_argument("--chart-only", action="store_true", help="draw the charts again from the CSV")
     a = ap.parse_args()
+    if a.chart_only:
+        with open(a.csv) as fh:
+            rows = [{k: (v if k == "liquid" else float(v) if v else 0.0) for k, v in r.items()}
+                    for r in csv.DictReader(fh)]
+        draw(rows, a.png)
+        return
     rows = read_runs(a.sweep)
     if not rows:
         raise SystemExit(f"no finished runs in {a.sweep}/runs")
@@ -133,71 +140,33 @@ def main():
     for r in rows:
         print(",".join(str(round(r[k], 4) if isinstance(r[k], float) else r[k]) for k in keys))
 
-    # The PNGs with run_table.py's small PNG writer (no plotting library on this machine).
+    draw(rows, a.png)
 
-    names = {"dry": "DRY", "0.01": "0.01 %", "0.1": "0.1 %", "1": "1 %"}
-    series, refs = [], []
+
+def draw(rows, png):
+    """The two charts: fragmentation against v (PNG_fragmentation.png) and against Delta (PNG),
+    ours solid, Olsson's Table 4:1 dashed, the regime borders 3, 20, 50 % as grey lines."""
+    names = {"dry": "dry", "0.01": "0.01 % liquid", "0.1": "0.1 % liquid", "1": "1 % liquid"}
+    keys = [names[liq] for liq in LIQUIDS]
+    borders = dict(hlines=BORDERS, hline_label="regime borders 3, 20, 50 %")
+    series, refs, series_d, refs_d = [], [], [], []
     for liq in LIQUIDS:
-        ours = [(r["v"], r["fragmented_pct"]) for r in rows if r["liquid"] == liq]
+        ours = [r for r in rows if r["liquid"] == liq]
+        vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
+        series.append((names[liq], [(r["v"], r["fragmented_pct"]) for r in ours]))
+        refs.append((names[liq], [(v, olsson_pct(liq, v)) for v in vs]))
+        # Olsson's points placed on our Delta axis: Delta = k v^2 for one agglomerate.
+        ours = [r for r in ours if r["delta"] > 0]
         if ours:
-            series.append((names[liq], ours))
-            vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
-            refs.append((f"OLSSON {names[liq]}", [(v, olsson_pct(liq, v)) for v in vs]))
-    rt.chart(a.png.replace(".png", "_fragmentation.png"),
-             "TOTAL FRAGMENTATION (%): TRUBAL (SOLID), OLSSON TABLE 4:1 (DASHED); BORDERS 3, 20, 50 %",
-             series, "V (M/S)", "%", refs=refs, cap=False)
-
-    # The regime map: liquid content (rows) against log10 Delta; each run a box coloured by
-    # its regime; our borders (interpolated in Delta) as tall black ticks, Olsson's (Table
-    # 4:1 interpolated in v^2, placed at our Delta = k v^2) as grey ones.
-    W, H, L, R, T, B = 1000, 520, 110, 250, 60, 80
-    cv = rt.Canvas(W, H)
-    ds = [r["delta"] for r in rows if r["delta"] > 0]
-    lo, hi = math.floor(math.log10(min(ds))) - 0.2, math.ceil(math.log10(max(ds))) + 0.2
-    X = lambda d: round(L + (math.log10(d) - lo) / (hi - lo) * (W - L - R))
-    Y = lambda k: round(T + (k + 0.5) * (H - T - B) / len(LIQUIDS))
-    regime_rgb = [(76, 155, 232), (242, 193, 78), (240, 138, 75), (192, 57, 43)]
-    cv.line(L, H - B, W - R, H - B, (0, 0, 0))
-    cv.line(L, T, L, H - B, (0, 0, 0))
-    for e in range(int(math.ceil(lo)), int(math.floor(hi)) + 1):
-        x = X(10.0**e)
-        cv.line(x, T, x, H - B + 5, (200, 200, 200))
-        cv.text(x - 12, H - B + 10, f"1E{e}")
-    cv.text(L, 8, "REGIME MAP (CF. OLSSON FIG. 4:7): LIQUID CONTENT VS DELTA")
-    cv.text(L + 150, H - 30, "DELTA = INCIDENT KE / BOND ENERGY (67)")
-    for k, liq in enumerate(LIQUIDS):
-        y = Y(k)
-        cv.text(8, y - 7, names[liq])
-        ours = [r for r in rows if r["liquid"] == liq and r["delta"] > 0]
-        for r in ours:
-            cv.box(X(r["delta"]), y, 7, regime_rgb[regime(r["fragmented_pct"])])
-            cv.text(X(r["delta"]) - 14, y + 12, f"{r['v']:g}", (60, 60, 60), 1)
-            cv.text(X(r["delta"]) - 14, y + 22, f"{r['fragmented_pct']:.1f}%", (60, 60, 60), 1)
-        if len(ours) >= 2:
-            for b, x in zip(BORDERS, borders_in([r["delta"] for r in ours], [r["fragmented_pct"] for r in ours])):
-                if x:
-                    cv.line(X(x), y - 22, X(x), y + 22, (0, 0, 0), 3)
-                    cv.text(X(x) - 5, y - 32, f"{b:g}", (0, 0, 0), 1)
             kk = sum(r["delta"] / r["v"] ** 2 for r in ours) / len(ours)
-            vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
-            for b, x in zip(BORDERS, borders_in([v * v for v in vs], [olsson_pct(liq, v) for v in vs])):
-                if x:
-                    cv.line(X(kk * x), y - 22, X(kk * x), y + 22, (150, 150, 150), 3)
-                    cv.text(X(kk * x) - 5, y - 32, f"{b:g}", (150, 150, 150), 1)
-    ly = T
-    for c, n in zip(regime_rgb, REGIME_NAMES):
-        cv.box(W - R + 20, ly + 7, 6, c)
-        cv.text(W - R + 34, ly, n.upper(), (0, 0, 0), 1)
-        ly += 18
-    cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (0, 0, 0), 3)
-    cv.text(W - R + 34, ly + 3, "BORDER 3/20/50 %, TRUBAL", (0, 0, 0), 1)
-    ly += 18
-    cv.line(W - R + 14, ly + 7, W - R + 26, ly + 7, (150, 150, 150), 3)
-    cv.text(W - R + 34, ly + 3, "BORDER, OLSSON (AT OUR DELTA/V2)", (0, 0, 0), 1)
-    os.makedirs(os.path.dirname(a.png) or ".", exist_ok=True)
-    cv.png(a.png)
-    print(f"wrote {a.png}, {a.png.replace('.png', '_fragmentation.png')} and {a.csv}")
-
+            series_d.append((names[liq], [(r["delta"], r["fragmented_pct"]) for r in ours]))
+            refs_d.append((names[liq], [(kk * v * v, olsson_pct(liq, v)) for v in vs]))
+    rt.chart(png.replace(".png", "_fragmentation.png"), "Total fragmentation against impact velocity",
+             series, "impact velocity v [m/s]", "fragmentation [%]", refs=refs, ours="trubal",
+             ref="Olsson (2017)", keys=keys, **borders)
+    rt.chart(png, "Regime map (cf. Olsson Fig. 4:7): fragmentation against Δ (Olsson's v at our Δ/v²)", series_d,
+             "Δ = incident kinetic energy / bond energy (Olsson (67))", "fragmentation [%]", logx=True,
+             refs=refs_d, ours="trubal", ref="Olsson (2017)", keys=keys, **borders)
 
 if __name__ == "__main__":
     main()

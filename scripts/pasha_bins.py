@@ -21,7 +21,7 @@ bin (Pasha (5.1): the particles whose centre is in the bin, all their contacts, 
 Writes doc/data/pasha_binsTAG.csv and doc/img/pasha_binsTAG.png (vertical stress against h/d),
 and prints a JSON summary.
 
-usage: scripts/pasha_bins.py TAG
+usage: scripts/pasha_bins.py TAG [--chart-only]   (--chart-only: the chart again from doc/data)
 """
 import csv
 import glob
@@ -37,10 +37,35 @@ import run_table  # noqa: E402
 from pasha_indent import G, Trubal, sizes  # noqa: E402
 
 
+def draw(tag, rows, o, d_mean, nrow):
+    """The chart doc/img/pasha_bins<tag>.png: sigma_zz in the bins and H against h/d (kPa)."""
+    series = [("dynamic bin", [(r["h_over_d"], r["dyn_szz"] / 1e3) for r in rows]),
+              ("hardness H", [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= d_mean / 2])]
+    for name in ["31", "21", "11", f"3{nrow}"]:
+        pts = [(r["h_over_d"], r[f"szz_{name}"] / 1e3) for r in rows if r.get(f"szz_{name}", "") not in ("", None)]
+        if pts:
+            series.append((f"bin {name}", pts))
+    run_table.chart(
+        os.path.join(ROOT, "doc", "img", f"pasha_bins{tag}.png"),
+        f"Vertical stress in bins, d = {o['d'] * 1e3:.0f} mm, {o['particles']} particles",
+        series,
+        "penetration h/d",
+        "σ_zz, hardness H [kPa]",
+    )
+
+
 def main():
     tag = sys.argv[1] if len(sys.argv) > 1 else ""
     with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.json")) as fh:
         o = json.load(fh)
+    if "--chart-only" in sys.argv:
+        # Draw the chart again from doc/data/pasha_bins<tag>.csv and .json (no run).
+        with open(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.csv")) as fh:
+            rows = [{k: float(v) if v != "" else "" for k, v in r.items()} for r in csv.DictReader(fh)]
+        with open(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.json")) as fh:
+            nrow = json.load(fh)["rows_of_bins"]
+        draw(tag, rows, o, sizes(o["scale"])[1], nrow)
+        return
     work = os.path.join(ROOT, "target", "pasha_indent")
     saves = sorted(glob.glob(os.path.join(work, f"indent{tag}_[0-9][0-9].sav")))
     if not saves:
@@ -121,20 +146,7 @@ def main():
         wr = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         wr.writeheader()
         wr.writerows(rows)
-    series = [("DYNAMIC BIN", [(r["h_over_d"], r["dyn_szz"] / 1e3) for r in rows]),
-              ("H", [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= d_mean / 2])]
-    for name in ["31", "21", "11", f"3{nrow}"]:
-        pts = [(r["h_over_d"], r[f"szz_{name}"] / 1e3) for r in rows if r.get(f"szz_{name}", "") != ""]
-        if pts:
-            series.append((f"BIN {name}", pts))
-    run_table.chart(
-        os.path.join(ROOT, "doc", "img", f"pasha_bins{tag}.png"),
-        f"VERTICAL STRESS IN BINS, D = {d_ind * 1e3:.0f} MM, {o['particles']} PARTICLES",
-        series,
-        "PENETRATION H/D",
-        "SIGMA ZZ, HARDNESS (KPA)",
-        cap=False,
-    )
+    draw(tag, rows, o, d_mean, nrow)
     late = [r for r in rows if r["h_over_d"] >= 0.1]
     summary = {
         "tag": tag, "states": len(rows), "rows_of_bins": nrow,

@@ -13,8 +13,9 @@ of ch. 5 through the same pipe, reading the JSON of each PRint:
   4. indent: an obstacle sphere of diameter d (material 3: glass without adhesion) moves
      down at rate x bed height; h = 0 at its first contact; the vertical force on it F and
      the hardness H = F / (pi (d h - h^2)) (Pasha (2.7)-(2.9)) are recorded until h = hmax r.
-Writes doc/data/pasha_indent<tag>.csv (h, h/d, h/r, F, H) and doc/img/pasha_indent<tag>.png
-(H against h/d), and prints a JSON summary (bed, consolidation, hardness plateau, energy
+Writes doc/data/pasha_indent<tag>.csv (h, h/d, h/r, F, H) and .json, the charts
+target/pasha_indent/pasha_indent<tag>.png (H against h/d) and pasha_indent_force<tag>.png (F
+against h), and prints a JSON summary (bed, consolidation, hardness plateau, energy
 ledger).
 
 The scaled-down case (the default): Pasha's geometry in mm (39 mm die, the bed to about
@@ -59,6 +60,8 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
        scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
                                the runs TAG ("" = the default run) in doc/img/NAME.png, the
                                legend saying LABEL)
+       scripts/pasha_indent.py --charts TAG [--out DIR]   (run TAG's two charts again from
+                               doc/data, to DIR: target/pasha_indent/ unless given)
 """
 import csv
 import json
@@ -127,35 +130,51 @@ def say(text):
     print(text, file=sys.stderr, flush=True)
 
 
-def compare(tags, out="pasha_indent_compare.png"):
-    """One chart of H against h/d from doc/data/pasha_indent<tag>.csv and .json."""
+IMG = os.path.join(ROOT, "doc", "img")
+WORK = os.path.join(ROOT, "target", "pasha_indent")
+PASHA = dict(hlines=[6.0, 8.0], hline_label="Pasha (2013): 6 and 8 kPa")
+
+
+def load(tag):
+    """The JSON summary and the CSV records of run TAG (doc/data/pasha_indent<tag>.*)."""
+    base = os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}")
+    with open(base + ".json") as fh:
+        o = json.load(fh)
+    with open(base + ".csv") as fh:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
+    return o, rows
+
+
+def hardness(o, rows):
+    """H (kPa) against h/d from a penetration of one particle radius on (Pasha plots from one
+    diameter)."""
+    dp = o["d"] / o["d_over_dp"]
+    return [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]
+
+
+def compare(tags, out="pasha_indent_compare.png", title="Ball indentation hardness, σ_pre = 10 kPa"):
+    """One chart of H against h/d of the runs TAG[=LABEL] in doc/img/OUT."""
     series = []
     for spec in tags:
         # TAG or TAG=LABEL (the legend's label; default from the run's parameters).
         tag, _, given = spec.partition("=")
-        base = os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}")
-        with open(base + ".json") as fh:
-            o = json.load(fh)
-        with open(base + ".csv") as fh:
-            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
-        label = f"{o['particles']} E/{o['soften']:.0f} D{o['d'] * 1e3:.0f}"
+        o, rows = load(tag)
+        label = f"d = {o['d'] * 1e3:.0f} mm, E/{o['soften']:.0f}, {o['particles']} particles"
         if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
-            label = f"D{o['d'] * 1e3:.0f} E/{o['soften']:.0f} MUR{o['mur']:g}"
-        label = given or label
-        # From a penetration of one particle radius on (Pasha plots from one diameter).
-        dp = o["d"] / o["d_over_dp"]
-        series.append((label, [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]))
-    xs = [p[0] for _, s in series for p in s]
-    run_table.chart(
-        os.path.join(ROOT, "doc", "img", out),
-        "BALL INDENTATION HARDNESS, SCALED CASES (SIGMA PRE 10 KPA)",
-        series,
-        "PENETRATION H/D",
-        "HARDNESS (KPA)",
-        refs=[("PASHA 8 KPA", [(min(xs), 8.0), (max(xs), 8.0)]),
-              ("PASHA 6 KPA", [(min(xs), 6.0), (max(xs), 6.0)])],
-        cap=False,
-    )
+            label = f"d = {o['d'] * 1e3:.0f} mm, E/{o['soften']:.0f}, μ_r = {o['mur']:g}"
+        series.append((given or label, hardness(o, rows)))
+    run_table.chart(os.path.join(IMG, out), title, series, "penetration h/d", "hardness H [kPa]", **PASHA)
+
+
+def run_charts(tag, directory):
+    """The charts of run TAG (H against h/d, F against h) in DIRECTORY."""
+    o, rows = load(tag)
+    size = f"d = {o['d'] * 1e3:.0f} mm ({o['d_over_dp']:.0f} d_p), {o['particles']} particles"
+    run_table.chart(os.path.join(directory, f"pasha_indent{tag}.png"), f"Ball indentation, {size}",
+                    [("trubal", hardness(o, rows))], "penetration h/d", "hardness H [kPa]", **PASHA)
+    run_table.chart(os.path.join(directory, f"pasha_indent_force{tag}.png"), f"Force on the indenter, {size}",
+                    [("trubal", [(r["h"] * 1e3, r["force"]) for r in rows])],
+                    "penetration h [mm]", "force on the indenter F [N]")
 
 
 def sizes(scale):
@@ -183,6 +202,12 @@ def main():
         rest = argv[1:]
         out = arg(rest, "--out", "pasha_indent_compare.png")
         compare([t.strip("'\"") for t in rest], out)
+        return
+    if argv and argv[0] == "--charts":
+        # --charts TAG [--out DIR]: run TAG's charts again from doc/data.
+        rest = argv[1:]
+        out = arg(rest, "--out", WORK)
+        run_charts((rest or [""])[0], os.path.join(ROOT, out))
         return
     scale = arg(argv, "--scale", 2.0)
     soften = arg(argv, "--soften", 1000.0)
@@ -524,25 +549,9 @@ def main():
         "energy_residual": energy["residual"], "energy_input": energy["input"],
         "wall_work": energy["inputs"]["walls"], "seconds": time.time() - t0,
     })
-    run_table.chart(
-        os.path.join(ROOT, "doc", "img", f"pasha_indent{tag}.png"),
-        f"BALL INDENTATION, D = {d_ind * 1e3:.0f} MM ({d_ind / d_mean:.0f} DP), {out['particles']} PARTICLES",
-        [("H", [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= d_mean / 2])],
-        "PENETRATION H/D",
-        "HARDNESS (KPA)",
-        refs=[("PASHA ~8 KPA", [(r["h_over_d"], 8.0) for r in rows])],
-        cap=False,
-    )
-    run_table.chart(
-        os.path.join(ROOT, "doc", "img", f"pasha_indent_force{tag}.png"),
-        f"INDENTER FORCE, D = {d_ind * 1e3:.0f} MM, {out['particles']} PARTICLES",
-        [("F", [(r["h"] * 1e3, r["force"]) for r in rows])],
-        "PENETRATION H (MM)",
-        "FORCE ON THE INDENTER (N)",
-        cap=False,
-    )
     with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.json"), "w") as fh:
         json.dump(out, fh, indent=1)
+    run_charts(tag, WORK)
     print(json.dumps(out, indent=1))
 
 

@@ -19,33 +19,35 @@ versions of this script (WORK/logs/NAME.log ending with the final printout) are 
 run again. The measures are read from the JSON printouts (the last PRint BONds / CLUsters /
 ENErgy; the first PRint ENErgy, taken right after `PLot SAve`, is the reference for the energy
 split of the impact) into doc/data/TABLE.csv, and a line chart of the table's main measure is
-drawn to doc/data/TABLE.png (a small PNG writer on zlib, no matplotlib).
+drawn with `trubal chart` (the points in target/charts/TABLE.csv) to doc/data/TABLE.png for the
+tables the docs show, else to WORK/TABLE.png; `--chart-only` draws it again from
+doc/data/TABLE.csv without running or collecting anything.
 
 The same tables without Python: scripts/sweeps/*.sweep (`trubal sweep scripts/sweeps/lian6.sweep
 --out DIR`, doc/sweeps.md).
 
-Python 3 standard library only.
+Python 3 standard library only (the charts: `trubal chart`).
 """
 
 import argparse
 import concurrent.futures as cf
 import csv
+import functools
 import json
 import math
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
 import time
-import zlib
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPTS = os.path.join(ROOT, "scripts")
 DATA = os.path.join(ROOT, "doc", "data")
 
 
+@functools.lru_cache(maxsize=None)
 def trubal_binary():
     # TRUBAL_BIN: run another build (e.g. the one whose checkpoint layout wrote the prepared
     # states); the command line at the top of every log names the binary used.
@@ -136,7 +138,8 @@ def olsson_long_runs():
 
 TABLES = {
     "lian6": {
-        "title": "LIAN CH6 WALL IMPACT 4062 BCC: DAMAGE RATIO VS V",
+        "figure": True,  # shown in doc/validation.md
+        "title": "Lian ch. 6: 4062-sphere BCC agglomerate on a wall, damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
         "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
         "derive": "wall",
@@ -146,7 +149,7 @@ TABLES = {
     # The attrition cases again in a work-space large enough to keep all debris (for the
     # debris size distribution, Lian's Fig. 6.9).
     "lian6_debris": {
-        "title": "LIAN CH6 4062 BCC, 6.2 MM WORK-SPACE: DAMAGE RATIO VS V",
+        "title": "Lian ch. 6, 6.2 mm work-space: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
         "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
         "derive": "wall",
@@ -154,7 +157,7 @@ TABLES = {
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
     "lian6_small": {
-        "title": "LIAN CH6 REDUCED 983 BCC: DAMAGE RATIO VS V",
+        "title": "Lian ch. 6, reduced 983-sphere BCC: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
         "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="370e-6", state="lian_ch6_r370.sav"), "lian_ch6_r370.sav")],
         "derive": "wall",
@@ -162,7 +165,8 @@ TABLES = {
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
     "lian7": {
-        "title": "LIAN CH7 2X1000 NORMAL: DAMAGE RATIO VS V",
+        "figure": True,  # shown in doc/validation.md
+        "title": "Lian ch. 7: two 1000-sphere agglomerates, normal collision",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
@@ -170,7 +174,8 @@ TABLES = {
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
     "lian7_oblique": {
-        "title": "LIAN CH7 OBLIQUE 2 M/S: DAMAGE RATIO VS ANGLE",
+        "figure": True,  # shown in doc/validation.md
+        "title": "Lian ch. 7: oblique collisions at 2 m/s",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
@@ -180,7 +185,7 @@ TABLES = {
     },
     # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
     "lian7_oblique5": {
-        "title": "LIAN CH7 OBLIQUE 5 M/S: DAMAGE RATIO VS ANGLE",
+        "title": "Lian ch. 7: oblique collisions at 5 m/s",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
@@ -190,7 +195,7 @@ TABLES = {
     },
     # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
     "lian7_oblique_long": {
-        "title": "LIAN CH7 OBLIQUE 2 M/S, 1.1 MS",
+        "title": "Lian ch. 7: oblique collisions at 2 m/s, 1.1 ms",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
@@ -200,7 +205,7 @@ TABLES = {
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
     # with it).
     "lian7_smin": {
-        "title": "LIAN CH7 2 M/S, S_MIN = 30 NM",
+        "title": "Lian ch. 7: 2 m/s, S_min = 30 nm",
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
         "derive": "approach",
@@ -210,7 +215,8 @@ TABLES = {
         "x": "v", "group": ("eta", "smin"), "y": "e_viscous", "logx": False,
     },
     "olsson": {
-        "title": "OLSSON 4000 POLYDISPERSE: FRAGMENTATION % VS V",
+        "figure": True,  # shown in doc/validation.md
+        "title": "Olsson: 4000-particle polydisperse agglomerate on a wall",
         "script": "olsson_impact.tru",
         "prepare": [
             ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
@@ -220,13 +226,12 @@ TABLES = {
         ],
         "derive": "olsson",
         "runs": olsson_runs(),
-        "cap_refs": False,  # Olsson's dry fragmentation (to 69.5 %) is far above ours
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
     # The regime map with Olsson's wet model (~600 us: dry 4 x 4300 x 35 ns, wet
     # 4 x 125,000 x 1.2 ns with his S_min = R*/1000).
     "olsson_regime": {
-        "title": "OLSSON REGIME MAP (RABINOVICH BRIDGES): FRAGMENTATION % VS V",
+        "title": "Olsson's regime map runs (Rabinovich bridges)",
         "script": "olsson_regime.tru",
         "work": "olsson",
         "prepare": [
@@ -237,17 +242,15 @@ TABLES = {
         ],
         "derive": "olsson_regime",
         "runs": olsson_regime_runs(),
-        "cap_refs": False,
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
     # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
     "olsson_long": {
-        "title": "OLSSON DRY, 2.4 MS: FRAGMENTATION % VS V",
+        "title": "Olsson, dry, 2.4 ms",
         "script": "olsson_impact.tru",
         "prepare": [("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav")],
         "derive": "olsson",
         "runs": olsson_long_runs(),
-        "cap_refs": False,
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
 }
@@ -556,188 +559,138 @@ def measures(objs, run):
 
 
 # ---------------------------------------------------------------------------------------------
-# A small PNG line chart (no plotting library on this machine).
+# Charts: the points go to a CSV file, `trubal chart` draws it (doc/plots.md).
 
-FONT = {  # 5x7 glyphs, rows top to bottom, 5 bits each
-    "0": "0E 11 13 15 19 11 0E", "1": "04 0C 04 04 04 04 0E", "2": "0E 11 01 02 04 08 1F",
-    "3": "1F 02 04 02 01 11 0E", "4": "02 06 0A 12 1F 02 02", "5": "1F 10 1E 01 01 11 0E",
-    "6": "06 08 10 1E 11 11 0E", "7": "1F 01 02 04 08 08 08", "8": "0E 11 11 0E 11 11 0E",
-    "9": "0E 11 11 0F 01 02 0C", ".": "00 00 00 00 00 0C 0C", "-": "00 00 00 1F 00 00 00",
-    "=": "00 00 1F 00 1F 00 00", "/": "01 01 02 04 08 10 10", ":": "00 0C 0C 00 0C 0C 00",
-    " ": "00 00 00 00 00 00 00", "%": "18 19 02 04 08 13 03", "(": "02 04 08 08 08 04 02",
-    ")": "08 04 02 02 02 04 08", ",": "00 00 00 00 0C 04 08", "+": "00 04 04 1F 04 04 00",
-    "A": "0E 11 11 1F 11 11 11", "B": "1E 11 11 1E 11 11 1E", "C": "0E 11 10 10 10 11 0E",
-    "D": "1E 11 11 11 11 11 1E", "E": "1F 10 10 1E 10 10 1F", "F": "1F 10 10 1E 10 10 10",
-    "G": "0E 11 10 17 11 11 0F", "H": "11 11 11 1F 11 11 11", "I": "0E 04 04 04 04 04 0E",
-    "J": "07 02 02 02 02 12 0C", "K": "11 12 14 18 14 12 11", "L": "10 10 10 10 10 10 1F",
-    "M": "11 1B 15 15 11 11 11", "N": "11 11 19 15 13 11 11", "O": "0E 11 11 11 11 11 0E",
-    "P": "1E 11 11 1E 10 10 10", "Q": "0E 11 11 11 15 12 0D", "R": "1E 11 11 1E 14 12 11",
-    "S": "0F 10 10 0E 01 01 1E", "T": "1F 04 04 04 04 04 04", "U": "11 11 11 11 11 11 0E",
-    "V": "11 11 11 11 11 0A 04", "W": "11 11 11 15 15 15 0A", "X": "11 11 0A 04 0A 11 11",
-    "Y": "11 11 11 0A 04 04 04", "Z": "1F 01 02 04 08 10 1F", "_": "00 00 00 00 00 00 1F",
-}
-COLOURS = [(200, 30, 30), (30, 90, 200), (20, 150, 40), (220, 140, 0), (140, 40, 170), (0, 150, 160),
-           (120, 70, 20), (230, 60, 170), (90, 90, 90), (150, 160, 0)]
+CHARTS = os.path.join(ROOT, "target", "charts")
 
 
-class Canvas:
-    def __init__(self, w, h):
-        self.w, self.h = w, h
-        self.px = bytearray(b"\xff" * (w * h * 3))
-
-    def set(self, x, y, c):
-        if 0 <= x < self.w and 0 <= y < self.h:
-            k = 3 * (y * self.w + x)
-            self.px[k : k + 3] = bytes(c)
-
-    def line(self, x0, y0, x1, y1, c, width=1):
-        n = int(max(abs(x1 - x0), abs(y1 - y0))) + 1
-        for i in range(n + 1):
-            t = i / n
-            x, y = round(x0 + (x1 - x0) * t), round(y0 + (y1 - y0) * t)
-            for dx in range(-(width // 2), width - width // 2):
-                for dy in range(-(width // 2), width - width // 2):
-                    self.set(x + dx, y + dy, c)
-
-    def box(self, x, y, r, c):
-        for dx in range(-r, r + 1):
-            for dy in range(-r, r + 1):
-                self.set(x + dx, y + dy, c)
-
-    def text(self, x, y, s, c=(0, 0, 0), scale=2):
-        for ch in s.upper():
-            rows = FONT.get(ch, FONT[" "]).split()
-            for j, row in enumerate(rows):
-                bits = int(row, 16)
-                for i in range(5):
-                    if bits & (16 >> i):
-                        for a in range(scale):
-                            for b in range(scale):
-                                self.set(x + i * scale + a, y + j * scale + b, c)
-            x += 6 * scale
-
-    def png(self, path):
-        raw = b"".join(b"\x00" + bytes(self.px[3 * self.w * y : 3 * self.w * (y + 1)]) for y in range(self.h))
-
-        def chunk(t, d):
-            return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
-
-        with open(path, "wb") as f:
-            f.write(b"\x89PNG\r\n\x1a\n")
-            f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", self.w, self.h, 8, 2, 0, 0, 0)))
-            f.write(chunk(b"IDAT", zlib.compress(raw, 9)))
-            f.write(chunk(b"IEND", b""))
-
-
-def fmt_tick(v):
-    if v == 0:
-        return "0"
-    if 100 <= abs(v) < 1e5:
-        return f"{v:.0f}"
-    if abs(v) >= 1e5 or abs(v) < 0.01:
-        return f"{v:.0e}".replace("E+0", "E").replace("E-0", "E-")
-    return f"{v:.3g}"
-
-
-def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), legend="", cap=True):
-    """series: [(label, [(x, y), ...])]; refs: dashed reference curves [(label, [(x, y)])],
-    capped at the data's largest y (or 1) unless cap is False; a reference whose label ends in
-    a series' label ("OLSSON 0.1" and "0.1") is drawn in that series' colour."""
-    W, H, L, R, T, B = 900, 600, 90, 230, 60, 70
-    cv = Canvas(W, H)
-    data = [p for _, s in series for p in s]
-    if not data:
-        return
-    # Reference curves only over the data's x range, capped at the data's largest y or 1.
-    xa, xb = min(p[0] for p in data), max(p[0] for p in data)
-    ycap = max(1.0, max(p[1] for p in data)) if cap else math.inf
-    refs = [(lab, [(x, min(y, ycap)) for x, y in s if xa <= x <= xb]) for lab, s in refs]
-    pts = data + [p for _, s in refs for p in s]
-    fx = (lambda v: math.log10(v)) if logx else (lambda v: v)
-    xs = [fx(p[0]) for p in pts]
-    ys = [p[1] for p in pts]
-    x0, x1 = min(xs), max(xs)
-    y0, y1 = min(0.0, min(ys)), max(ys)
-    if x1 == x0:
-        x1 = x0 + 1
-    if y1 == y0:
-        y1 = y0 + 1
-    pad = 0.05 * (x1 - x0)
-    x0, x1 = x0 - pad, x1 + pad
-    y1 += 0.05 * (y1 - y0)
-
-    def X(v):
-        return round(L + (fx(v) - x0) / (x1 - x0) * (W - L - R))
-
-    def Y(v):
-        return round(H - B - (v - y0) / (y1 - y0) * (H - T - B))
-
-    grey = (190, 190, 190)
-    cv.line(L, H - B, W - R, H - B, (0, 0, 0))
-    cv.line(L, T, L, H - B, (0, 0, 0))
-    for k in range(6):
-        yv = y0 + (y1 - y0) * k / 5
-        cv.line(L - 4, Y(yv), W - R, Y(yv), grey if k else (0, 0, 0))
-        cv.text(5, Y(yv) - 7, fmt_tick(yv))
+def chart(path, title, series, xlabel, ylabel, logx=False, refs=(), ours="", ref="", keys=None,
+          hlines=(), hline_label="", points=False, extra=()):
+    """Draws series [(key, [(x, y), ...])] solid with markers and refs [(key, [(x, y)])]
+    dashed (a reference with a series' key takes its colour) to the PNG `path`, with `trubal
+    chart`. The legend says "OURS KEY" and "REF KEY" (ours, ref: e.g. "trubal", "Olsson"; ""
+    gives the key alone). keys: the order of the keys, so that a key keeps its colour in every
+    chart of a table. The points are written to target/charts/NAME.csv first."""
+    os.makedirs(CHARTS, exist_ok=True)
+    data = os.path.join(CHARTS, os.path.splitext(os.path.basename(path))[0] + ".csv")
+    with open(data, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["key", "x", "y", "reference"])
+        for key, pts in series:
+            w.writerows([key, repr(float(x)), repr(float(y)), ""] for x, y in pts)
+        for key, pts in refs:
+            w.writerows([key, repr(float(x)), "", repr(float(y))] for x, y in pts)
+    keys = keys or list(dict.fromkeys([k for k, _ in series] + [k for k, _ in refs]))
+    args = [trubal_binary(), "chart", data, "--x", "x", "--y", "y", "--by", "key", "--out", path,
+            "--title", title, "--xlabel", xlabel, "--ylabel", ylabel, "--label", f"y={ours}"]
+    if refs:
+        args += ["--ref", "reference", "--label", f"reference={ref}"]
+    for k in keys:
+        args += ["--key", k]
     if logx:
-        ms = (1, 2, 5) if x1 - x0 <= 2.5 else (1,)
-        ticks = [m * 10**e for e in range(-12, 13) for m in ms if x0 <= math.log10(m * 10**e) <= x1]
-    else:
-        ticks = [x0 + (x1 - x0) * k / 5 for k in range(6)]
-    for t in ticks:
-        cv.line(X(t), H - B, X(t), H - B + 5, (0, 0, 0))
-        cv.text(X(t) - 10, H - B + 10, fmt_tick(t))
-    cv.text(L, 8, title)
-    cv.text((W - R) // 2 - 30, H - 25, xlabel)
-    cv.text(5, 30, ylabel)
-    ly = T
-    slabels = [lab.upper() for lab, _ in series]
-    for k, (label, s) in enumerate(refs):
-        tail = label.upper().split(" ", 1)[-1]
-        kc = slabels.index(tail) if tail in slabels else k
-        c = tuple(min(255, v + 110) for v in COLOURS[kc % len(COLOURS)])
-        s = sorted(s)
-        for a, b in zip(s, s[1:]):
-            n = 12
-            for i in range(0, n, 2):
-                p = (a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n)
-                q = (a[0] + (b[0] - a[0]) * (i + 1) / n, a[1] + (b[1] - a[1]) * (i + 1) / n)
-                cv.line(X(p[0]), Y(p[1]), X(q[0]), Y(q[1]), c, 2)
-        cv.line(W - R + 10, ly + 7, W - R + 30, ly + 7, c, 2)
-        cv.text(W - R + 36, ly, label, c)
-        ly += 22
-    cv.text(W - R + 10, ly + 4, legend)
-    ly += 22
-    for k, (label, s) in enumerate(series):
-        c = COLOURS[k % len(COLOURS)]
-        s = sorted(s)
-        for a, b in zip(s, s[1:]):
-            cv.line(X(a[0]), Y(a[1]), X(b[0]), Y(b[1]), c, 2)
-        for p in s:
-            cv.box(X(p[0]), Y(p[1]), 4, c)
-        cv.box(W - R + 20, ly + 7, 4, c)
-        cv.text(W - R + 36, ly, label, c)
-        ly += 22
-    cv.png(path)
+        args.append("--logx")
+    if points:
+        args.append("--points")
+    if hlines:
+        args += ["--hline", ",".join(repr(float(v)) for v in hlines), "--hline-label", hline_label]
+    args += list(extra)
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    subprocess.run(args, check=True, stdout=subprocess.DEVNULL)
+    print("wrote", path)
 
 
-# Thesis fits drawn as dashed references: Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
+# The legend's words for the table's group columns, the axes' names with units.
+GROUP_NAMES = {"eta": "η", "gamma": "Γ", "v": "v", "smin": "S_min"}
+AXES = {
+    "v": "impact velocity v [m/s]",
+    "theta": "impact angle θ from the normal [°]",
+    "damage_ratio": "damage ratio D_r",
+    "fragmentation_pct": "fragmentation [%]",
+    "e_viscous": "viscous dissipation [J]",
+}
+
+
+def group_key(group, values):
+    """The legend's text of one group of runs: "η = 0.01, Γ = 0.025", "0.1 % liquid", "dry"."""
+    parts = []
+    for g, v in zip(group, values):
+        if g == "liquid":
+            parts.append("dry" if v == "dry" else f"{v} % liquid")
+        elif g == "v":
+            parts.append(f"v = {v} m/s")
+        else:
+            parts.append(f"{GROUP_NAMES.get(g, g)} = {v}")
+    return ", ".join(parts)
+
+
+def lian_fit(vo, grid):
+    """Lian's fit D_r = log10(v / v_o) from v_o (D_r = 0) over his velocities, to D_r = 1."""
+    return [(vo, 0.0)] + [(v, math.log10(v / vo)) for v in grid if vo < v <= 10 * vo]
+
+
+# The theses' results drawn dashed, by the key of the group of our runs they belong to
+# ("/".join of the group's values): Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
+LIAN6_GRID = (0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)
+LIAN7_GRID = (0.7, 1, 1.2, 1.5, 2, 3, 4, 5)
 REFERENCES = {
-    "lian6": [(f"LIAN {eta}", [(v, max(0.0, math.log10(v / vo))) for v in (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)])
-              for eta, vo in (("0", 0.35), ("0.01", 0.44), ("0.1", 0.98))],
-    "lian7": [(f"LIAN {lab}", [(v, max(0.0, math.log10(v / vo))) for v in (0.5, 0.7, 1, 1.2, 1.5, 2, 3, 4, 5)])
-              for lab, vo in (("0.001/0.025", 0.73), ("0.01/0.025", 0.91), ("0.01/0.05", 1.19))],
-    "lian7_oblique": [("LIAN 0.342COS2", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
+    "lian6": [(eta, lian_fit(vo, LIAN6_GRID)) for eta, vo in (("0", 0.35), ("0.01", 0.44), ("0.1", 0.98))],
+    "lian7": [(key, lian_fit(vo, LIAN7_GRID))
+              for key, vo in (("0.001/0.025", 0.73), ("0.01/0.025", 0.91), ("0.01/0.05", 1.19))],
+    "lian7_oblique": [("0.342 cos²θ", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
     "olsson": [
-        ("OLSSON DRY", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
-        ("OLSSON 0.01", [(1.5, 0), (2, 0.2), (2.5, 0.4), (3, 3.1), (5.2, 24.6)]),
-        ("OLSSON 0.1", [(2, 0), (2.5, 0.15), (3, 1.4), (5.2, 17.0)]),
-        ("OLSSON 1", [(2.5, 0), (3, 0.05), (5.2, 6.5)]),
+        ("dry", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
+        ("0.01", [(1.5, 0), (2, 0.2), (2.5, 0.4), (3, 3.1), (5.2, 24.6)]),
+        ("0.1", [(2, 0), (2.5, 0.15), (3, 1.4), (5.2, 17.0)]),
+        ("1", [(2.5, 0), (3, 0.05), (5.2, 6.5)]),
     ],
 }
-REFERENCES["lian6_small"] = REFERENCES["lian6"]
+REFERENCES["lian6_debris"] = REFERENCES["lian6_small"] = REFERENCES["lian6"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_regime"] = REFERENCES["olsson"]
+REF_NAMES = {"lian": "Lian (1994)", "olsson": "Olsson (2017)"}
+# The order of the groups (their colours), the same in every chart of a table.
+KEY_ORDER = {"eta": ["0", "0.001", "0.01", "0.1"], "liquid": ["dry", "0.01", "0.1", "1"]}
+
+
+def number_or_zero(v):
+    try:
+        return float(v)
+    except ValueError:
+        return 0.0
+
+
+def draw_table(name, t, work):
+    """The chart of table `name` from doc/data/NAME.csv: to doc/data/NAME.png if the docs show
+    it (`figure` in TABLES), else to WORK/NAME.png."""
+    with open(os.path.join(DATA, name + ".csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
+    ours = {}
+    for row in rows:
+        try:
+            x, y = float(row[t["x"]]), float(row[t["y"]])
+        except (ValueError, KeyError):
+            continue
+        ours.setdefault(tuple(row[g] for g in group), []).append((x, y))
+    # A reference's key is a group's values joined by "/" (its colour is the group's), or a
+    # text of its own.
+    refs = [(tuple(k.split("/")), pts) for k, pts in REFERENCES.get(name, [])]
+    order = KEY_ORDER.get(group[0], [])
+
+    def position(k):
+        return (order.index(k[0]) if k[0] in order else len(order), [number_or_zero(v) for v in k])
+
+    def text(k):
+        return group_key(group, k) if len(k) == len(group) else "/".join(k)
+
+    groups = sorted(set(ours) | {k for k, _ in refs if len(k) == len(group)}, key=position)
+    keys = [text(k) for k in groups] + [text(k) for k, _ in refs if len(k) != len(group)]
+    png = os.path.join(DATA if t.get("figure") else work, name + ".png")
+    chart(png, t["title"], [(text(k), ours[k]) for k in groups if k in ours],
+          AXES.get(t["x"], t["x"]), AXES.get(t["y"], t["y"]), t.get("logx", False),
+          [(text(k), pts) for k, pts in refs], ours="trubal",
+          ref=REF_NAMES["olsson" if name.startswith("olsson") else "lian"], keys=keys)
+    return png
 
 
 def fit_thresholds(series, lo=0.02, hi=0.95):
@@ -774,6 +727,8 @@ def main():
     ap.add_argument("--force", action="store_true")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--plot-only", action="store_true", help="only collect the logs and plot")
+    ap.add_argument("--chart-only", action="store_true",
+                    help="only draw the chart again from doc/data/TABLE.csv (no run, no collection)")
     a = ap.parse_args()
     if a.list or not a.table:
         for name, t in TABLES.items():
@@ -784,6 +739,10 @@ def main():
         return
     t = TABLES[a.table]
     work = a.work or os.path.join(ROOT, "target", "experiments", t.get("work", a.table))
+    if a.chart_only:
+        os.makedirs(work, exist_ok=True)
+        draw_table(a.table, t, work)
+        return
     os.makedirs(os.path.join(work, "logs"), exist_ok=True)
     os.makedirs(DATA, exist_ok=True)
     exe = trubal_binary()
@@ -856,10 +815,7 @@ def main():
             for line in fits:
                 print(line)
                 f.write(line + "\n")
-    png = os.path.join(DATA, a.table + ".png")
-    chart(png, t["title"], sorted(series.items()), t["x"].upper(), t["y"].upper(), t.get("logx", False),
-          REFERENCES.get(a.table, []), "OURS " + "/".join(group).upper(), t.get("cap_refs", True))
-    print("wrote", png)
+    draw_table(a.table, t, work)
 
 
 if __name__ == "__main__":

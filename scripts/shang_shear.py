@@ -7,6 +7,7 @@ beta = 0); with --sweep, the same at several shear rates, against the energy coh
 CN_e (Shang (3.17)), written to doc/data/shang_shear.csv and doc/img/shang_shear.png.
 
 usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--seed K] [--sweep] [S ...]
+       scripts/shang_shear.py --chart-only     (redraw from doc/data/shang_shear.csv)
 """
 import csv
 import json
@@ -51,6 +52,10 @@ def run(exe, phi, npart, s, strain, work):
 
 def main():
     argv = sys.argv[1:]
+    if "--chart-only" in argv:
+        with open(os.path.join(ROOT, "doc", "data", "shang_shear.csv")) as fh:
+            draw([{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)])
+        return
     strain = 40.0
     strain = lun_shear.option(argv, "--strain", strain)
     global FRAC, SEED
@@ -74,16 +79,19 @@ def main():
             w = csv.DictWriter(fh, fieldnames=list(out[0].keys()))
             w.writeheader()
             w.writerows(out)
-        run_table.chart(
-            os.path.join(ROOT, "doc", "img", "shang_shear.png"),
-            "COHESIVE SIMPLE SHEAR, PHI = 0.45: STRESSES AGAINST CN_E (SHANG'S RANGE 4-9E-3)",
-            [(lab, [(r["cn_e"], r[k]) for r in out]) for lab, k in [("PXY", "pxy"), ("PYY", "pyy"), ("3T", "3T")]],
-            "CN_E",
-            "STRESS / RHO (SIGMA S)^2, 3T / (SIGMA S)^2",
-            logx=True,
-            cap=False,
-        )
+        draw(out)
 
+
+def draw(rows):
+    """The chart doc/img/shang_shear.png: the stresses against CN_e."""
+    run_table.chart(
+        os.path.join(ROOT, "doc", "img", "shang_shear.png"),
+        "Cohesive simple shear, φ = 0.45: stresses against CN_e (Shang's range 4–9e-3)",
+        [(lab, [(r["cn_e"], r[k]) for r in rows]) for lab, k in [("P_xy / ρ(σs)²", "pxy"), ("P_yy / ρ(σs)²", "pyy"), ("3T / (σs)²", "3T")]],
+        "energy cohesion number CN_e",
+        "stress / ρ(σs)²,  3T / (σs)²",
+        logx=True,
+    )
 
 if __name__ == "__main__":
     main()

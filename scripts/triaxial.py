@@ -4,7 +4,7 @@
 deviator q/p, volumetric strain, mobilised friction angle) and doc/img/triaxial.png, and
 prints the peak and critical-state friction angles and the servo's error.
 
-usage: scripts/triaxial.py [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T] [--gain G]
+usage: scripts/triaxial.py [--chart-only] [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T] [--gain G]
 """
 import csv
 import json
@@ -30,6 +30,10 @@ def dt():
 
 def main():
     argv = sys.argv[1:]
+    if "--chart-only" in argv:
+        # Draw the chart again from doc/data/triaxial<tag>.csv (no run).
+        draw(arg([a for a in argv if a != "--chart-only"], "--tag", ""))
+        return
     npart = arg(argv, "--np", 600)
     p = arg(argv, "--p", 1e5)
     rate = arg(argv, "--rate", 5.0)
@@ -85,20 +89,29 @@ def main():
         "peak_phi_deg": peak["phi_mobilised_deg"], "peak_axial_strain": peak["axial_strain"],
         "critical_phi_deg": crit, "final_volumetric_strain": rows[-1]["volumetric_strain"],
         "largest_mean_stress_error": err, "steps": n, "gain": gain, "mu0": mu0,
+        "particles": npart, "p": p,
     }
     print(json.dumps(summary, indent=1))
     with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
+    draw(tag)
+
+
+def draw(tag):
+    """The chart doc/img/triaxial<tag>.png from doc/data/triaxial<tag>.csv and _summary.json."""
+    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv")) as fh:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)]
+    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json")) as fh:
+        o = json.load(fh)
     run_table.chart(
         os.path.join(ROOT, "doc", "img", f"triaxial{tag}.png"),
-        f"CONSTANT-MEAN-STRESS TRIAXIAL TEST, {npart} SPHERES, P = {p:g} PA, MU = 0.5 (PREPARED WITH {mu0:g})",
-        [("Q/P", [(r["axial_strain"], r["q_over_p"]) for r in rows]),
-         ("EV X 10", [(r["axial_strain"], 10 * r["volumetric_strain"]) for r in rows])],
-        "AXIAL STRAIN",
-        "Q/P, VOLUMETRIC STRAIN X 10 (DILATION < 0)",
-        cap=False,
+        f"Triaxial test at constant mean stress {o['p'] / 1e3:g} kPa: {o['particles']} spheres, μ = 0.5"
+        f" (prepared with μ = {o['mu0']:g})",
+        [("q/p", [(100 * r["axial_strain"], r["q_over_p"]) for r in rows]),
+         ("10 × volumetric strain (dilation < 0)", [(100 * r["axial_strain"], 10 * r["volumetric_strain"]) for r in rows])],
+        "axial strain [%]",
+        "q/p,  10 × volumetric strain",
     )
-
 
 if __name__ == "__main__":
     main()

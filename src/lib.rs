@@ -2,6 +2,7 @@
 //! command language. See ARCHITECTURE.md for the map of the modules.
 
 pub mod analysis;
+pub mod chart;
 pub mod checkpoint;
 pub mod lang;
 pub mod output;

@@ -22,6 +22,7 @@ macro_rules! complain {
 
 const USAGE: &str = "usage: trubal [FILE | -] [--json] [--keep-going] [--set NAME=VALUE]... [--threads N]
        trubal sweep FILE --out DIR [--grid NAME=V1,V2...] ...   (trubal sweep --help)
+       trubal chart FILE.csv --x COL --y COL[,COL...] --out FILE.png ...   (trubal chart --help)
   FILE          run a command file;  -  (or a pipe) reads commands from standard input
   (no FILE)     interactive session on a terminal; TRUBAL.DIR with BATCH: run TRUBAL.DAT into TRUBAL.OUT
   --json        every PRint item is written as one JSON object per line
@@ -33,6 +34,9 @@ fn main() -> ExitCode {
     let all: Vec<String> = std::env::args().skip(1).collect();
     if all.first().map(String::as_str) == Some("sweep") {
         return trubal::sweep::main(&all[1..]);
+    }
+    if all.first().map(String::as_str) == Some("chart") {
+        return trubal::chart::main(&all[1..]);
     }
     let mut file: Option<String> = None;
     let mut json = false;

@@ -2,6 +2,7 @@
 """Cost per particle-step against N from scaling.sh's results (issue 9, item 3).
 
     python3 scripts/bench/plot_scaling.py OUT/scaling.tsv [doc/data]
+    python3 scripts/bench/plot_scaling.py doc/data/scaling.csv [doc/data]   (the chart again)
 
 Writes DIR/scaling.csv (median loop time per particle-step over the undisturbed runs of each
 scene and N, with the peak memory per particle) and DIR/scaling.png (log N on x). Cost per step
@@ -20,6 +21,11 @@ import run_table  # noqa: E402  (chart)
 def main():
     tsv = sys.argv[1]
     out = sys.argv[2] if len(sys.argv) > 2 else os.path.join(os.path.dirname(os.path.dirname(HERE)), "doc", "data")
+    if tsv.endswith(".csv"):
+        # A scaling.csv written before: draw its chart again into OUT.
+        with open(tsv) as f:
+            draw(list(csv.DictReader(f)), out)
+        return
     groups = {}
     with open(tsv) as f:
         for r in csv.DictReader(f, delimiter="\t"):
@@ -60,17 +66,19 @@ def main():
         print("  %-8s N=%-8d %-3s %8.1f ns/particle-step  %6.2e psps  %7.1f MB%s" % (
             r["scene"], r["N"], r["par"], r["ns_per_particle_step"], r["psps"], r["peak_rss_MB"],
             "  (disturbed)" if r["disturbed"] else ""))
+    draw(rows, out)
+
+
+def draw(rows, out):
+    """OUT/scaling.png: ns per particle-step against N, one line per scene and threads."""
     series = []
     for scene in sorted({r["scene"] for r in rows}):
         for par in sorted({r["par"] for r in rows if r["scene"] == scene}):
-            series.append(("%s %s" % (scene.upper(), par.upper()),
-                           [(r["N"], r["ns_per_particle_step"]) for r in rows
+            series.append(("%s, %s" % (scene, par),
+                           [(float(r["N"]), float(r["ns_per_particle_step"])) for r in rows
                             if r["scene"] == scene and r["par"] == par]))
-    png = os.path.join(out, "scaling.png")
-    run_table.chart(png, "COST PER PARTICLE-STEP AGAINST N (FLAT = LINEAR IN N)", series,
-                    "NUMBER OF PARTICLES N", "NS PER PARTICLE-STEP", logx=True)
-    print("wrote", png)
-
+    run_table.chart(os.path.join(out, "scaling.png"), "Cost per particle-step against N (flat = linear in N)",
+                    series, "number of particles N", "time per particle-step [ns]", logx=True)
 
 if __name__ == "__main__":
     main()

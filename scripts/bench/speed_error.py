@@ -21,7 +21,7 @@ Three studies, each written to OUT/speed_error_*.csv and drawn to OUT/speed_erro
    0.05 and 0.2: bridge damage ratio and CPU time; the reference is LAPLACE (the exact
    Laplace-Young bridge) at FRAction 0.05.
 
-Python 3 standard library only (the charts use scripts/run_table.py's PNG writer).
+Python 3 standard library only (the charts: `trubal chart`, through scripts/run_table.py).
 """
 
 import argparse
@@ -139,36 +139,33 @@ def charts(a, binary, agg, wet):
     if binary:
         h = [r for r in binary if r["test"] == "hertz"]
         series += [
-            ("RESTITUTION", [(0.2 / r["fraction"], abs(r["restitution_err_pct"])) for r in h]),
-            ("CONTACT TIME", [(0.2 / r["fraction"], abs(r["contact_time_err_pct"])) for r in h]),
-            ("PEAK FORCE", [(0.2 / r["fraction"], abs(r["peak_force_err_pct"])) for r in h]),
-            ("JKR STICK V", [(0.2 / r["fraction"], abs(r["jkr_threshold_err_pct"]))
+            ("restitution", [(0.2 / r["fraction"], abs(r["restitution_err_pct"])) for r in h]),
+            ("contact time", [(0.2 / r["fraction"], abs(r["contact_time_err_pct"])) for r in h]),
+            ("peak force", [(0.2 / r["fraction"], abs(r["peak_force_err_pct"])) for r in h]),
+            ("JKR sticking velocity", [(0.2 / r["fraction"], abs(r["jkr_threshold_err_pct"]))
                                 for r in binary if r["test"] == "jkr"]),
         ]
     md = [r for r in agg if r["tangential"] == "md"]
     ref = min(md, key=lambda r: r["fraction"]) if md else None
     base = next((r["cpu_s"] for r in md if r["fraction"] == 0.2), None)
     if base:
-        series.append(("DAMAGE MEAN", [(r["cpu_s"] / base, 100 * abs(r["damage_err"]))
+        series.append(("agglomerate: damage ratio, mean", [(r["cpu_s"] / base, 100 * abs(r["damage_err"]))
                                                    for r in md if r is not ref]))
-        series.append(("DAMAGE SD", [(r["cpu_s"] / base, 100 * r["damage_sd"]) for r in md]))
+        series.append(("agglomerate: damage ratio, ensemble SD", [(r["cpu_s"] / base, 100 * r["damage_sd"]) for r in md]))
     run_table.chart(os.path.join(a.out, "speed_error_fraction.png"),
-                    "ERROR AGAINST RUN TIME: FRACTION 1 ... 0.05", series,
-                    "RUN TIME / RUN TIME AT FRACTION 0.2", "|ERROR| %", logx=True)
-    print("wrote", os.path.join(a.out, "speed_error_fraction.png"))
+                    "Error against run time: FRAction 1 … 0.05", series,
+                    "run time / run time at FRAction 0.2", "|error| [%]", logx=True)
     run_table.chart(os.path.join(a.out, "speed_error_tangential.png"),
-                    "AGGLOMERATE IMPACT: MEAN DAMAGE RATIO AGAINST CPU TIME",
+                    "Agglomerate impact: mean damage ratio against CPU time",
                     [(lab.upper(), [(r["cpu_s"], r["damage_mean"]) for r in agg if r["tangential"] == lab])
                      for lab in ("md", "noslip")],
-                    "CYCLE CPU TIME PER RUN (S)", "DAMAGE RATIO (MEAN OF %d)" % a.ensemble, logx=True)
-    print("wrote", os.path.join(a.out, "speed_error_tangential.png"))
+                    "Cycle CPU time per run [s]", "damage ratio (mean of %d)" % a.ensemble, logx=True)
     if wet:
         run_table.chart(os.path.join(a.out, "speed_error_liquid.png"),
-                        "MOIST IMPACT: BRIDGE DAMAGE RATIO AGAINST CPU TIME",
+                        "Moist impact: bridge damage ratio against CPU time",
                         [(m.upper(), [(r["cpu_s"], r["damage_ratio"]) for r in wet if r["bridge"] == m])
                          for m in ("fit", "toroidal", "laplace")],
-                        "CYCLE CPU TIME (S)", "BRIDGE DAMAGE RATIO", logx=True)
-        print("wrote", os.path.join(a.out, "speed_error_liquid.png"))
+                        "Cycle CPU time [s]", "bridge damage ratio", logx=True)
 
 
 

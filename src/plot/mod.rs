@@ -9,6 +9,7 @@ pub mod build;
 pub mod chart;
 pub mod picture;
 pub mod render;
+pub mod xy;
 
 use std::path::Path;
 

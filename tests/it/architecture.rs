@@ -576,3 +576,68 @@ fn the_layer_check_finds_an_upward_import_and_a_circle() {
         "{bad:?}"
     );
 }
+
+/// The Markdown pages of the repository (the crate's root, doc/, scripts/), with their text.
+fn pages() -> Vec<(PathBuf, String)> {
+    let mut out = Vec::new();
+    let mut stack = vec![root().to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            if p.is_dir() {
+                if d == root() && !["doc", "scripts"].contains(&name.as_str()) {
+                    continue;
+                }
+                stack.push(p);
+            } else if name.ends_with(".md") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                out.push((p, text));
+            }
+        }
+    }
+    out
+}
+
+/// doc/img and doc/data keep only the figures a page shows (per-run pictures go to the run's
+/// work directory), and every picture a page shows exists.
+#[test]
+fn every_figure_in_doc_is_shown_and_every_shown_figure_exists() {
+    let pages = pages();
+    let mut shown = Vec::new();
+    for (page, text) in &pages {
+        for part in text.split("](").skip(1) {
+            let target = part.split(')').next().unwrap();
+            if !target.ends_with(".png") || target.starts_with("http") {
+                continue;
+            }
+            let path = page.parent().unwrap().join(target);
+            assert!(
+                path.exists(),
+                "{} shows {target}, which does not exist",
+                page.display()
+            );
+            shown.push(path.canonicalize().unwrap());
+        }
+    }
+    let mut checked = 0;
+    for dir in ["doc/img", "doc/data"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap().flatten() {
+            let p = e.path();
+            if dir == "doc/data" && p.extension().is_none_or(|x| x != "png") {
+                continue;
+            }
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            let named = pages
+                .iter()
+                .any(|(_, t)| t.contains(&format!("{dir}/{name}")))
+                || pages.iter().any(|(_, t)| t.contains(&format!("`{name}`")));
+            assert!(
+                shown.contains(&p.canonicalize().unwrap()) || named,
+                "{dir}/{name} is shown by no page: delete it, or show it"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "only {checked} figures checked");
+}

@@ -7,6 +7,7 @@ mod adhesion;
 mod architecture;
 mod broken_pipe;
 mod cell;
+mod chart;
 mod checkpoint;
 mod cli;
 mod continuation;

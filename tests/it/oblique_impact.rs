@@ -19,7 +19,8 @@
 //! halving both changes nothing in the fourth digit (checked below).
 //!
 //! `doc/contact_laws.md`, "Oblique impacts: which tangential law is exact where", has the
-//! chart that `write_the_comparison_chart` (ignored; run it by name) makes.
+//! charts of the data that `write_the_comparison_chart` (ignored; run it by name) writes
+//! (drawn by scripts/oblique_impact_charts.sh).
 
 use crate::common::*;
 
@@ -320,7 +321,7 @@ fn chung_ooi_test_6_mdr_partial_slip_and_sliding() {
     check_law("mdr", &[15.0, 20.0, 30.0, 45.0, 60.0, 80.0]);
 }
 
-/// Writes doc/data/oblique_impact.csv and the chart doc/data/oblique_impact.png: the exact
+/// Writes doc/data/oblique_impact.csv (charts: scripts/oblique_impact_charts.sh): the exact
 /// solution and the five tangential laws at the default step (and `MD` at FRAction 0.01),
 /// 5–85°. Run by name:
 /// `cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored`.
@@ -328,15 +329,15 @@ fn chung_ooi_test_6_mdr_partial_slip_and_sliding() {
 #[ignore = "writes doc/data/oblique_impact*; run by name"]
 fn write_the_comparison_chart() {
     let angles: Vec<f64> = (1..=17).map(|k| 5.0 * k as f64).collect();
-    // (label, SET TANgential, FRAction, drawn): HM is NOSLIP here (its dashpot needs a
-    // restitution; the impact is elastic), so it is in the data but not drawn.
-    let runs: [(&str, &str, &str, bool); 6] = [
-        ("MDR, FRAction 0.2", "mdr", "", true),
-        ("MD (default), FRAction 0.2", "md", "", true),
-        ("MD, FRAction 0.01", "md", "0.01", true),
-        ("WALTON", "walton", "", true),
-        ("NOSLIP (= HM here)", "noslip", "", true),
-        ("HM", "hm", "", false),
+    // (SET TANgential, FRAction): HM is NOSLIP here (its dashpot needs a restitution; the
+    // impact is elastic), so it is in the data but not drawn.
+    let runs: [(&str, &str); 6] = [
+        ("mdr", ""),
+        ("md", ""),
+        ("md", "0.01"),
+        ("walton", ""),
+        ("noslip", ""),
+        ("hm", ""),
     ];
     let mut csv = String::from(
         "# Chung & Ooi (2011) test 6: tangential restitution v_t'/v_t and rebound spin (rad/s)\n\
@@ -344,110 +345,18 @@ fn write_the_comparison_chart() {
          # Made by: cargo test --profile ci --test it oblique_impact::write_the_comparison_chart -- --ignored\n\
          law,fraction,angle,et,spin\n",
     );
-    type Curve = (String, Vec<(f64, f64, f64)>);
-    let mut curves: Vec<Curve> = vec![("exact (MDR)".into(), Vec::new())];
     for &a in &angles {
         let (et, w) = exact_at(a);
         csv += &format!("exact,,{a},{et:.6},{w:.4}\n");
-        curves[0].1.push((a, et, w));
     }
-    for (name, law, frac, drawn) in runs {
-        let mut pts = Vec::new();
+    for (law, frac) in runs {
         for &a in &angles {
             let (et, w) = rebound(a, law, frac);
             let f = if frac.is_empty() { "0.2" } else { frac };
             csv += &format!("{law},{f},{a},{et:.6},{w:.4}\n");
-            pts.push((a, et, w));
-        }
-        if drawn {
-            curves.push((name.into(), pts));
         }
     }
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("doc/data");
     std::fs::write(dir.join("oblique_impact.csv"), csv).unwrap();
-    std::fs::write(dir.join("oblique_impact.png"), chart(&curves)).unwrap();
-}
-
-/// Two panels (tangential restitution, spin) against the angle, with the bundled font.
-fn chart(curves: &[(String, Vec<(f64, f64, f64)>)]) -> Vec<u8> {
-    use plotters::prelude::*;
-    const FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
-    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    let colours = [
-        RGBColor(0, 0, 0),
-        RGBColor(230, 140, 0),
-        RGBColor(200, 30, 30),
-        RGBColor(240, 150, 150),
-        RGBColor(30, 90, 200),
-        RGBColor(20, 150, 40),
-    ];
-    let (w, h) = (1600u32, 700u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).unwrap();
-        let root = root
-            .titled(
-                "Chung & Ooi (2011) test 6: alumina sphere on a rigid wall at 3.9 m/s",
-                ("sans-serif", 26),
-            )
-            .unwrap();
-        let panels = root.split_evenly((1, 2));
-        let specs = [
-            (
-                "tangential restitution v_t'/v_t",
-                0.55..1.0,
-                SeriesLabelPosition::LowerRight,
-            ),
-            (
-                "rebound spin (rad/s)",
-                0.0..650.0,
-                SeriesLabelPosition::UpperRight,
-            ),
-        ];
-        for (k, (panel, (y_desc, yr, pos))) in panels.iter().zip(specs).enumerate() {
-            let mut c = ChartBuilder::on(panel)
-                .margin(20)
-                .x_label_area_size(55)
-                .y_label_area_size(80)
-                .build_cartesian_2d(0.0..90.0, yr)
-                .unwrap();
-            c.configure_mesh()
-                .x_desc("angle of incidence from the normal (deg)")
-                .y_desc(y_desc)
-                .label_style(("sans-serif", 16))
-                .axis_desc_style(("sans-serif", 18))
-                .draw()
-                .unwrap();
-            for (i, (label, pts)) in curves.iter().enumerate() {
-                let col = colours[i % colours.len()];
-                let line: Vec<(f64, f64)> = pts
-                    .iter()
-                    .map(|&(a, et, w)| (a, if k == 0 { et } else { w }))
-                    .collect();
-                // The exact curve wide, so that the laws on it (MDR) leave it visible.
-                let width = if i == 0 { 6 } else { 2 };
-                c.draw_series(LineSeries::new(
-                    line.iter().copied(),
-                    ShapeStyle::from(&col).stroke_width(width),
-                ))
-                .unwrap()
-                .label(label.as_str())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], col.stroke_width(3))
-                });
-                c.draw_series(line.iter().map(|&p| Circle::new(p, 4, col.filled())))
-                    .unwrap();
-            }
-            c.configure_series_labels()
-                .position(pos)
-                .label_font(("sans-serif", 16))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .unwrap();
-        }
-        root.present().unwrap();
-    }
-    trubal::plot::render::encode_png(w, h, &buf).unwrap()
+    // The charts: scripts/oblique_impact_charts.sh (`trubal chart`).
 }
