@@ -31,7 +31,7 @@ pub use scene::{Scene, Vec3};
 /// Appends one row to the history (columns of [`history::COLUMNS`]).
 pub fn record_history(scene: &mut Scene) {
     let st = energy::stored(scene);
-    let (c, cw) = scene.contacts.active_counts();
+    let (c, cw) = scene.touching_counts();
     let (b, bw) = scene.contacts.bridge_counts();
     let wf: f64 = scene.walls.iter().map(|w| w.normal_force).sum();
     let mut row = vec![

@@ -12,6 +12,8 @@ use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View,
 mod access;
 mod check;
 mod edit;
+mod touch;
+pub use touch::TOUCH_GAP;
 
 pub type Vec3 = Vector3<f64>;
 

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::process::Stdio;
 
-fn run(input: &str, args: &[&str]) -> (bool, String, String) {
+pub(crate) fn run(input: &str, args: &[&str]) -> (bool, String, String) {
     let dir = std::env::temp_dir().join(format!(
         "trubal-cli-{}-{}",
         std::process::id(),

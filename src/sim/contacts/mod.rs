@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::scene::{Particles, Vec3};
+use super::scene::Vec3;
 use crate::physics::bridge::{Bridge, BridgeCoeffs, BridgeModel};
 use crate::physics::mdr::MdrRow;
 use crate::physics::tangential::TangentialState;
@@ -719,24 +719,6 @@ impl ContactStore {
                 }
             });
         self.step.hot = hot;
-    }
-
-    /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges
-    /// (`bridges` true), as sorted id pairs.
-    pub fn bonded_pairs(&self, _p: &Particles, bridges: bool) -> Vec<(u32, u32)> {
-        let mut v: Vec<(u32, u32)> = self
-            .iter()
-            .filter(|p| {
-                if bridges {
-                    p.s.bridge.is_some()
-                } else {
-                    p.s.touching
-                }
-            })
-            .map(|p| (p.ida, p.idb))
-            .collect();
-        v.sort_unstable();
-        v
     }
 
     /// Active solid contacts (particle–particle) and particle–wall.
