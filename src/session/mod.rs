@@ -3,6 +3,7 @@
 //! output. A command that fails changes nothing.
 
 pub mod exec;
+mod generation;
 pub mod input;
 pub mod interrupt;
 pub mod progress;
@@ -249,6 +250,9 @@ impl Session {
         match cmd {
             Command::Cycle { n, servo } => return self.cycle_servo(*n, servo),
             Command::Relax { kmax, fmax, nmax } => return self.relax(*kmax, *fmax, *nmax),
+            Command::Agenerate { .. }
+            | Command::Rgenerate { .. }
+            | Command::RgenerateSeed { .. } => return self.generate(cmd),
             _ => {}
         }
         let json = self.json;
