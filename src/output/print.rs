@@ -182,8 +182,7 @@ fn balls(scene: &Scene) -> (String, Value) {
     (s, j)
 }
 
-/// One contact's JSON object: `overlap` (the contact law's while it acts, else from the
-/// positions now: negative, the gap), `touching` (`sim::scene::touch`), `active` (the contact
+/// One contact's JSON object: `overlap` ([`shown_overlap`]), `touching` (`sim::scene::touch`), `active` (the contact
 /// law acts).
 fn contact_json(s: &ContactState, overlap: f64, touching: bool) -> Value {
     let mut v = json!({
@@ -200,10 +199,14 @@ fn contact_json(s: &ContactState, overlap: f64, touching: bool) -> Value {
     v
 }
 
-/// A contact's overlap for the table: the contact law's while it acts, else from the
-/// positions now (negative: the gap).
+/// A contact's overlap for the table: the last step's while the contact law or a bridge
+/// acts, else from the positions now (negative: the gap).
 fn shown_overlap(s: &ContactState, gap: f64) -> f64 {
-    if s.touching { s.overlap } else { -gap }
+    if s.touching || s.bridge.is_some() {
+        s.overlap
+    } else {
+        -gap
+    }
 }
 
 fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {

@@ -199,10 +199,11 @@ pub fn lattice(
 /// curve; with `walls`, only where the whole particle lies on the particles' side of every
 /// wall (inside a die), the draws confined to the walls' bounding box ([`walls_box`]).
 ///
-/// All or nothing: the places are found first, then the particles added. When the target
-/// cannot be reached (the rate of placement shows it, [`RateWatch`], or the try limit of
-/// 1000 n + 10,000 tries is spent) or `watch` says stop (Ctrl-C), nothing is placed and the
-/// random numbers drawn are given back (the scene is as before the command).
+/// The places are found first, then the particles added. When the target cannot be reached
+/// (the rate of placement shows it, [`RateWatch`], or the try limit of 1000 n + 10,000 tries
+/// is spent) it gives up with the particles that found room, as TRUBAL did at its try limit,
+/// and says why. When `watch` says stop (Ctrl-C) nothing is placed and the random numbers
+/// drawn are given back (the scene is as before the command).
 pub fn random(
     scene: &mut Scene,
     (n, size, material, nagg): (usize, usize, usize, usize),
@@ -233,7 +234,7 @@ pub fn random(
         (lo, hi)
     };
     let clear_of_walls = |x: &Vec3, r: f64| !walls || shapes.iter().all(|s| s.gap(x, r).0 >= 0.0);
-    let limit = 1000 * n as u64 + 10_000;
+    let limit = (n as u64).saturating_mul(1000).saturating_add(10_000);
     let rng_before = scene.rng.clone();
     let r_big = scene.max_radius_of(size).unwrap_or(r);
     let mut idx = OverlapIndex::new(scene, r_big);
@@ -292,22 +293,37 @@ pub fn random(
             break;
         }
     }
-    if placed.len() < n {
-        scene.rng = rng_before;
-        let made = placed.len();
+    let made = placed.len();
+    let start = commit_random(scene, &placed, (lo, hi), rho, (size, material, nagg));
+    let mut text = if made < n {
         let why = match hopeless {
             Some(h) => format!(
-                "the rate of placement ({} of the last {} tries placed one, and falling) shows that at most about {} can be placed within the try limit ({limit} tries)",
+                "the rate of placement ({} of the last {} tries placed one, and falling) showed that at most about {} could be placed within the try limit ({limit} tries)",
                 h.recent.0, h.recent.1, h.most
             ),
             None => format!("the try limit ({limit} tries) was reached"),
         };
-        return Err(format!(
-            "RGEnerate: cannot place {n} particles: {made} found room in {tries} tries, and {why}; nothing was placed (ask for fewer, e.g. `RGEnerate {made} ...`, or give smaller particles or more room)"
-        ));
+        format!("RGEnerate: only {made} of {n} particles placed in {tries} tries: {why}")
+    } else {
+        format!("RGEnerate: {made} particles placed in {tries} tries (limit {limit})")
+    };
+    // Without WAlls, particles placed behind or across a wall (outside a die) are named.
+    if !walls && !shapes.is_empty() {
+        text.push_str(&against_walls(&scene.particles, start, &shapes));
     }
-    // Number the new particles along a Morton curve (the random placement order would
-    // scatter neighbours over memory: 2.6 × the cost per step at 10^6).
+    Ok(text)
+}
+
+/// Adds the particles `RGEnerate` found room for, numbered along a Morton curve through the
+/// box `lo`–`hi` (the random placement order would scatter neighbours over memory: 2.6 × the
+/// cost per step at 10^6); returns the index of the first.
+fn commit_random(
+    scene: &mut Scene,
+    placed: &[(Vec3, f64)],
+    (lo, hi): (Vec3, Vec3),
+    rho: f64,
+    (size, material, nagg): (usize, usize, usize),
+) -> usize {
     ensure_material(scene, material);
     let pos: Vec<Vec3> = placed.iter().map(|p| p.0).collect();
     let start = scene.particles.len();
@@ -322,12 +338,7 @@ pub fn random(
         );
     }
     scene.contacts.mark_stale();
-    let mut text = format!("RGEnerate: {n} particles placed in {tries} tries (limit {limit})");
-    // Without WAlls, particles placed behind or across a wall (outside a die) are named.
-    if !walls && !shapes.is_empty() {
-        text.push_str(&against_walls(&scene.particles, start, &shapes));
-    }
-    Ok(text)
+    start
 }
 
 /// `RGEnerate ... WAlls`: the box `lo`–`hi` (the region's or the work-space's) narrowed to

@@ -130,8 +130,14 @@ impl Scene {
                 .filter(|c| c.s.bridge.is_some())
                 .map(|c| (c.ida, c.idb))
                 .collect()
+        } else if self.contacts_current() {
+            self.contacts
+                .iter()
+                .filter(|c| self.pair_touches(c.s, c.i as usize, c.j as usize))
+                .map(|c| (c.ida, c.idb))
+                .collect()
         } else {
-            self.touching_pairs()
+            self.touching_by_gap()
                 .0
                 .iter()
                 .map(|&(i, j)| (id[i].min(id[j]), id[i].max(id[j])))
