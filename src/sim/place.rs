@@ -135,7 +135,7 @@ pub fn lattice(
     let total = u64::try_from(count).unwrap_or(u64::MAX);
     lattice_sites(scene, origin, step, range, |x| {
         seen += 1;
-        if seen % WATCH_EVERY == 0 {
+        if seen.is_multiple_of(WATCH_EVERY) {
             let a = Advance {
                 command: "AGEnerate",
                 what: "sites examined",
@@ -246,7 +246,7 @@ pub fn random(
     let mut need_radius = true;
     let mut hopeless = None;
     while placed.len() < n && tries < limit {
-        if tries % WATCH_EVERY == 0 && tries > 0 {
+        if tries.is_multiple_of(WATCH_EVERY) && tries > 0 {
             let rate = (placed.len() - recent.1) as f64 / (tries - recent.0) as f64;
             recent = (tries, placed.len());
             let a = Advance {
@@ -490,7 +490,7 @@ pub fn discard_random(scene: &mut Scene, n: u64, watch: Watch) -> Result<String,
     // (Checked every 2^20 numbers: a few ms.)
     let every = WATCH_EVERY * 256;
     for k in 0..n {
-        if k % every == 0 && k > 0 {
+        if k.is_multiple_of(every) && k > 0 {
             let a = Advance {
                 command: "RGEnerate Seed",
                 what: "numbers drawn",
