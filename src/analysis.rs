@@ -28,11 +28,11 @@ pub fn bond_counts(reference: &[(u32, u32)], now: &[(u32, u32)]) -> (usize, usiz
     (reference.len(), reference.len() - kept, new)
 }
 
-/// The bonds that define an agglomerate: liquid bridges in a wet scene, solid contacts
+/// The bonds that define an agglomerate: liquid bridges in a wet scene, touching contacts
 /// otherwise.
 pub fn bonds_now(scene: &Scene) -> (Vec<(u32, u32)>, bool) {
     let wet = scene.liquid().is_some_and(|l| l.pvol > 0.0);
-    (scene.contacts().bonded_pairs(wet), wet)
+    (scene.bonded_pairs(wet), wet)
 }
 
 pub fn bonds_item(scene: &Scene) -> (String, Value) {
@@ -65,7 +65,7 @@ pub fn bonds_item(scene: &Scene) -> (String, Value) {
         if wet {
             "liquid bridges"
         } else {
-            "solid contacts"
+            "touching contacts"
         },
         r.cycle
     );
@@ -231,8 +231,11 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
     };
     // Particles held by a wall (solid contact or bridge): Olsson's capture ratio.
     let mut on_wall = vec![false; p.len()];
+    for (i, _) in scene.touching_pairs().1 {
+        on_wall[i] = true;
+    }
     for c in scene.contacts().wall_pairs() {
-        if c.s.touching || c.s.bridge.is_some() {
+        if c.s.bridge.is_some() {
             on_wall[c.i as usize] = true;
         }
     }
@@ -292,7 +295,7 @@ pub fn clusters_item(scene: &Scene) -> (String, Value) {
         if wet {
             "liquid bridges"
         } else {
-            "solid contacts"
+            "touching contacts"
         },
         sizes.len(),
         largest,

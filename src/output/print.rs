@@ -51,18 +51,25 @@ pub fn item(scene: &Scene, it: PrintItem) -> (String, Value) {
 
 fn info(scene: &Scene) -> (String, Value) {
     let dt = current_dt(scene);
-    let (c, cw) = scene.contacts().active_counts();
+    // Touching pairs (`sim::scene::touch`, the definition of every output), and of those
+    // the solid contacts whose law acts (the contact states of the last Cycle).
+    let (c, cw) = scene.touching_counts();
+    let (ac, acw) = scene.contacts().active_counts();
     let (b, bw) = scene.contacts().bridge_counts();
-    let touching = touching_pairs(scene);
     let (mut bc, mut bt) = (0, 0);
     for p in scene.contacts().iter() {
         if let Some(br) = &p.s.bridge {
             if br.gap <= 0.0 { bc += 1 } else { bt += 1 }
         }
     }
+    let active = if scene.contacts_current() {
+        format!("{ac} and {acw} of them with the contact law acting")
+    } else {
+        "forces not evaluated since the scene changed".to_string()
+    };
     let mut s = format!(
         "cycle {}  time {:.6e} s  dt {}\nballs {} (capacity {}, lost through open sides or walls crossed {})  walls {}\n\
-         contacts {} particle-particle, {} particle-wall  ({} candidate pairs, {} touching or overlapping pairs)\n",
+         contacts {} particle-particle, {} particle-wall  (touching: in contact or within {:e} of the smaller radius; {active}; {} candidate pairs)\n",
         scene.cycle(),
         scene.time(),
         dt_text(scene, dt),
@@ -72,8 +79,8 @@ fn info(scene: &Scene) -> (String, Value) {
         scene.walls().len(),
         c,
         cw,
+        crate::sim::scene::touch::TOUCH_GAP,
         scene.contacts().len(),
-        touching
     );
     let (free, in_bridges) = crate::sim::liquid::total_liquid(scene);
     if scene.liquid().is_some() {
@@ -96,7 +103,8 @@ fn info(scene: &Scene) -> (String, Value) {
     let j = json!({
         "print": "info", "cycle": scene.cycle(), "time": scene.time(), "dt": dt,
         "balls": scene.particles().len(), "walls": scene.walls().len(), "contacts": c,
-        "wall_contacts": cw, "touching": touching, "bridges": b, "wall_bridges": bw,
+        "wall_contacts": cw, "touching": c, "active_contacts": ac, "active_wall_contacts": acw,
+        "bridges": b, "wall_bridges": bw,
         "bridges_compressive": bc, "bridges_tensile": bt, "lost": scene.lost(),
         "liquid_bridges": in_bridges, "liquid_free": free, "liquid_total": in_bridges + free,
         "wall_forces": scene.walls().iter().map(|w| w.normal_force).collect::<Vec<_>>(),
@@ -113,17 +121,6 @@ fn dt_text(scene: &Scene, dt: f64) -> String {
     } else {
         "not yet known (a material property is missing: the first Cycle names it)".to_string()
     }
-}
-
-/// Pairs whose gap is at most 1e-6 of the smallest radius (touching within round-off).
-pub fn touching_pairs(scene: &Scene) -> usize {
-    let p = &scene.particles();
-    if p.is_empty() {
-        return 0;
-    }
-    let tol = 1e-6 * scene.min_radius();
-    let (pairs, _, _) = search::candidates(scene, tol);
-    pairs.len()
 }
 
 fn geom_text(g: &WallGeom) -> String {
@@ -185,10 +182,12 @@ fn balls(scene: &Scene) -> (String, Value) {
     (s, j)
 }
 
-fn contact_json(s: &ContactState) -> Value {
+/// One contact's JSON object: `overlap` ([`shown_overlap`]), `touching` (`sim::scene::touch`), `active` (the contact
+/// law acts).
+fn contact_json(s: &ContactState, overlap: f64, touching: bool) -> Value {
     let mut v = json!({
-        "overlap": s.overlap, "normal_force": s.normal_force + s.damp_force,
-        "tangential_force": s.tforce.norm(), "touching": s.touching,
+        "overlap": overlap, "normal_force": s.normal_force + s.damp_force,
+        "tangential_force": s.tforce.norm(), "touching": touching, "active": s.touching,
         "contact_radius": s.a,
     });
     if let Some(b) = &s.bridge {
@@ -200,61 +199,137 @@ fn contact_json(s: &ContactState) -> Value {
     v
 }
 
+/// A contact's overlap for the table: the last step's while the contact law or a bridge
+/// acts, else from the positions now (negative: the gap).
+fn shown_overlap(s: &ContactState, gap: f64) -> f64 {
+    if s.touching || s.bridge.is_some() {
+        s.overlap
+    } else {
+        -gap
+    }
+}
+
 fn contacts(scene: &Scene, f: ContactsFilter) -> (String, Value) {
+    if f != ContactsFilter::All && !scene.contacts_current() {
+        return contacts_by_gap(scene, f);
+    }
     let p = &scene.particles();
-    let keep = |s: &ContactState| match f {
-        ContactsFilter::All => true,
-        _ => s.touching || s.bridge.is_some(),
-    };
     let mut s = format!(
         "{:>7} {:>7} {:>13} {:>13} {:>13} {:>13}\n",
         "a", "b", "overlap", "normal_force", "tang_force", "bridge_force"
     );
     let mut arr = Vec::new();
     for c in scene.contacts().iter() {
-        if !keep(c.s) || !in_window(scene, &p.pos[c.i as usize]) {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let touching = scene.pair_touches(c.s, i, j);
+        let keep = f == ContactsFilter::All || touching || c.s.bridge.is_some();
+        if !keep || !in_window(scene, &p.pos[i]) {
             continue;
         }
+        let overlap = shown_overlap(c.s, scene.pair_gap(i, j));
         let bf = c.s.bridge.as_ref().map_or(0.0, |b| b.f_visc - b.f_static);
         if f == ContactsFilter::Gap {
             s.push_str(&format!(
                 "{:>7} {:>7} {:>13.6e} {:>13.6e}\n",
-                c.ida, c.idb, c.s.overlap, c.s.normal_force
+                c.ida, c.idb, overlap, c.s.normal_force
             ));
         } else {
             s.push_str(&format!(
                 "{:>7} {:>7} {:>13.6e} {:>13.6e} {:>13.6e} {:>13.6e}\n",
                 c.ida,
                 c.idb,
-                c.s.overlap,
+                overlap,
                 c.s.normal_force + c.s.damp_force,
                 c.s.tforce.norm(),
                 bf
             ));
         }
-        let mut v = contact_json(c.s);
+        let mut v = contact_json(c.s, overlap, touching);
         v["a"] = json!(c.ida);
         v["b"] = json!(c.idb);
         arr.push(v);
     }
     for c in scene.contacts().wall_pairs() {
-        if !keep(&c.s) || !in_window(scene, &p.pos[c.i as usize]) {
+        let (i, w) = (c.i as usize, c.wall as usize);
+        let touching = scene.wall_touches(&c.s, i, w);
+        let keep = f == ContactsFilter::All || touching || c.s.bridge.is_some();
+        if !keep || !in_window(scene, &p.pos[i]) {
             continue;
         }
+        let overlap = shown_overlap(&c.s, scene.wall_gap(i, w));
         s.push_str(&format!(
             "{:>7} {:>7} {:>13.6e} {:>13.6e} {:>13.6e}\n",
             c.id,
             format!("W{}", c.wall + 1),
-            c.s.overlap,
+            overlap,
             c.s.normal_force + c.s.damp_force,
             c.s.tforce.norm()
         ));
-        let mut v = contact_json(&c.s);
+        let mut v = contact_json(&c.s, overlap, touching);
         v["a"] = json!(c.id);
         v["wall"] = json!(c.wall + 1);
         arr.push(v);
     }
-    let j = json!({"print": "contacts", "cycle": scene.cycle(), "contacts": arr});
+    if !scene.contacts_current() {
+        s.push_str("(the candidate pairs of the last Cycle: commands changed the scene since; the next Cycle evaluates them again)\n");
+    }
+    let j = json!({"print": "contacts", "cycle": scene.cycle(), "contacts": arr,
+        "evaluated": scene.contacts_current()});
+    (s, j)
+}
+
+/// `PRint Contacts` of a scene that commands changed since the last Cycle: the pairs that
+/// touch by their positions now (`sim::scene::touch`), without forces (the next Cycle
+/// evaluates them).
+fn contacts_by_gap(scene: &Scene, f: ContactsFilter) -> (String, Value) {
+    let p = &scene.particles();
+    let (pairs, walls) = scene.touching_by_gap();
+    let mut s = if f == ContactsFilter::Gap {
+        format!(
+            "{:>7} {:>7} {:>13} {:>13}\n",
+            "a", "b", "overlap", "normal_force"
+        )
+    } else {
+        format!(
+            "{:>7} {:>7} {:>13} {:>13} {:>13} {:>13}\n",
+            "a", "b", "overlap", "normal_force", "tang_force", "bridge_force"
+        )
+    };
+    let none = ContactState::default();
+    let mut arr = Vec::new();
+    let row = |a: String, b: String, overlap: f64, s: &mut String| {
+        let zeros = if f == ContactsFilter::Gap { 1 } else { 3 };
+        s.push_str(&format!("{a:>7} {b:>7} {overlap:>13.6e}"));
+        for _ in 0..zeros {
+            s.push_str(&format!(" {:>13.6e}", 0.0));
+        }
+        s.push('\n');
+    };
+    for (i, j) in pairs {
+        if !in_window(scene, &p.pos[i]) {
+            continue;
+        }
+        let overlap = -scene.pair_gap(i, j);
+        row(p.id[i].to_string(), p.id[j].to_string(), overlap, &mut s);
+        let mut v = contact_json(&none, overlap, true);
+        v["a"] = json!(p.id[i]);
+        v["b"] = json!(p.id[j]);
+        arr.push(v);
+    }
+    for (i, w) in walls {
+        if !in_window(scene, &p.pos[i]) {
+            continue;
+        }
+        let overlap = -scene.wall_gap(i, w);
+        row(p.id[i].to_string(), format!("W{}", w + 1), overlap, &mut s);
+        let mut v = contact_json(&none, overlap, true);
+        v["a"] = json!(p.id[i]);
+        v["wall"] = json!(w + 1);
+        arr.push(v);
+    }
+    s.push_str("(touching by the positions now: commands changed the scene since the last Cycle, which evaluates the forces)\n");
+    let j = json!({"print": "contacts", "cycle": scene.cycle(), "contacts": arr,
+        "evaluated": false});
     (s, j)
 }
 
@@ -590,14 +665,12 @@ fn walls(scene: &Scene) -> (String, Value) {
 }
 
 fn chist(scene: &Scene) -> (String, Value) {
-    // Histogram of the number of solid contacts per particle.
+    // Histogram of the number of touching contacts per particle (`sim::scene::touch`).
     let n = scene.particles().len();
     let mut z = vec![0usize; n];
-    for c in scene.contacts().iter() {
-        if c.s.touching {
-            z[c.i as usize] += 1;
-            z[c.j as usize] += 1;
-        }
+    for (i, j) in scene.touching_pairs().0 {
+        z[i] += 1;
+        z[j] += 1;
     }
     let zmax = z.iter().copied().max().unwrap_or(0);
     let mut h = vec![0usize; zmax + 1];

@@ -550,7 +550,11 @@ fn cnd_kept_new_broken() {
     assert_eq!(classify_bonds(&[], &[]), vec![]);
     assert_eq!(classify_bonds(&[(1, 9)], &[]), vec![((1, 9), Mark::Broken)]);
 
-    let mut s = chain(5);
+    // (Spheres 1e-3 R apart: only the states given touch, `Scene::touching_pairs`.)
+    let c: Vec<[f64; 3]> = (0..5)
+        .map(|k| [0.1 + 2.001 * R * k as f64, 0.5, 0.5])
+        .collect();
+    let mut s = scene_at(&c);
     touching(&mut s, &[(1, 2), (2, 3), (3, 4)]);
     // A bridge 4-5 in the reference.
     let p = pair(&s, 4, 5, state(false, 0.0, 0.0, Some((0.1, 0.0))));

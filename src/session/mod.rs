@@ -3,6 +3,7 @@
 //! output. A command that fails changes nothing.
 
 pub mod exec;
+mod generation;
 pub mod input;
 pub mod interrupt;
 pub mod progress;
@@ -249,6 +250,9 @@ impl Session {
         match cmd {
             Command::Cycle { n, servo } => return self.cycle_servo(*n, servo),
             Command::Relax { kmax, fmax, nmax } => return self.relax(*kmax, *fmax, *nmax),
+            Command::Agenerate { .. }
+            | Command::Rgenerate { .. }
+            | Command::RgenerateSeed { .. } => return self.generate(cmd),
             _ => {}
         }
         let json = self.json;
@@ -356,7 +360,33 @@ impl Session {
             targets.push((t, v));
         }
         let scene = self.scene_mut()?;
+        if scene.settings().two_d
+            && let Some(&(t, _)) = targets
+                .iter()
+                .find(|(t, _)| matches!(t, StressTarget::Mean | StressTarget::Axis(2)))
+        {
+            return Err(format!(
+                "Cycle: in a 2-D scene (`2-D`) the cell strains only in the x-y plane (GRID and PRObe refuse ed33 too): {} would strain z, and σ33 of a planar layer is not a stress it can reach; hold the in-plane mean with S1MS2 ((σ11+σ22)/2) or the axes with S11 and S22",
+                if t == StressTarget::Mean {
+                    "S0 holds (σ11+σ22+σ33)/3 and"
+                } else {
+                    "S33"
+                }
+            ));
+        }
         let servo = Servo::new(scene.cell(), &targets);
+        if let Some(&(t, _, _)) = servo.targets.iter().find(|&&(t, _, axes)| {
+            matches!(t, StressTarget::Mean | StressTarget::Mean12) && axes == [false; 4]
+        }) {
+            let (name, held) = if t == StressTarget::Mean {
+                ("S0", "S11, S22 and S33")
+            } else {
+                ("S1MS2", "S11 and S22")
+            };
+            return Err(format!(
+                "Cycle: {name} has no axis left to adjust: {held} hold every axis it averages; give {name} alone, or drop one of the axis targets"
+            ));
+        }
         if servo
             .targets
             .iter()

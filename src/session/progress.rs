@@ -1,5 +1,6 @@
-//! The progress line of a long `Cycle` or `RELax` on a terminal: cycle, simulated time,
-//! particle-steps per second and the time left, redrawn in place on standard error about
+//! The progress line of a long `Cycle` or `RELax` on a terminal (cycle, simulated time,
+//! particle-steps per second and the time left) or of a long generation command (how far it
+//! has got and the time left), redrawn in place on standard error about
 //! twice a second once the command has run for two seconds, and erased when it ends.
 //! Nothing of it reaches a file, a pipe or `--json` output.
 
@@ -45,18 +46,24 @@ impl Progress {
         self.offset = done;
     }
 
-    /// Called before each step: redraws the line when it is time.
-    pub fn tick(&mut self, cycle: u64, time: f64, particles: usize, done: u64) {
+    /// The seconds since the start when the line is due to be redrawn (and the next time
+    /// set), else `None`.
+    fn due(&mut self) -> Option<f64> {
         if !self.enabled {
-            return;
+            return None;
         }
         let now = Instant::now();
         if now < self.next_draw {
-            return;
+            return None;
         }
         self.next_draw = now + Duration::from_millis(500);
+        Some((now - self.start).as_secs_f64())
+    }
+
+    /// Called before each step: redraws the line when it is time.
+    pub fn tick(&mut self, cycle: u64, time: f64, particles: usize, done: u64) {
+        let Some(elapsed) = self.due() else { return };
         let done = self.offset + done;
-        let elapsed = (now - self.start).as_secs_f64();
         let rate = done as f64 * particles as f64 / elapsed.max(1e-9);
         let left = if done > 0 {
             let secs = elapsed / done as f64 * (self.total - done.min(self.total)) as f64;
@@ -69,6 +76,43 @@ impl Progress {
             "cycle {cycle} ({done} of {} done, {pct:.0} %)  t = {time:.4e} s  {rate:.3e} particle-steps/s  {left}  (Ctrl-C stops)",
             self.total
         );
+        self.draw(&line);
+    }
+
+    /// A long generation command's line (`sim::generate::Advance`): how far it has got and
+    /// the time left (for RGEnerate at the recent rate of placement, which can only fall:
+    /// "at least").
+    pub fn tick_advance(&mut self, a: &crate::sim::generate::Advance) {
+        let Some(elapsed) = self.due() else { return };
+        let pct = 100.0 * a.done as f64 / a.total.max(1) as f64;
+        let mut line = format!(
+            "{}: {} of {} {} ({pct:.0} %)",
+            a.command, a.done, a.total, a.what
+        );
+        let left = if a.tries > 0 {
+            line.push_str(&format!(
+                ", {} tries, {:.2} % of the recent ones placed one",
+                a.tries,
+                100.0 * a.rate
+            ));
+            let need = a.total.saturating_sub(a.done) as f64;
+            (a.rate > 0.0).then(|| {
+                format!(
+                    "at least {} left",
+                    duration(need / a.rate * elapsed / a.tries as f64)
+                )
+            })
+        } else {
+            (a.done > 0).then(|| {
+                let secs = elapsed / a.done as f64 * a.total.saturating_sub(a.done) as f64;
+                format!("about {} left", duration(secs))
+            })
+        };
+        let left = left.unwrap_or_else(|| "time left unknown".into());
+        self.draw(&format!("{line}  {left}  (Ctrl-C stops)"));
+    }
+
+    fn draw(&mut self, line: &str) {
         let mut e = std::io::stderr().lock();
         let _ = write!(e, "\r\x1b[K{line}");
         let _ = e.flush();

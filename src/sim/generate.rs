@@ -221,6 +221,125 @@ pub fn lattice_sites(
     }
 }
 
+/// How far a long generation command has got, for the session's progress line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Advance {
+    /// The command's name as the user reads it (`RGEnerate`, `AGEnerate`, `RGEnerate Seed`).
+    pub command: &'static str,
+    /// What `done` and `total` count: "particles placed", "sites examined", "numbers drawn".
+    pub what: &'static str,
+    pub done: u64,
+    pub total: u64,
+    /// `RGEnerate`: the tries so far (0 otherwise) and the fraction of the recent tries that
+    /// placed a particle.
+    pub tries: u64,
+    pub rate: f64,
+}
+
+/// The session's watch over a long generation command, called every [`WATCH_EVERY`] steps:
+/// given how far it has got, it answers whether to go on. `false` (Ctrl-C) stops the
+/// command, which then changes nothing. The simulation core does no I/O: the progress line
+/// and the signal are the session's.
+pub type Watch<'a> = &'a mut dyn FnMut(&Advance) -> bool;
+
+/// Tries, sites or numbers between two calls of a [`Watch`] (a few ms of work).
+pub const WATCH_EVERY: u64 = 4096;
+
+/// `RGEnerate`'s look-out for a target that random placement cannot reach.
+///
+/// Random sequential addition slows down as the free room fills: near the jamming limit
+/// (a volume fraction of 0.38 for equal spheres, 0.55 for discs) the fraction approaches its
+/// limit as t^(-1/d) in the number of tries t (Feder's law), so the rate of placement falls
+/// as p ∝ t^(-α) with α → 1 + 1/d, and all that is still to come after try t is
+/// ∫_t^∞ p = p t/(α − 1). The look-out measures α over two windows of tries, [t/4, t/2] and
+/// [t/2, t], and gives up when even twice that (with α no larger than 1 + 1/d, the rate
+/// taken at the upper end of its statistical error) falls short of the target, or when the
+/// rate, which can only fall, cannot reach it within the try limit. Early on, while the
+/// rate has not yet started to fall as a power (α ≤ 1), it never gives up; a scene filled
+/// before the command began makes the measured α smaller, so the estimate larger (never
+/// the other way round).
+#[derive(Clone, Debug)]
+pub struct RateWatch {
+    /// (tries, placed) at tries = 1024 · 2^(k/4).
+    marks: Vec<(u64, u64)>,
+    next: f64,
+    /// The space's dimension (2 in a `TWOd` scene).
+    dim: f64,
+}
+
+/// The rate as an upper bound: `k` events in `w` tries (about two standard errors above).
+fn rate_upper(k: u64, w: u64) -> f64 {
+    let k = k as f64;
+    (k + 2.0 * k.sqrt() + 2.0) / w.max(1) as f64
+}
+
+impl RateWatch {
+    pub fn new(two_d: bool) -> Self {
+        RateWatch {
+            marks: Vec::new(),
+            next: 1024.0,
+            dim: if two_d { 2.0 } else { 3.0 },
+        }
+    }
+
+    /// After try `tries`, with `placed` of `target` particles placed and at most `limit`
+    /// tries: `Some` when the target cannot be reached.
+    pub fn hopeless(
+        &mut self,
+        tries: u64,
+        placed: u64,
+        target: u64,
+        limit: u64,
+    ) -> Option<Hopeless> {
+        if (tries as f64) < self.next {
+            return None;
+        }
+        self.next *= 2f64.powf(0.25);
+        self.marks.push((tries, placed));
+        let k = self.marks.len();
+        if k < 9 {
+            return None;
+        }
+        let (t, m) = self.marks[k - 1];
+        let (t2, m2) = self.marks[k - 5];
+        let (t4, m4) = self.marks[k - 9];
+        let (k2, w2) = (m - m2, t - t2);
+        let (k1, w1) = (m2 - m4, t2 - t4);
+        let r2 = rate_upper(k2, w2);
+        // The rate can only fall: within the tries left it places at most r2 a try.
+        let mut most = placed as f64 + r2 * limit.saturating_sub(tries) as f64;
+        // The power-law tail, once the windows have counts to measure it by (or the rate
+        // has fallen to nothing).
+        if k1 + k2 >= 20 || (k2 == 0 && k1 > 0) {
+            let mid = |a: u64, b: u64| 0.5 * (a + b) as f64;
+            let alpha = if k2 == 0 {
+                f64::INFINITY
+            } else {
+                ((k1 as f64 / w1 as f64) / (k2 as f64 / w2 as f64)).ln()
+                    / (mid(t2, t) / mid(t4, t2)).ln()
+            };
+            let alpha = alpha.min(1.0 + 1.0 / self.dim);
+            if alpha > 1.05 {
+                most = most.min(placed as f64 + 2.0 * r2 * t as f64 / (alpha - 1.0));
+            }
+        }
+        (most < target as f64).then_some(Hopeless {
+            most: most.floor() as u64,
+            recent: (k2, w2),
+        })
+    }
+}
+
+/// What [`RateWatch::hopeless`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hopeless {
+    /// The most particles the placement could reach within the try limit by the estimate
+    /// (those placed included).
+    pub most: u64,
+    /// Particles placed in the last half of the tries, and those tries.
+    pub recent: (u64, u64),
+}
+
 /// Spreads the low 21 bits of `v` to every third bit (Morton interleaving).
 fn spread3(v: u64) -> u64 {
     let mut x = v & 0x1f_ffff;
@@ -308,6 +427,95 @@ mod tests {
                 if brute { hits += 1 } else { misses += 1 }
             }
             assert!(hits > 200 && misses > 200, "{hits} {misses}");
+        }
+    }
+
+    /// The tries at which random sequential addition placed each sphere: periodic box of
+    /// side 1, radii from `radius` (a new one after each placement, as `RGEnerate`), `pre`
+    /// spheres placed before the watched run begins, `tries` tries in all.
+    fn rsa(two_d: bool, radius: &dyn Fn(&mut Rng) -> f64, pre: usize, tries: u64) -> Vec<u64> {
+        let mut sc = Scene::new([1.0, 1.0, 1.0], 10, 100_000, 0);
+        sc.settings.periodic = [true; 3];
+        let mut rng = Rng::new(11);
+        let mut idx = OverlapIndex::new(&sc, 0.2);
+        let mut r = radius(&mut rng);
+        let mut placed = Vec::new();
+        let mut t = 0;
+        while t < tries {
+            let mut x = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
+            if two_d {
+                x.z = 0.5;
+            }
+            if placed.len() >= pre {
+                t += 1;
+            }
+            if idx.overlaps(&sc, &x, r).is_none() {
+                idx.insert(&x, r);
+                if placed.len() >= pre {
+                    placed.push(t);
+                } else {
+                    placed.push(0);
+                }
+                r = radius(&mut rng);
+            }
+        }
+        placed.split_off(pre)
+    }
+
+    /// [`RateWatch`] replayed over a run whose placements came at the tries `at`, for
+    /// target `n` and `RGEnerate`'s try limit: the try it gave up at, if it did.
+    fn gives_up_at(at: &[u64], n: u64, two_d: bool) -> Option<u64> {
+        let limit = 1000 * n + 10_000;
+        let end = at
+            .get(n as usize - 1)
+            .copied()
+            .unwrap_or(u64::MAX)
+            .min(limit);
+        let mut w = RateWatch::new(two_d);
+        loop {
+            let t = w.next.ceil() as u64;
+            if t > end {
+                return None;
+            }
+            let placed = at.partition_point(|&x| x <= t) as u64;
+            if w.hopeless(t, placed, n, limit).is_some() {
+                return Some(t);
+            }
+        }
+    }
+
+    /// The look-out never refuses a target that the try limit lets random placement reach
+    /// (every target up to the last reached, in runs of equal spheres, discs, a spread of
+    /// radii and a box already half filled), and gives up on one beyond reach long before the
+    /// limit.
+    #[test]
+    fn rgenerate_gives_up_only_on_targets_beyond_reach() {
+        let fixed = |r: f64| move |_: &mut Rng| r;
+        let runs: [(&str, bool, &dyn Fn(&mut Rng) -> f64, usize); 4] = [
+            ("spheres", false, &fixed(0.08), 0),
+            ("discs", true, &fixed(0.03), 0),
+            ("spread", false, &|g: &mut Rng| 0.05 + 0.05 * g.uniform(), 0),
+            ("half full", false, &fixed(0.08), 80),
+        ];
+        for (name, two_d, radius, pre) in runs {
+            let tries = 600_000;
+            let at = rsa(two_d, radius, pre, tries);
+            let most = at.len() as u64;
+            for n in 1..=most {
+                let reached = at[n as usize - 1] <= 1000 * n + 10_000;
+                let gave_up = gives_up_at(&at, n, two_d);
+                if reached {
+                    assert_eq!(gave_up, None, "{name}: target {n} refused (of {most})");
+                }
+            }
+            // Far beyond reach: given up within a few per cent of the limit.
+            for (n, part) in [(most + most / 5, 2), (3 * most, 20), (100 * most, 100)] {
+                let t = gives_up_at(&at, n, two_d).expect("gave up");
+                assert!(
+                    t < (1000 * n + 10_000) / part && t < tries,
+                    "{name}: {n} given up at {t}"
+                );
+            }
         }
     }
 

@@ -23,7 +23,9 @@
 //! 5. **laws** (`params`, `kinematics`, `interact`, `elastoplastic`, `mdr`, `rolling`,
 //!    `liquid`, `lanes`, `contact_time`): the per-pair constants, the force of one contact,
 //!    rolling, liquid bridges, the step limit.
-//! 6. **search** (`search`): the candidate pairs (cell lists, the Lees–Edwards cell).
+//! 6. **search** (`search`, `scene/touch`): the candidate pairs (cell lists, the Lees–Edwards
+//!    cell); which pairs touch now (the one definition of every output: the contact state, or
+//!    the surfaces' gap, found by the search before a first Cycle).
 //! 7. **step** (`cycle`, `leapfrog`, `parallel/schedule`): a `Cycle`: forces, update,
 //!    checks, the cell's share of a step, the history's rows, the split among threads.
 //! 8. **drivers** (`place`, `generate`, `probe`, `scene/edit`, `sim`): what commands do to a

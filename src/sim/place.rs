@@ -7,8 +7,8 @@
 //! masses, and the first `Cycle` names what is still missing.
 
 use super::generate::{
-    CreateIndex, OverlapIndex, first_overlap, inside, lattice_ranges, lattice_sites,
-    max_lattice_sites, morton_order, sphere_mass,
+    Advance, CreateIndex, OverlapIndex, RateWatch, WATCH_EVERY, Watch, first_overlap, inside,
+    lattice_ranges, lattice_sites, max_lattice_sites, morton_order, sphere_mass,
 };
 use super::model::WallGeom;
 use super::scene::{LatticeRun, MAX_MATERIALS, Material, Region, Scene, Vec3, Wall};
@@ -97,6 +97,7 @@ pub fn lattice(
     nagg: usize,
     origin: [f64; 3],
     step: [f64; 3],
+    watch: Watch,
 ) -> Result<String, String> {
     let r = radius_for(scene, size)?;
     let rho = generation_density(scene, material)?;
@@ -130,7 +131,24 @@ pub fn lattice(
     let mut idx = OverlapIndex::new(scene, r);
     let mut accepted = Vec::new();
     let mut skipped = 0;
+    let (mut seen, mut stopped) = (0u64, false);
+    let total = u64::try_from(count).unwrap_or(u64::MAX);
     lattice_sites(scene, origin, step, range, |x| {
+        seen += 1;
+        if seen.is_multiple_of(WATCH_EVERY) {
+            let a = Advance {
+                command: "AGEnerate",
+                what: "sites examined",
+                done: seen,
+                total,
+                tries: 0,
+                rate: 0.0,
+            };
+            if !watch(&a) {
+                stopped = true;
+                return false;
+            }
+        }
         if !inside(scene, region.as_ref(), &x, r) {
             return true;
         }
@@ -143,6 +161,11 @@ pub fn lattice(
         // One more than fits is enough to refuse (below).
         accepted.len() <= free
     });
+    if stopped {
+        return Err(format!(
+            "AGEnerate stopped after {seen} of {total} sites: nothing was placed (the scene is as before the command)"
+        ));
+    }
     // All or nothing: the capacity is checked before anything is added.
     if accepted.len() > free {
         return Err(format!(
@@ -175,13 +198,17 @@ pub fn lattice(
 /// `RGEnerate`: `n` particles at random places without overlap, numbered along a Morton
 /// curve; with `walls`, only where the whole particle lies on the particles' side of every
 /// wall (inside a die), the draws confined to the walls' bounding box ([`walls_box`]).
+///
+/// The places are found first, then the particles added. When the target cannot be reached
+/// (the rate of placement shows it, [`RateWatch`], or the try limit of 1000 n + 10,000 tries
+/// is spent) it gives up with the particles that found room, as TRUBAL did at its try limit,
+/// and says why. When `watch` says stop (Ctrl-C) nothing is placed and the random numbers
+/// drawn are given back (the scene is as before the command).
 pub fn random(
     scene: &mut Scene,
-    n: usize,
-    size: usize,
-    material: usize,
-    nagg: usize,
+    (n, size, material, nagg): (usize, usize, usize, usize),
     walls: bool,
+    watch: Watch,
 ) -> Result<String, String> {
     let r = radius_for(scene, size)?;
     let rho = generation_density(scene, material)?;
@@ -207,16 +234,37 @@ pub fn random(
         (lo, hi)
     };
     let clear_of_walls = |x: &Vec3, r: f64| !walls || shapes.iter().all(|s| s.gap(x, r).0 >= 0.0);
-    ensure_material(scene, material);
-    let limit = 1000 * n + 10_000;
-    let (start, first_id) = (scene.particles.len(), scene.next_id);
+    let limit = (n as u64).saturating_mul(1000).saturating_add(10_000);
+    let rng_before = scene.rng.clone();
     let r_big = scene.max_radius_of(size).unwrap_or(r);
     let mut idx = OverlapIndex::new(scene, r_big);
-    let mut made = 0;
-    let mut tries = 0;
+    let mut placed: Vec<(Vec3, f64)> = Vec::new();
+    let mut tries: u64 = 0;
+    let mut rates = RateWatch::new(scene.settings.two_d);
+    let mut recent = (0u64, 0usize);
     let mut r = r;
     let mut need_radius = true;
-    while made < n && tries < limit {
+    let mut hopeless = None;
+    while placed.len() < n && tries < limit {
+        if tries.is_multiple_of(WATCH_EVERY) && tries > 0 {
+            let rate = (placed.len() - recent.1) as f64 / (tries - recent.0) as f64;
+            recent = (tries, placed.len());
+            let a = Advance {
+                command: "RGEnerate",
+                what: "particles placed",
+                done: placed.len() as u64,
+                total: n as u64,
+                tries,
+                rate,
+            };
+            if !watch(&a) {
+                scene.rng = rng_before;
+                return Err(format!(
+                    "RGEnerate stopped after {tries} tries with {} of {n} particles placed: nothing was placed (the scene is as before the command)",
+                    placed.len()
+                ));
+            }
+        }
         tries += 1;
         if need_radius {
             r = scene.draw_radius(size).unwrap_or(r);
@@ -232,35 +280,30 @@ pub fn random(
         } else {
             x
         };
-        if !inside(scene, region.as_ref(), &x, r)
-            || !clear_of_walls(&x, r)
-            || idx.overlaps(scene, &x, r).is_some()
+        if inside(scene, region.as_ref(), &x, r)
+            && clear_of_walls(&x, r)
+            && idx.overlaps(scene, &x, r).is_none()
         {
-            continue;
+            idx.insert(&x, r);
+            placed.push((x, r));
+            need_radius = true;
         }
-        add(
-            scene,
-            (x, Vec3::zeros(), Vec3::zeros()),
-            r,
-            rho,
-            (size, material, nagg),
-        );
-        idx.insert(&x, r);
-        made += 1;
-        need_radius = true;
+        hopeless = rates.hopeless(tries, placed.len() as u64, n as u64, limit);
+        if hopeless.is_some() {
+            break;
+        }
     }
-    // Number the new particles along a Morton curve (the random placement order
-    // would scatter neighbours over memory: 2.6 × the cost per step at 10^6).
-    let order = morton_order(&scene.particles.pos[start..], lo, hi);
-    scene.particles.permute_tail(start, &order);
-    for (k, id) in scene.particles.id[start..].iter_mut().enumerate() {
-        *id = first_id + k as u32;
-    }
-    scene.contacts.mark_stale();
+    let made = placed.len();
+    let start = commit_random(scene, &placed, (lo, hi), rho, (size, material, nagg));
     let mut text = if made < n {
-        format!(
-            "RGEnerate: only {made} of {n} particles placed: the try limit ({limit} tries) was reached"
-        )
+        let why = match hopeless {
+            Some(h) => format!(
+                "the rate of placement ({} of the last {} tries placed one, and falling) showed that at most about {} could be placed within the try limit ({limit} tries)",
+                h.recent.0, h.recent.1, h.most
+            ),
+            None => format!("the try limit ({limit} tries) was reached"),
+        };
+        format!("RGEnerate: only {made} of {n} particles placed in {tries} tries: {why}")
     } else {
         format!("RGEnerate: {made} particles placed in {tries} tries (limit {limit})")
     };
@@ -269,6 +312,33 @@ pub fn random(
         text.push_str(&against_walls(&scene.particles, start, &shapes));
     }
     Ok(text)
+}
+
+/// Adds the particles `RGEnerate` found room for, numbered along a Morton curve through the
+/// box `lo`–`hi` (the random placement order would scatter neighbours over memory: 2.6 × the
+/// cost per step at 10^6); returns the index of the first.
+fn commit_random(
+    scene: &mut Scene,
+    placed: &[(Vec3, f64)],
+    (lo, hi): (Vec3, Vec3),
+    rho: f64,
+    (size, material, nagg): (usize, usize, usize),
+) -> usize {
+    ensure_material(scene, material);
+    let pos: Vec<Vec3> = placed.iter().map(|p| p.0).collect();
+    let start = scene.particles.len();
+    for k in morton_order(&pos, lo, hi) {
+        let (x, r) = placed[k];
+        add(
+            scene,
+            (x, Vec3::zeros(), Vec3::zeros()),
+            r,
+            rho,
+            (size, material, nagg),
+        );
+    }
+    scene.contacts.mark_stale();
+    start
 }
 
 /// `RGEnerate ... WAlls`: the box `lo`–`hi` (the region's or the work-space's) narrowed to
@@ -413,9 +483,29 @@ pub fn delete_in_box(scene: &mut Scene, b: [f64; 6]) -> Result<String, String> {
     ))
 }
 
-/// `RGEnerate Seed n`: draws and discards `n` random numbers.
-pub fn discard_random(scene: &mut Scene, n: u64) -> Result<String, String> {
-    for _ in 0..n {
+/// `RGEnerate Seed n`: draws and discards `n` random numbers (all or none: `watch` saying
+/// stop gives them back).
+pub fn discard_random(scene: &mut Scene, n: u64, watch: Watch) -> Result<String, String> {
+    let before = scene.rng.clone();
+    // (Checked every 2^20 numbers: a few ms.)
+    let every = WATCH_EVERY * 256;
+    for k in 0..n {
+        if k.is_multiple_of(every) && k > 0 {
+            let a = Advance {
+                command: "RGEnerate Seed",
+                what: "numbers drawn",
+                done: k,
+                total: n,
+                tries: 0,
+                rate: 0.0,
+            };
+            if !watch(&a) {
+                scene.rng = before;
+                return Err(format!(
+                    "RGEnerate Seed stopped after {k} of {n} numbers: the generator is as before the command"
+                ));
+            }
+        }
         scene.rng.uniform();
     }
     Ok(String::new())

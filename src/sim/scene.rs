@@ -18,6 +18,7 @@ mod reference;
 pub use ledger::Ledger;
 pub use overlap::{CreateIndex, OverlapIndex};
 pub use reference::Reference;
+pub mod touch;
 
 pub type Vec3 = Vector3<f64>;
 

@@ -515,3 +515,51 @@ fn the_ring_servo_holds_the_principal_stress_angle() {
         sc.cell().strain[3]
     );
 }
+
+/// Issue 51 item 8, through the binary: what passed every check and blew up two steps
+/// later, or was silently ignored, is refused before the first step, and nothing runs: in
+/// 2-D a servo target that strains z (S0, S33; GRID and PRObe refuse ed33 there too), S0
+/// with every axis held by S11, S22 and S33, a servo's edmax or a GRID rate straining the
+/// cell by more than 1 % a step, a gain far beyond divergence at the target stress (a gas has
+/// no contacts to measure it by).
+#[test]
+fn servo_and_rate_slips_are_refused_before_the_first_step() {
+    let base = "start 1e-3 1e-3 1e-3 10 100 0\nrad 1e-4 1\nymd 1e7 1\npra 0.3 1\ndensity 1000 1\n\
+                cr 5e-4 5e-4 5e-4 0 0 0 0 0 0 1 1\n";
+    let cases = [
+        (
+            "2-d\ngain 1e-3 10\ncycle 10 s0 1e4",
+            "S0 holds (σ11+σ22+σ33)/3",
+        ),
+        ("2-d\ngain 1e-3 10\ncycle 10 s33 1e4", "in a 2-D scene"),
+        (
+            "gain 1e-3 10\ncycle 3000 s11 5e4 s22 5e4 s33 5e4 s0 1e5",
+            "S0 has no axis left to adjust",
+        ),
+        (
+            "gain 1e-3 10\ncycle 10 s11 5e4 s22 5e4 s1ms2 1e5",
+            "S1MS2 has no axis left",
+        ),
+        ("gain 1e30 1e30\ncycle 10 s0 1e4", "GAIN edmax = 1e30"),
+        (
+            "gain 1e30 1\ncycle 10 s0 1e4",
+            "would make the stress servo diverge",
+        ),
+        ("grid 1e300 0 0 0 0 0\ncycle 10", "GRID ed11 = 1e300"),
+        ("grid 0 0 0 1e300 0 0\ncycle 10", "GRID ed12 = 1e300"),
+    ];
+    for (extra, want) in cases {
+        let run = trubal_json(&format!("{base}{extra}\nprint info\n"), &["--keep-going"]);
+        assert!(!run.ok, "`{extra}` was accepted");
+        assert!(run.stderr.contains(want), "`{extra}`: {}", run.stderr);
+        let info = &printed(&run, "info")[0];
+        assert_eq!(info["cycle"], 0, "`{extra}`: {info}");
+    }
+    // What the tests of the servo use still runs (2-D with S1MS2 too).
+    let run = trubal_json(
+        &format!("{base}2-d\ngain 1e-3 10\ncycle 10 s1ms2 1e3\nprint info\n"),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    assert_eq!(printed(&run, "info")[0]["cycle"], 10);
+}

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::process::Stdio;
 
-fn run(input: &str, args: &[&str]) -> (bool, String, String) {
+pub(crate) fn run(input: &str, args: &[&str]) -> (bool, String, String) {
     let dir = std::env::temp_dir().join(format!(
         "trubal-cli-{}-{}",
         std::process::id(),
@@ -122,13 +122,17 @@ fn capacity_and_full_region() {
         err.contains("exceed nball") || err.contains("overlap"),
         "{err}"
     );
-    // Generation into a full region reports the try limit.
+    // Generation into a full region gives up (one particle fits) and says so.
     let (ok, out, err) = run(
-        "start 1 1 1 10 100 1\nrad 0.1 1\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\naggl 1 0.5 0.5 0.5 0.15\nrge 50 1 1 1\n",
+        "start 1 1 1 10 100 1\nrad 0.1 1\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\naggl 1 0.5 0.5 0.5 0.15\nrge 50 1 1 1\nprint info\n",
         &["-"],
     );
     assert!(ok, "{err}");
-    assert!(out.contains("try limit"), "{out}");
+    assert!(
+        out.contains("only 1 of 50 particles placed") && out.contains("try limit"),
+        "{out}"
+    );
+    assert!(out.contains("balls 1 "), "{out}");
 }
 
 #[test]
@@ -603,6 +607,51 @@ fn values_out_of_physical_sense_are_refused() {
     );
     assert!(
         out.contains("fraction") || out.contains("FRAction"),
+        "{out}"
+    );
+}
+
+/// Issue 51 item 1: a target that random placement cannot reach is given up in well under a
+/// second (it took 196 s to reach the try limit), keeping the particles that found room, and
+/// saying why.
+#[test]
+fn an_impossible_rgenerate_gives_up_at_once() {
+    let t0 = std::time::Instant::now();
+    let (ok, out, err) = run(
+        "start 1 1 1 10 200000 2\nrad 0.02 1\nrgen 100000 1 1 0\nprint info\n",
+        &["-"],
+    );
+    assert!(ok, "{err}");
+    assert!(t0.elapsed() < std::time::Duration::from_secs(10));
+    let line = out.lines().next().unwrap();
+    assert!(line.starts_with("RGEnerate: only "), "{line}");
+    assert!(line.contains("of 100000 particles placed in"), "{line}");
+    assert!(line.contains("the rate of placement"), "{line}");
+    let placed: usize = line["RGEnerate: only ".len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(out.contains(&format!("balls {placed} ")), "{out}");
+}
+
+/// The give-up rule refuses no target the try limit lets random placement reach: 670
+/// spheres of R = 0.05 in a 1 m box (with the default seed the 670th is placed at try
+/// 666,286 of the 680,000 allowed, a volume fraction of 0.35) succeed; 672 reach the limit.
+#[test]
+fn a_dense_rgenerate_near_the_try_limit_still_succeeds() {
+    let head = "start 1 1 1 10 2000 2\nrad 0.05 1\n";
+    let (ok, out, err) = run(&format!("{head}rgen 670 1 1 0\n"), &["-"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("670 particles placed in 666286 tries"),
+        "{out}"
+    );
+    let (ok, out, err) = run(&format!("{head}rgen 672 1 1 0\n"), &["-"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("only 670 of 672 particles placed in 682000 tries: the try limit"),
         "{out}"
     );
 }

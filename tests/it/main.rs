@@ -36,4 +36,5 @@ mod sweep;
 mod terminal;
 mod threads;
 mod timestep_study;
+mod touching;
 mod trust;

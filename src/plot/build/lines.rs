@@ -214,7 +214,7 @@ pub(super) fn cnd(
     let Some(r) = &scene.reference() else { return };
     let p = &scene.particles();
     let bridges = set == BondSet::Bridges;
-    let now = scene.contacts().bonded_pairs(bridges);
+    let now = scene.bonded_pairs(bridges);
     let reference = if bridges { &r.bridges } else { &r.contacts };
     let classes = classify_bonds(reference, &now);
     let mut counts = [0usize; 3];

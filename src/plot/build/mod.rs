@@ -363,7 +363,7 @@ fn discs(scene: &Scene, proj: &Projection, items: &[PlotItem], pic: &mut Picture
     };
     let fills: Vec<_> = match cluster {
         Some(bridges) => {
-            let bonds = scene.contacts().bonded_pairs(bridges);
+            let bonds = scene.bonded_pairs(bridges);
             // Label = a particle index of the cluster; size per label.
             let labels = crate::analysis::cluster_labels(&p.id, &bonds);
             let mut sizes = vec![0usize; labels.len()];

@@ -2,6 +2,7 @@
 //! and leaves the scene as it was (the caller works on a copy for multi-step changes).
 
 use crate::lang::command::*;
+use crate::sim::generate::Watch;
 use crate::sim::place;
 use crate::sim::scene::{Rayleigh, Scene, Vec3, Wall};
 use crate::sim::walls;
@@ -25,6 +26,12 @@ fn existing_material(scene: &Scene, m: usize) -> Result<(), String> {
 /// Applies a scene command: the session's handlers by command group, and particle placement
 /// through `sim::place`.
 pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
+    apply_watched(scene, cmd, &mut |_| true)
+}
+
+/// [`apply`], with the session's watch over the generation commands that can run long
+/// (`AGEnerate`, `RGEnerate`, `RGEnerate Seed`: progress line and Ctrl-C).
+pub fn apply_watched(scene: &mut Scene, cmd: &Command, watch: Watch) -> Result<String, String> {
     match cmd {
         Command::Radius { .. }
         | Command::Density { .. }
@@ -50,17 +57,17 @@ pub fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
             nagg,
             origin,
             step,
-        } => place::lattice(scene, *size, *material, *nagg, *origin, *step),
+        } => place::lattice(scene, *size, *material, *nagg, *origin, *step, watch),
         Command::Rgenerate {
             n,
             size,
             material,
             nagg,
             walls,
-        } => place::random(scene, *n, *size, *material, *nagg, *walls),
+        } => place::random(scene, (*n, *size, *material, *nagg), *walls, watch),
         Command::Move { nagg, d } => place::move_agglomerate(scene, *nagg, *d),
         Command::Delete { bounds } => place::delete_in_box(scene, *bounds),
-        Command::RgenerateSeed { n } => place::discard_random(scene, *n),
+        Command::RgenerateSeed { n } => place::discard_random(scene, *n, watch),
         Command::Dwall(_) | Command::Awall { .. } => walls_cmd::apply(scene, cmd),
         Command::Grid { .. } | Command::Gain { .. } | Command::Mode { .. } => {
             cell_cmd::apply(scene, cmd)

@@ -725,24 +725,6 @@ impl ContactStore {
         self.step.hot = hot;
     }
 
-    /// Bonds now: solid contacts that are active (`bridges` false) or live liquid bridges
-    /// (`bridges` true), as sorted id pairs.
-    pub fn bonded_pairs(&self, bridges: bool) -> Vec<(u32, u32)> {
-        let mut v: Vec<(u32, u32)> = self
-            .iter()
-            .filter(|p| {
-                if bridges {
-                    p.s.bridge.is_some()
-                } else {
-                    p.s.touching
-                }
-            })
-            .map(|p| (p.ida, p.idb))
-            .collect();
-        v.sort_unstable();
-        v
-    }
-
     /// Active solid contacts (particle–particle) and particle–wall.
     pub fn active_counts(&self) -> (usize, usize) {
         (

@@ -26,7 +26,63 @@ pub fn check(scene: &Scene) -> Result<Model, String> {
     check_cell(scene)?;
     check_gain(scene, &model)?;
     check_plane(scene)?;
+    if !p.is_empty() {
+        check_strain_steps(scene, &model)?;
+    }
     Ok(model)
+}
+
+/// The most the cell may strain in one step (1 %: no contact follows more).
+pub const MAX_STRAIN_STEP: f64 = 0.01;
+
+/// Rates and gains that no packing can follow, refused before the first step (they passed
+/// every other check and blew up two or three steps later): a `GRID` rate or the servo's
+/// `edmax` straining the cell by more than [`MAX_STRAIN_STEP`] a step, and a servo gain far
+/// beyond divergence once the packing reaches its target stress, whatever contacts it has
+/// now (a gas has none): the modulus of a Hertz packing at the stress σ is about
+/// (E*² σ)^(1/3), and a loop gain `g M Δt` a hundred times the divergence limit is no
+/// choice of gain but a slip.
+fn check_strain_steps(scene: &Scene, model: &Model) -> Result<(), String> {
+    let dt = model.dt;
+    let names = ["ed11", "ed22", "ed33", "ed12"];
+    for (k, name) in names.iter().enumerate() {
+        let ed = scene.cell.rate[k];
+        if !(ed.abs() * dt <= MAX_STRAIN_STEP) {
+            return Err(format!(
+                "GRID {name} = {ed:e} 1/s strains the cell by {:e} per step (dt = {dt:e} s): more than {MAX_STRAIN_STEP} a step, which no contact can follow; at this step the rates must stay within ±{:e} 1/s",
+                ed.abs() * dt,
+                MAX_STRAIN_STEP / dt
+            ));
+        }
+    }
+    let Some(servo) = &scene.derived.servo else {
+        return Ok(());
+    };
+    let [g, edmax] = scene.cell.gain;
+    if !(edmax * dt <= MAX_STRAIN_STEP) {
+        return Err(format!(
+            "GAIN edmax = {edmax:e} 1/s lets the servo strain the cell by {:e} per step (dt = {dt:e} s): more than {MAX_STRAIN_STEP} a step; give edmax at most {:e} 1/s",
+            edmax * dt,
+            MAX_STRAIN_STEP / dt
+        ));
+    }
+    let e_star = model.table.iter().map(|p| p.e_star).fold(0.0, f64::max);
+    let limit = if scene.cell.mode == 0 { 4.0 } else { 2.0 };
+    for &(t, target, _) in &servo.targets {
+        if t == crate::sim::cell::StressTarget::Ring {
+            continue;
+        }
+        let m = (e_star * e_star * target).cbrt();
+        let lg = g * m * dt;
+        if lg > 100.0 * limit {
+            return Err(format!(
+                "GAIN {g:e} would make the stress servo diverge once the packing carries its target of {target:e} Pa: its loop gain g M dt would be about {lg:.1e} (M ≈ (E*² σ)^(1/3) = {m:.3e} Pa, a Hertz packing's modulus at that stress), where mode {} diverges above {limit}; use GAIN of the order of {:.1e} or below (doc/cell.md, \"Choosing the servo gain\")",
+                scene.cell.mode,
+                0.5 * limit / (m * dt)
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A servo whose gain would make the cell's stress diverge at the present contacts

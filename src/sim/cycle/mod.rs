@@ -551,7 +551,7 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
 /// Appends one row to the history (columns of [`super::history::COLUMNS`]).
 pub fn record_history(scene: &mut Scene) {
     let st = super::energy::stored(scene);
-    let (c, cw) = scene.contacts.active_counts();
+    let (c, cw) = scene.touching_counts();
     let (b, bw) = scene.contacts.bridge_counts();
     let wf: f64 = scene.walls.iter().map(|w| w.normal_force).sum();
     let mut row = vec![

@@ -12,7 +12,7 @@ pub struct Reference {
     pub ids: Vec<u32>,
     pub pos: Vec<[f64; 3]>,
     pub rot: Vec<[f64; 3]>,
-    /// Solid contacts (a < b, by id) bearing load or adhesive.
+    /// Touching pairs (a < b, by id; `Scene::touching_pairs`).
     pub contacts: Vec<(u32, u32)>,
     /// Liquid bridges (a < b, by id).
     pub bridges: Vec<(u32, u32)>,
@@ -52,8 +52,8 @@ impl Reference {
             ids: p.id.clone(),
             pos: p.pos.iter().map(|v| [v.x, v.y, v.z]).collect(),
             rot: p.rot.iter().map(|v| [v.x, v.y, v.z]).collect(),
-            contacts: scene.contacts.bonded_pairs(false),
-            bridges: scene.contacts.bonded_pairs(true),
+            contacts: scene.bonded_pairs(false),
+            bridges: scene.bonded_pairs(true),
             kinetic: translation + rotation,
             bond_energy,
         }
