@@ -335,4 +335,11 @@ pub enum Command {
         always: bool,
     },
     TwoD,
+    /// `VTk`: a VTK frame now (`every: None`), or now and every k cycles (`Some(k)`), or the
+    /// schedule stopped (`off`); `prefix` names the series.
+    Vtk {
+        every: Option<u64>,
+        off: bool,
+        prefix: Option<String>,
+    },
 }

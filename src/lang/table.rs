@@ -637,6 +637,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Multiply the velocities of fixed degrees of freedom by r."
     ),
     def!(
+        "VTk",
+        "[EVery k] [FILe prefix] | OFF",
+        &["EVery", "FILe", "OFF"],
+        false,
+        b_vtk,
+        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended raw), and a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`); the series of a prefix grows with each frame this session writes."
+    ),
+    def!(
         "Window",
         "x1 x2 y1 y2 z1 z2",
         &[],
@@ -998,6 +1006,47 @@ fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
         });
     }
     Ok(Command::Plot { items })
+}
+
+const VTK_WORDS: &[Keyword<u8>] = &[kw("EVery", 0), kw("FILe", 1), kw("OFF", 2)];
+
+fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
+    let (mut every, mut off, mut prefix) = (None, false, None);
+    while let Some(t) = a.peek() {
+        let Some(k) = a.try_keyword(VTK_WORDS)? else {
+            break;
+        };
+        let again = match k {
+            0 => every.replace(a.int_in("k", 1, i64::MAX / 2)? as u64).is_some(),
+            1 => {
+                let w = a.peek();
+                let name = a.word("prefix")?;
+                let ok = !name.is_empty()
+                    && name
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+                if !ok {
+                    return Err(ParseError::at(
+                        w.expect("word() consumed a token"),
+                        format!("VTk FILe: the prefix `{name}` may hold letters, digits, `_`, `-` and `.` only (the directory is SET OUTdir)"),
+                    ));
+                }
+                prefix.replace(name).is_some()
+            }
+            _ => std::mem::replace(&mut off, true),
+        };
+        if again {
+            return Err(ParseError::at(t, format!("VTk: `{}` given twice", t.text)));
+        }
+    }
+    if off && (every.is_some() || prefix.is_some()) {
+        return Err(ParseError {
+            start: a.line_end,
+            end: a.line_end + 1,
+            message: "VTk OFF stands alone (it stops the schedule of EVery)".into(),
+        });
+    }
+    Ok(Command::Vtk { every, off, prefix })
 }
 
 fn b_pra(a: &mut Args) -> Result<Command, ParseError> {
