@@ -1017,7 +1017,9 @@ fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
             break;
         };
         let again = match k {
-            0 => every.replace(a.int_in("k", 1, i64::MAX / 2)? as u64).is_some(),
+            0 => every
+                .replace(a.int_in("k", 1, i64::MAX / 2)? as u64)
+                .is_some(),
             1 => {
                 let w = a.peek();
                 let name = a.word("prefix")?;
@@ -1028,7 +1030,9 @@ fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
                 if !ok {
                     return Err(ParseError::at(
                         w.expect("word() consumed a token"),
-                        format!("VTk FILe: the prefix `{name}` may hold letters, digits, `_`, `-` and `.` only (the directory is SET OUTdir)"),
+                        format!(
+                            "VTk FILe: the prefix `{name}` may hold letters, digits, `_`, `-` and `.` only (the directory is SET OUTdir)"
+                        ),
                     ));
                 }
                 prefix.replace(name).is_some()

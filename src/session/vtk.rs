@@ -32,10 +32,9 @@ impl Session {
             self.emit("VTk: no more frames during cycling");
             return Ok(Flow::Continue);
         }
-        let scene = self
-            .scene
-            .as_ref()
-            .ok_or_else(|| "no problem is defined yet: give STArt (or RESTart) first".to_string())?;
+        let scene = self.scene.as_ref().ok_or_else(|| {
+            "no problem is defined yet: give STArt (or RESTart) first".to_string()
+        })?;
         // A new prefix starts a new series; the same one goes on.
         let mut series = match (&self.vtk.series, prefix) {
             (Some(s), None) => s.clone(),

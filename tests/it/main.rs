@@ -36,3 +36,4 @@ mod terminal;
 mod threads;
 mod timestep_study;
 mod trust;
+mod vtk;

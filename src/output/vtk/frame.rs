@@ -153,8 +153,7 @@ pub fn contacts(scene: &Scene) -> PolyData {
         };
         let i = c.i as usize;
         let (gap, n) = wall_gap(&w.geom, &p.pos[i], p.radius[i]);
-        d.points
-            .push(a3(&(p.pos[i] + n * (gap + p.radius[i]))));
+        d.points.push(a3(&(p.pos[i] + n * (gap + p.radius[i]))));
         d.lines.push(&[i, d.points.len() - 1]);
         rows.push(row(c.id as i32, -1, c.wall as i32 + 1, &c.s, &n));
     }
@@ -166,8 +165,14 @@ pub fn contacts(scene: &Scene) -> PolyData {
     cd.push(int("b", &|r| r.b));
     cd.push(int("wall", &|r| r.wall));
     cd.push(Array::vectors("force", rows.iter().map(|r| r.force)));
-    cd.push(Array::vectors("normal_force_vector", rows.iter().map(|r| r.fnv)));
-    cd.push(Array::vectors("tangential_force_vector", rows.iter().map(|r| r.ftv)));
+    cd.push(Array::vectors(
+        "normal_force_vector",
+        rows.iter().map(|r| r.fnv),
+    ));
+    cd.push(Array::vectors(
+        "tangential_force_vector",
+        rows.iter().map(|r| r.ftv),
+    ));
     let names = [
         "normal_force",
         "tangential_force",
@@ -236,7 +241,10 @@ pub fn cell_box(scene: &Scene) -> PolyData {
         3,
         Values::U8(scene.settings().periodic.iter().map(|&b| b as u8).collect()),
     ));
-    d.field_data
-        .push(Array::new("offset", 1, Values::F64(vec![scene.cell().shift])));
+    d.field_data.push(Array::new(
+        "offset",
+        1,
+        Values::F64(vec![scene.cell().shift]),
+    ));
     d
 }

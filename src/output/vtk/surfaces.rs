@@ -43,12 +43,18 @@ pub fn walls(scene: &Scene) -> PolyData {
         1,
         Values::I32(owner.iter().map(|&k| k as i32 + 1).collect()),
     ));
-    cd.push(Array::vectors("force", owner.iter().map(|&k| walls[k].force)));
+    cd.push(Array::vectors(
+        "force",
+        owner.iter().map(|&k| walls[k].force),
+    ));
     cd.push(Array::scalars(
         "normal_force",
         owner.iter().map(|&k| walls[k].normal_force),
     ));
-    cd.push(Array::vectors("velocity", owner.iter().map(|&k| walls[k].vel)));
+    cd.push(Array::vectors(
+        "velocity",
+        owner.iter().map(|&k| walls[k].vel),
+    ));
     d
 }
 

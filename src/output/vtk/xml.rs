@@ -189,9 +189,8 @@ pub fn encode(p: &PolyData) -> Vec<u8> {
     o.cells("Lines", &p.lines);
     o.cells("Strips", &Cells::default());
     o.cells("Polys", &p.polys);
-    o.xml.push_str(
-        "    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _",
-    );
+    o.xml
+        .push_str("    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
     let mut bytes = o.xml.into_bytes();
     bytes.extend_from_slice(&o.data);
     bytes.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");
@@ -229,9 +228,18 @@ mod tests {
         };
         let f = start + at("f");
         assert_eq!(u64::from_le_bytes(bytes[f..f + 8].try_into().unwrap()), 4);
-        assert_eq!(f32::from_le_bytes(bytes[f + 8..f + 12].try_into().unwrap()), 7.5);
+        assert_eq!(
+            f32::from_le_bytes(bytes[f + 8..f + 12].try_into().unwrap()),
+            7.5
+        );
         let pt = start + at("Points");
-        assert_eq!(u64::from_le_bytes(bytes[pt..pt + 8].try_into().unwrap()), 48);
-        assert_eq!(f64::from_le_bytes(bytes[pt + 32..pt + 40].try_into().unwrap()), 4.0);
+        assert_eq!(
+            u64::from_le_bytes(bytes[pt..pt + 8].try_into().unwrap()),
+            48
+        );
+        assert_eq!(
+            f64::from_le_bytes(bytes[pt + 32..pt + 40].try_into().unwrap()),
+            4.0
+        );
     }
 }
