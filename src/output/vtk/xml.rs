@@ -92,6 +92,9 @@ impl Cells {
     pub fn len(&self) -> usize {
         self.offsets.len()
     }
+    pub fn is_empty(&self) -> bool {
+        self.offsets.is_empty()
+    }
 }
 
 /// One PolyData piece: points, cells, and the arrays on points, cells and the whole set
@@ -213,8 +216,10 @@ mod tests {
     /// the header names.
     #[test]
     fn arrays_sit_at_their_offsets() {
-        let mut p = PolyData::default();
-        p.points = vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]];
+        let mut p = PolyData {
+            points: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+            ..Default::default()
+        };
         p.lines.push(&[0, 1]);
         p.cell_data.push(Array::scalars("f", [7.5].into_iter()));
         let bytes = encode(&p);
