@@ -121,5 +121,6 @@ pub fn command_name(c: &Command) -> &'static str {
         Zero { .. } => "Zero",
         TwoD => "2-D",
         Vtk { .. } => "VTk",
+        Field { .. } => "FIEld",
     }
 }

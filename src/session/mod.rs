@@ -256,6 +256,12 @@ impl Session {
             Command::Vtk { every, off, prefix } => {
                 return self.vtk(*every, *off, prefix.as_deref());
             }
+            Command::Field {
+                nodes,
+                width,
+                lucy,
+                prefix,
+            } => return self.field(*nodes, *width, *lucy, prefix.as_deref()),
             _ => {}
         }
         let json = self.json;

@@ -59,6 +59,41 @@ impl Session {
         Ok(Flow::Continue)
     }
 
+    /// `FIEld n1 n2 n3 w [LUCy] [FILe prefix]`: the fields printed, and with a prefix
+    /// written as `.vti` (nothing is written when the grid is refused).
+    pub(super) fn field(
+        &mut self,
+        nodes: [usize; 3],
+        width: f64,
+        lucy: bool,
+        prefix: Option<&str>,
+    ) -> Result<Flow, String> {
+        use crate::output::fields;
+        let scene = self.scene.as_ref().ok_or_else(|| {
+            "no problem is defined yet: give STArt (or RESTart) first".to_string()
+        })?;
+        let spec = fields::Spec {
+            nodes,
+            width,
+            kernel: if lucy {
+                fields::Kernel::Lucy
+            } else {
+                fields::Kernel::Gauss
+            },
+        };
+        fields::check(scene, &spec)?;
+        let f = fields::compute(scene, &spec);
+        let (mut text, j) = fields::report(scene, &spec, &f);
+        if let Some(p) = prefix {
+            let name = format!("{p}_field_c{:08}.vti", scene.cycle());
+            let shown = crate::output::vtk::write_file(scene, &name, &fields::vti(scene, &f))?;
+            text.push_str(&format!("field written to {shown}\n"));
+        }
+        let out = if self.json { j.to_string() } else { text };
+        self.emit(&out);
+        Ok(Flow::Continue)
+    }
+
     /// `n` steps watched (progress, Ctrl-C), in runs that end where a frame is due, each
     /// frame written after its run. `base`: steps of the command done before (RELax).
     /// Returns the steps run (fewer than `n` when interrupted), and appends the notes of

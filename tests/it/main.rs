@@ -15,6 +15,7 @@ mod delete;
 mod doc_commands;
 mod elastic_gas;
 mod experiments;
+mod fields;
 mod fuzz_commands;
 mod fuzz_inputs;
 mod golden;

@@ -63,7 +63,8 @@ fn check_with_vtk(dir: &Path, prefix: &str) {
 
 /// A JKR agglomerate (58 spheres) pressed onto a plane inside a sphere and a cylinder, with
 /// an obstacle aside: particle pairs, wall contacts, broken bonds (clusters), displacements
-/// since `PLot SAve`, every kind of wall; frames every 500 cycles and one at the end.
+/// since `PLot SAve`, every kind of wall; frames every 500 cycles and one at the end, and
+/// the coarse-grained fields of the last as a `.vti`.
 const AGGLOMERATE: &str = "start 1e-3 1e-3 1e-3 1000 200 4
 fraction 0.2
 set open all
@@ -90,6 +91,7 @@ vtk every 500 file imp
 cycle 1200
 vtk
 print balls contacts walls grid clusters
+field 4 4 4 2.5e-4 file imp
 ";
 
 /// Two wet spheres whose bridge crosses the periodic x side (the line goes to B's image)

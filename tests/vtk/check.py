@@ -194,6 +194,23 @@ def check_cell(d, grid):
     same("cell origin", [b[0], b[2], b[4]], [0, 0, 0], f32=False)
 
 
+def check_field(path, fl):
+    """The .vti of FIEld: its grid and every array, in double precision, as the JSON."""
+    r = vtk.vtkXMLImageDataReader()
+    r.SetFileName(path)
+    r.Update()
+    if r.GetErrorCode() != 0:
+        fail(f"{path}: the VTK reader reports error {r.GetErrorCode()}")
+    d = r.GetOutput()
+    same("field nodes", d.GetDimensions(), fl["nodes"], f32=False)
+    same("field spacing", d.GetSpacing(), fl["spacing"], f32=False)
+    same("field origin", d.GetOrigin(), fl["origin"], f32=False)
+    a = arrays(d.GetPointData())
+    for name in ["density", "velocity", "stress_contact", "stress_kinetic", "solid_fraction", "coordination"]:
+        same(f"field {name}", a[name], fl[name], f32=False)
+    same("field stress", a["stress"], np.add(fl["stress_contact"], fl["stress_kinetic"]), f32=False)
+
+
 def main():
     top, prefix = sys.argv[1], sys.argv[2]
     out = os.path.join(top, "out")
@@ -213,6 +230,9 @@ def main():
     check_contacts(read(name("contacts")), state["balls"], contacts, grid)
     check_walls(read(name("walls")), by("walls")[-1]["walls"])
     check_cell(read(name("cell")), grid)
+    fields = by("field")
+    if fields:
+        check_field(os.path.join(out, f"{prefix}_field_c{last:08}.vti"), fields[-1])
     print(f"VTK check passed: {len(cycles)} frames of {len(KINDS)} kinds, {len(state['balls'])} particles, {len(contacts)} contacts")
 
 

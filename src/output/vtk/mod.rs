@@ -92,6 +92,11 @@ fn write(dir: &Option<PathBuf>, name: &str, bytes: &[u8]) -> Result<String, Stri
     Ok(shown)
 }
 
+/// Writes one file in `SET OUTdir` (created if missing); returns how it is shown.
+pub fn write_file(scene: &Scene, name: &str, bytes: &[u8]) -> Result<String, String> {
+    write(&out_dir(scene)?, name, bytes)
+}
+
 /// Writes the frame of the scene as it is (its four files) and the series' indexes, with
 /// the frame added (a frame of the same cycle is replaced). Returns the files written, the
 /// frame's first. `series` changes only when every file was written.

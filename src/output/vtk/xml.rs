@@ -200,6 +200,50 @@ pub fn encode(p: &PolyData) -> Vec<u8> {
     bytes
 }
 
+/// A `.vti` file: ImageData of `n` nodes, the first at `origin`, `spacing` apart (x
+/// fastest), with its point arrays.
+pub fn encode_image(
+    n: [usize; 3],
+    origin: [f64; 3],
+    spacing: [f64; 3],
+    point_data: &[Array],
+    field_data: &[Array],
+) -> Vec<u8> {
+    let order = if cfg!(target_endian = "little") {
+        "LittleEndian"
+    } else {
+        "BigEndian"
+    };
+    let extent = format!("0 {} 0 {} 0 {}", n[0] - 1, n[1] - 1, n[2] - 1);
+    let mut o = Out {
+        xml: format!(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"{order}\" header_type=\"UInt64\">\n  <ImageData WholeExtent=\"{extent}\" Origin=\"{:e} {:e} {:e}\" Spacing=\"{:e} {:e} {:e}\">\n",
+            origin[0], origin[1], origin[2], spacing[0], spacing[1], spacing[2]
+        ),
+        data: Vec::new(),
+    };
+    if !field_data.is_empty() {
+        o.xml.push_str("    <FieldData>\n");
+        for a in field_data {
+            o.array("      ", a, true);
+        }
+        o.xml.push_str("    </FieldData>\n");
+    }
+    o.xml.push_str(&format!(
+        "    <Piece Extent=\"{extent}\">\n      <PointData>\n"
+    ));
+    for a in point_data {
+        o.array("        ", a, false);
+    }
+    o.xml.push_str(
+        "      </PointData>\n      <CellData>\n      </CellData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _",
+    );
+    let mut bytes = o.xml.into_bytes();
+    bytes.extend_from_slice(&o.data);
+    bytes.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");
+    bytes
+}
+
 /// `&`, `<`, `>` and `"` as XML entities (names and file names in attributes).
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
