@@ -1,5 +1,6 @@
-//! Coarse-grained continuum fields on a regular grid (`FIEld`; doc/output.md, "Coarse-grained
-//! fields"), after Goldhirsch 2010 and Weinhart et al. 2012: with a kernel φ of width w,
+//! Coarse-grained continuum fields on a regular grid (`FIEld`), as doc/output.md,
+//! "Coarse-grained fields" describes them, after Goldhirsch 2010 and Weinhart et al. 2012:
+//! with a kernel φ of width w,
 //!
 //! - density ρ(r) = Σ_i m_i φ(r − r_i) (Weinhart 2012 (2.2));
 //! - momentum p(r) = Σ_i m_i v_i φ(r − r_i) and velocity V = p/ρ (Weinhart 2012 (2.3));
@@ -52,7 +53,11 @@ pub struct Fields {
 }
 
 /// Nodes at most (a guard against a grid that would not fit in memory).
-pub const MAX_NODES: usize = 1 << 24;
+pub const MAX_NODES: usize = 1 << 20;
+
+/// Nodes within a kernel's reach at most (a width far above the spacing would make every
+/// particle and contact visit the whole grid).
+pub const MAX_REACH: usize = 1 << 15;
 
 /// Checks a grid against the scene: nodes per axis, width at least the largest node
 /// spacing (a point must reach a node on every axis).
@@ -73,6 +78,19 @@ pub fn check(scene: &Scene, spec: &Spec) -> Result<(), String> {
     if !(spec.width >= h && spec.width.is_finite()) {
         return Err(format!(
             "FIEld: the kernel width {} m must be at least the largest node spacing, {h:e} m",
+            spec.width
+        ));
+    }
+    let cut = match spec.kernel {
+        Kernel::Gauss => 3.0 * spec.width,
+        Kernel::Lucy => spec.width,
+    };
+    let reach: f64 = (0..3)
+        .map(|k| (2.0 * cut * n[k] as f64 / size[k] + 1.0).min(n[k] as f64))
+        .product();
+    if reach > MAX_REACH as f64 {
+        return Err(format!(
+            "FIEld: a kernel of width {} m reaches about {reach:.0} nodes of this grid; at most {MAX_REACH} (a smaller w, or fewer nodes)",
             spec.width
         ));
     }

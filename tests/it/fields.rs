@@ -1,5 +1,5 @@
-//! `FIEld`: the coarse-grained fields' checks of issue 55 (doc/output.md, "Coarse-grained
-//! fields"): the mass integrates to the particles' mass to round-off; over a homogeneous
+//! `FIEld`: the coarse-grained fields' checks of issue 55, as doc/output.md,
+//! "Coarse-grained fields" states them: the mass integrates to the particles' mass to round-off; over a homogeneous
 //! periodic cell the grid's mean stress is `PRint Stress` within 1 %; in a settled column
 //! σ_zz is the weight above within 2 %; the `.vti` file reads in VTK with the same values.
 
@@ -95,6 +95,7 @@ fn field_refuses_bad_grids() {
         ("field 2 2 2 -1", "must be positive"),
         ("field 2 2 2 1e-3 lucy lucy", "given twice"),
         ("field 4096 4096 4096 1", "at most"),
+        ("field 100 100 100 1", "reaches about"),
     ] {
         let run = trubal_json(&format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\n"), &[]);
         assert!(!run.ok, "{line}");

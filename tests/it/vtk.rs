@@ -1,6 +1,7 @@
 //! `VTk`: the files read by the VTK library itself and checked against the JSON output of
 //! the same state (`tests/vtk/check.py`, with the Python of `.ci/vtk-venv`, which `.ci/run`
-//! installs and names in `TRUBAL_VTK_PYTHON`); the schedule leaves the run's bits alone;
+//! installs and names in `TRUBAL_VTK_PYTHON`), and rendered off-screen by VTK into a
+//! picture that is not empty (`tests/vtk/render.py`); the schedule leaves the run's bits alone;
 //! bad input is refused with its place and writes nothing.
 
 use std::path::{Path, PathBuf};
@@ -59,6 +60,42 @@ fn check_with_vtk(dir: &Path, prefix: &str) {
     );
     assert!(out.status.success(), "{}: {text}", dir.display());
     assert!(text.contains("VTK check passed"), "{text}");
+}
+
+/// A frame and a field rendered off-screen by VTK (`tests/vtk/render.py`: spheres by
+/// radius, contact tubes by force; a slice of the density): the pictures are not empty.
+fn render(dir: &Path) {
+    let Some(py) = vtk_python() else { return };
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/vtk/render.py");
+    let out = dir.join("out");
+    let runs: [Vec<std::ffi::OsString>; 2] = [
+        vec![
+            "network".into(),
+            out.clone().into(),
+            "imp".into(),
+            "1201".into(),
+            dir.join("network.png").into(),
+        ],
+        vec![
+            "field".into(),
+            out.join("imp_field_c00001201.vti").into(),
+            "density".into(),
+            dir.join("field.png").into(),
+        ],
+    ];
+    for args in runs {
+        let r = std::process::Command::new(&py)
+            .arg(&script)
+            .args(&args)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&r.stdout).into_owned();
+        assert!(
+            r.status.success() && text.contains("render check passed"),
+            "{text}{}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+    }
 }
 
 /// A JKR agglomerate (58 spheres) pressed onto a plane inside a sphere and a cylinder, with
@@ -134,6 +171,9 @@ fn vtk_files_read_by_vtk_match_the_json_output() {
             }
         }
         check_with_vtk(&dir, prefix);
+        if prefix == "imp" {
+            render(&dir);
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -2,7 +2,7 @@
 //! block: `<AppendedData encoding="raw">_` followed, per array, by its length in bytes
 //! (UInt64, `header_type="UInt64"`) and its values in the machine's byte order, as the VTK
 //! file-format document ("VTK XML Formats", appended data) lays it out. Why a writer of our
-//! own rather than a crate: doc/design.md, "VTK output".
+//! own rather than a crate: doc/design.md, "Choices" (VTK output).
 
 /// The values of one data array.
 pub enum Values {
