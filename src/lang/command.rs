@@ -335,4 +335,18 @@ pub enum Command {
         always: bool,
     },
     TwoD,
+    /// `VTk`: a VTK frame now (`every: None`), or now and every k cycles (`Some(k)`), or the
+    /// schedule stopped (`off`); `prefix` names the series.
+    /// `FIEld`: coarse-grained fields on n1 x n2 x n3 nodes with a kernel of width `width`.
+    Field {
+        nodes: [usize; 3],
+        width: f64,
+        lucy: bool,
+        prefix: Option<String>,
+    },
+    Vtk {
+        every: Option<u64>,
+        off: bool,
+        prefix: Option<String>,
+    },
 }

@@ -120,5 +120,7 @@ pub fn command_name(c: &Command) -> &'static str {
         Ymd { .. } => "YMD",
         Zero { .. } => "Zero",
         TwoD => "2-D",
+        Vtk { .. } => "VTk",
+        Field { .. } => "FIEld",
     }
 }

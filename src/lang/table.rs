@@ -297,6 +297,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Define a wall: plane ax+by+cz=d (particles on the side the normal (a,b,c) points to), spherical container SP (centre a,b,c radius d, particles inside), obstacle/indenter OB (particles outside) or cylindrical die CYlinder (axis through (x,y,z) along (ax,ay,az), radius r, particles inside; infinitely long: close it with planes; Hertz R* = R sqrt(r/(r - R)), doc/indentation.md). V: velocity (and radial velocity vr for spheres and cylinders); M: material (default 1); SE: servo to normal/radial force F with max speed vmax and gain g. Refused if it puts a particle's centre behind its surface (outside a die, inside an indenter; with SET TUNnel STOP, the default); a warning names the particles it overlaps."
     ),
     def!(
+        "FIEld",
+        "n1 n2 n3 w [LUCy] [FILe prefix]",
+        &["LUCy", "FILe"],
+        false,
+        b_field,
+        "Coarse-grained continuum fields (Goldhirsch 2010, Weinhart et al. 2012) on n1 x n2 x n3 nodes over the work-space (node centres at (i + 1/2) L/n): density, velocity, contact and kinetic stress (Pa, compression positive, as PRint Stress), solid fraction and coordination, with a Gaussian kernel of standard deviation w (m, cut at 3w) or with LUCy Lucy's kernel of range w; w at least the node spacing. The kernel is normalised on the grid, so the mass on the grid is the particles' mass and the grid's mean contact stress the contact part of PRint Stress. Prints a summary (with --json every node); FILe also writes OUTdir/prefix_field_cNNNNNNNN.vti (VTK ImageData, doc/output.md)."
+    ),
+    def!(
         "Fix",
         "ix iy iz irx iry irz iadd|All",
         &["All"],
@@ -635,6 +643,14 @@ pub const COMMANDS: &[CommandDef] = &[
         true,
         |a| Ok(Command::Vmu { r: a.real("r")? }),
         "Multiply the velocities of fixed degrees of freedom by r."
+    ),
+    def!(
+        "VTk",
+        "[EVery k] [FILe prefix] | OFF",
+        &["EVery", "FILe", "OFF"],
+        false,
+        b_vtk,
+        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended raw), and a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`); the series of a prefix grows with each frame this session writes."
     ),
     def!(
         "Window",
@@ -998,6 +1014,85 @@ fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
         });
     }
     Ok(Command::Plot { items })
+}
+
+const FIELD_WORDS: &[Keyword<u8>] = &[kw("LUCy", 0), kw("FILe", 1)];
+
+fn b_field(a: &mut Args) -> Result<Command, ParseError> {
+    let nodes = [
+        a.int_in("n1", 1, 1 << 24)? as usize,
+        a.int_in("n2", 1, 1 << 24)? as usize,
+        a.int_in("n3", 1, 1 << 24)? as usize,
+    ];
+    let width = a.positive("w")?;
+    let (mut lucy, mut prefix) = (false, None);
+    while let Some(t) = a.peek() {
+        match a.try_keyword(FIELD_WORDS)? {
+            Some(0) if !lucy => lucy = true,
+            Some(1) if prefix.is_none() => prefix = Some(vtk_prefix(a)?),
+            Some(_) => {
+                return Err(ParseError::at(
+                    t,
+                    format!("FIEld: `{}` given twice", t.text),
+                ));
+            }
+            None => break,
+        }
+    }
+    Ok(Command::Field {
+        nodes,
+        width,
+        lucy,
+        prefix,
+    })
+}
+
+/// The series prefix after `FILe` (VTk, FIEld): a plain file-name part.
+fn vtk_prefix(a: &mut Args) -> Result<String, ParseError> {
+    let w = a.peek();
+    let name = a.word("prefix")?;
+    let ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+    if !ok {
+        return Err(ParseError::at(
+            w.expect("word() consumed a token"),
+            format!(
+                "FILe: the prefix `{name}` may hold letters, digits, `_`, `-` and `.` only (the directory is SET OUTdir)"
+            ),
+        ));
+    }
+    Ok(name)
+}
+
+const VTK_WORDS: &[Keyword<u8>] = &[kw("EVery", 0), kw("FILe", 1), kw("OFF", 2)];
+
+fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
+    let (mut every, mut off, mut prefix) = (None, false, None);
+    while let Some(t) = a.peek() {
+        let Some(k) = a.try_keyword(VTK_WORDS)? else {
+            break;
+        };
+        let again = match k {
+            0 => every
+                .replace(a.int_in("k", 1, i64::MAX / 2)? as u64)
+                .is_some(),
+            1 => prefix.replace(vtk_prefix(a)?).is_some(),
+            _ => std::mem::replace(&mut off, true),
+        };
+        if again {
+            return Err(ParseError::at(t, format!("VTk: `{}` given twice", t.text)));
+        }
+    }
+    if off && (every.is_some() || prefix.is_some()) {
+        return Err(ParseError {
+            start: a.line_end,
+            end: a.line_end + 1,
+            message: "VTk OFF stands alone (it stops the schedule of EVery)".into(),
+        });
+    }
+    Ok(Command::Vtk { every, off, prefix })
 }
 
 fn b_pra(a: &mut Args) -> Result<Command, ParseError> {

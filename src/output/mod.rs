@@ -1,3 +1,5 @@
 //! Formatting of results for people (tables) and machines (JSON, one object per line).
 
+pub mod fields;
 pub mod print;
+pub mod vtk;

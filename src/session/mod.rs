@@ -8,6 +8,7 @@ pub mod input;
 pub mod interrupt;
 pub mod progress;
 pub mod vars;
+pub mod vtk;
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -58,6 +59,8 @@ pub struct Session {
     echo: bool,
     /// Working directory for relative file names (checkpoints, logs).
     pub dir: PathBuf,
+    /// `VTk`'s series and schedule.
+    vtk: vtk::VtkState,
 }
 
 impl Session {
@@ -71,6 +74,7 @@ impl Session {
             log: None,
             echo: false,
             dir: PathBuf::from("."),
+            vtk: vtk::VtkState::default(),
         }
     }
 
@@ -253,6 +257,15 @@ impl Session {
             Command::Agenerate { .. }
             | Command::Rgenerate { .. }
             | Command::RgenerateSeed { .. } => return self.generate(cmd),
+            Command::Vtk { every, off, prefix } => {
+                return self.vtk(*every, *off, prefix.as_deref());
+            }
+            Command::Field {
+                nodes,
+                width,
+                lucy,
+                prefix,
+            } => return self.field(*nodes, *width, *lucy, prefix.as_deref()),
             _ => {}
         }
         let json = self.json;
@@ -297,14 +310,15 @@ impl Session {
             std::time::Instant::now(),
             if timing { cpu_ns() } else { 0.0 },
         );
-        let scene = self.scene_mut()?;
-        let run = watched(scene, n, &mut progress);
+        self.scene_mut()?;
+        let mut notes = Vec::new();
+        let run = self.watched_frames(0, n, &mut progress, &mut notes);
         progress.finish();
-        let notes = scene.take_notes();
+        let scene = self.scene_mut()?;
         let balls = scene.particles().len();
         let at = scene.cycle();
         let ran = match run {
-            Ok((_, ran)) => ran,
+            Ok(ran) => ran,
             Err(b) => return Err(with_notes(b.message, &notes)),
         };
         for w in notes {
@@ -407,24 +421,23 @@ impl Session {
     fn relax(&mut self, kmax: f64, fmax: f64, nmax: u64) -> Result<Flow, String> {
         self.before_cycling()?;
         let mut progress = progress::Progress::new(nmax, self.json);
-        let scene = self.scene_mut()?;
+        self.scene_mut()?;
         let mut notes = Vec::new();
         let mut done = 0;
         let mut interrupted = false;
         let (mut ke, mut fm) = (f64::INFINITY, f64::INFINITY);
         while done < nmax {
             let n = (nmax - done).min(100);
-            progress.set_offset(done);
-            let run = watched(scene, n, &mut progress);
-            notes.append(&mut scene.take_notes());
+            let run = self.watched_frames(done, n, &mut progress, &mut notes);
             let ran = match run {
-                Ok((_, ran)) => ran,
+                Ok(ran) => ran,
                 Err(b) => {
                     progress.finish();
                     return Err(with_notes(b.message, &notes));
                 }
             };
             done += ran;
+            let scene = self.scene_mut()?;
             let st = energy::stored(scene);
             ke = st.kinetic_translation + st.kinetic_rotation;
             fm = max_contact_force(scene);
@@ -437,7 +450,7 @@ impl Session {
             }
         }
         progress.finish();
-        let at = scene.cycle();
+        let at = self.scene_mut()?.cycle();
         for w in notes {
             self.emit_err(&format!("warning: {w}"));
         }

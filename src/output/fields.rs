@@ -1,0 +1,390 @@
+//! Coarse-grained continuum fields on a regular grid (`FIEld`), as doc/output.md,
+//! "Coarse-grained fields" describes them, after Goldhirsch 2010 and Weinhart et al. 2012:
+//! with a kernel φ of width w,
+//!
+//! - density ρ(r) = Σ_i m_i φ(r − r_i) (Weinhart 2012 (2.2));
+//! - momentum p(r) = Σ_i m_i v_i φ(r − r_i) and velocity V = p/ρ (Weinhart 2012 (2.3));
+//! - kinetic stress σᵏ(r) = Σ_i m_i (v_i − V)(v_i − V) φ(r − r_i)
+//!   = Σ_i m_i v_i v_i φ − ρ V V (Weinhart 2012 (2.6), compression positive);
+//! - contact stress σᶜ(r) = Σ_c f_c ⊗ l_c ∫₀¹ φ(r − r_A − s l_c) ds, f_c the force on B and
+//!   l_c the branch A → B (B a wall: l_c to the contact point), the line integral of
+//!   Goldhirsch 2010 (eq. 26), Weinhart 2012 (2.9), by 4-point Gauss–Legendre quadrature; the
+//!   sign and the order (force, branch) of `PRint Stress` (`sim::stress`);
+//! - solid fraction Σ_i (4/3)π R_i³ φ(r − r_i), and coordination Σ_i z_i φ / Σ_i φ.
+//!
+//! The kernel is a Gaussian exp(−d²/2w²) cut at 3w, or Lucy's (1 + 3q)(1 − q)³, q = d/w
+//! (Lucy 1977, w its range). It is normalised on the grid itself: each point's weights over the
+//! nodes sum to 1/ΔV (ΔV the volume of a node's cell), so the integral of every field over
+//! the grid is the particles' sum to round-off: the mass Σ ρ ΔV = Σ m_i, the stress
+//! Σ σᶜ ΔV = Σ f ⊗ l. Near an open side this is the usual boundary correction (a particle's
+//! mass stays in the work-space); on a periodic axis the distances are to the nearest image.
+
+use crate::sim::Scene;
+use crate::sim::scene::Vec3;
+use crate::sim::stress::pair_force;
+use crate::sim::walls::wall_gap;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kernel {
+    Gauss,
+    Lucy,
+}
+
+/// The grid and kernel of a `FIEld`.
+#[derive(Clone, Copy, Debug)]
+pub struct Spec {
+    pub nodes: [usize; 3],
+    pub width: f64,
+    pub kernel: Kernel,
+}
+
+/// The fields at every node (x fastest, then y, then z); tensors row-major, row i the force
+/// component, column j the branch component.
+#[derive(Clone, Debug, Default)]
+pub struct Fields {
+    pub nodes: [usize; 3],
+    pub spacing: [f64; 3],
+    pub density: Vec<f64>,
+    pub velocity: Vec<[f64; 3]>,
+    pub stress_contact: Vec<[f64; 9]>,
+    pub stress_kinetic: Vec<[f64; 9]>,
+    pub solid_fraction: Vec<f64>,
+    pub coordination: Vec<f64>,
+}
+
+/// Nodes at most (a guard against a grid that would not fit in memory).
+pub const MAX_NODES: usize = 1 << 20;
+
+/// Nodes within a kernel's reach at most (a width far above the spacing would make every
+/// particle and contact visit the whole grid).
+pub const MAX_REACH: usize = 1 << 15;
+
+/// Checks a grid against the scene: nodes per axis, width at least the largest node
+/// spacing (a point must reach a node on every axis).
+pub fn check(scene: &Scene, spec: &Spec) -> Result<(), String> {
+    let n = spec.nodes;
+    if n.contains(&0)
+        || n.iter()
+            .try_fold(1usize, |a, &b| a.checked_mul(b))
+            .is_none_or(|t| t > MAX_NODES)
+    {
+        return Err(format!(
+            "FIEld: {} x {} x {} nodes: each at least 1, at most {MAX_NODES} in all",
+            n[0], n[1], n[2]
+        ));
+    }
+    let size = scene.size();
+    let h = (0..3).map(|k| size[k] / n[k] as f64).fold(0.0, f64::max);
+    if !(spec.width >= h && spec.width.is_finite()) {
+        return Err(format!(
+            "FIEld: the kernel width {} m must be at least the largest node spacing, {h:e} m",
+            spec.width
+        ));
+    }
+    let cut = match spec.kernel {
+        Kernel::Gauss => 3.0 * spec.width,
+        Kernel::Lucy => spec.width,
+    };
+    let reach: f64 = (0..3)
+        .map(|k| (2.0 * cut * n[k] as f64 / size[k] + 1.0).min(n[k] as f64))
+        .product();
+    if reach > MAX_REACH as f64 {
+        return Err(format!(
+            "FIEld: a kernel of width {} m reaches about {reach:.0} nodes of this grid; at most {MAX_REACH} (a smaller w, or fewer nodes)",
+            spec.width
+        ));
+    }
+    Ok(())
+}
+
+/// The grid: node spacing and how a point spreads over the nodes.
+struct Grid {
+    n: [usize; 3],
+    h: [f64; 3],
+    periodic: [bool; 3],
+    cut: f64,
+    spec: Spec,
+    dv: f64,
+}
+
+impl Grid {
+    fn kernel(&self, d2: f64) -> f64 {
+        let w = self.spec.width;
+        match self.spec.kernel {
+            Kernel::Gauss => (-d2 / (2.0 * w * w)).exp(),
+            Kernel::Lucy => {
+                let q = d2.sqrt() / w;
+                if q < 1.0 {
+                    (1.0 + 3.0 * q) * (1.0 - q).powi(3)
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
+    /// The nodes within reach of `y` on one axis: (index, distance from y).
+    fn axis(&self, k: usize, y: f64) -> Vec<(usize, f64)> {
+        let (n, h) = (self.n[k] as i64, self.h[k]);
+        let lo = ((y - self.cut) / h - 0.5).ceil() as i64;
+        let hi = ((y + self.cut) / h - 0.5).floor() as i64;
+        let mut out = Vec::new();
+        if self.periodic[k] {
+            let (lo, hi) = if hi - lo + 1 >= n {
+                // The kernel spans the cell: each node once, at its nearest image.
+                let l = (y / h - 0.5 - n as f64 / 2.0).ceil() as i64;
+                (l, l + n - 1)
+            } else {
+                (lo, hi)
+            };
+            for a in lo..=hi {
+                out.push((a.rem_euclid(n) as usize, (a as f64 + 0.5) * h - y));
+            }
+        } else {
+            for a in lo.max(0)..=hi.min(n - 1) {
+                out.push((a as usize, (a as f64 + 0.5) * h - y));
+            }
+        }
+        out
+    }
+
+    /// Calls `f(node, φ)` for every node within reach of `y`, φ normalised so that
+    /// Σ φ ΔV = 1. Nothing when no node is within reach.
+    fn spread(&self, y: &Vec3, mut f: impl FnMut(usize, f64)) {
+        let ax: Vec<Vec<(usize, f64)>> = (0..3).map(|k| self.axis(k, y[k])).collect();
+        let mut w = Vec::with_capacity(ax[0].len() * ax[1].len() * ax[2].len());
+        let mut sum = 0.0;
+        for &(c, dz) in &ax[2] {
+            for &(b, dy) in &ax[1] {
+                for &(a, dx) in &ax[0] {
+                    let g = self.kernel(dx * dx + dy * dy + dz * dz);
+                    if g > 0.0 {
+                        w.push((a + self.n[0] * (b + self.n[1] * c), g));
+                        sum += g;
+                    }
+                }
+            }
+        }
+        if sum > 0.0 {
+            let s = 1.0 / (sum * self.dv);
+            for (node, g) in w {
+                f(node, g * s);
+            }
+        }
+    }
+}
+
+/// 4-point Gauss–Legendre nodes and weights on [0, 1].
+const GL4: [(f64, f64); 4] = [
+    (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
+    (0.330_009_478_207_571_87, 0.326_072_577_431_273_07),
+    (0.669_990_521_792_428_1, 0.326_072_577_431_273_07),
+    (0.930_568_155_797_026_3, 0.173_927_422_568_726_93),
+];
+
+fn outer(f: &Vec3, l: &Vec3) -> [f64; 9] {
+    let mut t = [0.0; 9];
+    for i in 0..3 {
+        for j in 0..3 {
+            t[3 * i + j] = f[i] * l[j];
+        }
+    }
+    t
+}
+
+/// The fields of the scene as it is (`check` first).
+pub fn compute(scene: &Scene, spec: &Spec) -> Fields {
+    let size = scene.size();
+    let n = spec.nodes;
+    let total = n[0] * n[1] * n[2];
+    let h = [0, 1, 2].map(|k| size[k] / n[k] as f64);
+    let grid = Grid {
+        n,
+        h,
+        periodic: scene.settings().periodic,
+        cut: match spec.kernel {
+            Kernel::Gauss => 3.0 * spec.width,
+            Kernel::Lucy => spec.width,
+        },
+        spec: *spec,
+        dv: h[0] * h[1] * h[2],
+    };
+    let p = scene.particles();
+    let z = crate::output::vtk::frame::coordination(scene);
+    let mut f = Fields {
+        nodes: n,
+        spacing: h,
+        density: vec![0.0; total],
+        velocity: vec![[0.0; 3]; total],
+        stress_contact: vec![[0.0; 9]; total],
+        stress_kinetic: vec![[0.0; 9]; total],
+        solid_fraction: vec![0.0; total],
+        coordination: vec![0.0; total],
+    };
+    let mut number = vec![0.0; total];
+    for i in 0..p.len() {
+        let (m, v) = (p.mass[i], p.vel[i]);
+        let mvv = outer(&(v * m), &v);
+        let vol = 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+        grid.spread(&p.pos[i], |node, phi| {
+            f.density[node] += m * phi;
+            for k in 0..3 {
+                f.velocity[node][k] += m * v[k] * phi;
+            }
+            for k in 0..9 {
+                f.stress_kinetic[node][k] += mvv[k] * phi;
+            }
+            f.solid_fraction[node] += vol * phi;
+            f.coordination[node] += z[i] as f64 * phi;
+            number[node] += phi;
+        });
+    }
+    for node in 0..total {
+        let rho = f.density[node];
+        if rho > 0.0 {
+            let mv = f.velocity[node];
+            let vel = [mv[0] / rho, mv[1] / rho, mv[2] / rho];
+            f.velocity[node] = vel;
+            for i in 0..3 {
+                for j in 0..3 {
+                    f.stress_kinetic[node][3 * i + j] -= rho * vel[i] * vel[j];
+                }
+            }
+        }
+        if number[node] > 0.0 {
+            f.coordination[node] /= number[node];
+        }
+    }
+    contact_stress(scene, &grid, &mut f.stress_contact);
+    f
+}
+
+/// The contact stress: every particle pair and wall contact's f ⊗ l along its branch.
+fn contact_stress(scene: &Scene, grid: &Grid, out: &mut [[f64; 9]]) {
+    let p = scene.particles();
+    // The branch in pieces no longer than a quarter of the kernel's width, each by
+    // 4-point Gauss–Legendre: the normalised kernel is only piecewise smooth.
+    let mut add = |a: &Vec3, l: &Vec3, force: &Vec3| {
+        let t = outer(force, l);
+        let pieces = ((4.0 * l.norm() / grid.spec.width).ceil() as usize).clamp(1, 64);
+        for k in 0..pieces {
+            for (s, wgl) in GL4 {
+                let s = (k as f64 + s) / pieces as f64;
+                let wgl = wgl / pieces as f64;
+                grid.spread(&(a + l * s), |node, phi| {
+                    for m in 0..9 {
+                        out[node][m] += t[m] * wgl * phi;
+                    }
+                });
+            }
+        }
+    };
+    for c in scene.contacts().iter() {
+        let s = c.s;
+        if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+            continue;
+        }
+        let a = p.pos[c.i as usize];
+        let l = scene.branch(&a, &p.pos[c.j as usize]);
+        let d = l.norm();
+        if d > 0.0 {
+            add(&a, &l, &pair_force(s, &(l / d)));
+        }
+    }
+    for c in scene.contacts().wall_pairs() {
+        let s = &c.s;
+        if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+            continue;
+        }
+        let Some(w) = scene.walls().get(c.wall as usize) else {
+            continue;
+        };
+        let i = c.i as usize;
+        let (gap, n) = wall_gap(&w.geom, &p.pos[i], p.radius[i]);
+        let l = n * (gap + p.radius[i]);
+        add(&p.pos[i], &l, &pair_force(s, &n));
+    }
+}
+
+/// The particles' total mass and the grid's (Σ ρ ΔV), and the grid's mean stress
+/// (Σ (σᶜ + σᵏ) ΔV / V, row-major): the checks of doc/output.md.
+pub fn totals(scene: &Scene, f: &Fields) -> (f64, f64, [f64; 9]) {
+    let dv = f.spacing[0] * f.spacing[1] * f.spacing[2];
+    let grid_mass: f64 = f.density.iter().sum::<f64>() * dv;
+    let mass: f64 = scene.particles().mass.iter().sum();
+    let mut mean = [0.0; 9];
+    for (c, k) in f.stress_contact.iter().zip(&f.stress_kinetic) {
+        for m in 0..9 {
+            mean[m] += c[m] + k[m];
+        }
+    }
+    let nodes = f.density.len() as f64;
+    (mass, grid_mass, mean.map(|x| x / nodes))
+}
+
+/// `FIEld` as text (a summary) and as JSON (every node).
+pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Value) {
+    let (mass, grid_mass, mean) = totals(scene, f);
+    let kernel = match spec.kernel {
+        Kernel::Gauss => "gauss",
+        Kernel::Lucy => "lucy",
+    };
+    let text = format!(
+        "FIEld at cycle {}: {} x {} x {} nodes, {kernel} kernel of width {:e} m; mass on the grid {grid_mass:.6e} kg (particles {mass:.6e} kg); mean stress of the grid (Pa) xx {:.6e} yy {:.6e} zz {:.6e} xy {:.6e} yz {:.6e} zx {:.6e}\n",
+        scene.cycle(),
+        f.nodes[0],
+        f.nodes[1],
+        f.nodes[2],
+        spec.width,
+        mean[0],
+        mean[4],
+        mean[8],
+        mean[1],
+        mean[5],
+        mean[6]
+    );
+    let origin = [0, 1, 2].map(|k| f.spacing[k] / 2.0);
+    let j = serde_json::json!({
+        "print": "field", "cycle": scene.cycle(), "time": scene.time(),
+        "nodes": f.nodes, "spacing": f.spacing,
+        "origin": origin,
+        "kernel": kernel, "width": spec.width,
+        "mass": mass, "grid_mass": grid_mass, "mean_stress": mean,
+        "density": f.density, "velocity": f.velocity,
+        "stress_contact": f.stress_contact, "stress_kinetic": f.stress_kinetic,
+        "solid_fraction": f.solid_fraction, "coordination": f.coordination,
+    });
+    (text, j)
+}
+
+/// The fields as a VTK ImageData file (`.vti`): a point per node.
+pub fn vti(scene: &Scene, f: &Fields) -> Vec<u8> {
+    use super::vtk::xml::{Array, Values, encode_image};
+    let flat9 = |v: &[[f64; 9]]| Values::F64(v.iter().flatten().copied().collect());
+    let total: Vec<[f64; 9]> = f
+        .stress_contact
+        .iter()
+        .zip(&f.stress_kinetic)
+        .map(|(c, k)| std::array::from_fn(|m| c[m] + k[m]))
+        .collect();
+    let arrays = [
+        Array::new("density", 1, Values::F64(f.density.clone())),
+        Array::new(
+            "velocity",
+            3,
+            Values::F64(f.velocity.iter().flatten().copied().collect()),
+        ),
+        Array::new("stress", 9, flat9(&total)),
+        Array::new("stress_contact", 9, flat9(&f.stress_contact)),
+        Array::new("stress_kinetic", 9, flat9(&f.stress_kinetic)),
+        Array::new("solid_fraction", 1, Values::F64(f.solid_fraction.clone())),
+        Array::new("coordination", 1, Values::F64(f.coordination.clone())),
+    ];
+    encode_image(
+        f.nodes,
+        [0, 1, 2].map(|k| f.spacing[k] / 2.0),
+        f.spacing,
+        &arrays,
+        &super::vtk::frame::time_fields(scene),
+    )
+}

@@ -1,0 +1,119 @@
+//! VTK output for ParaView (`VTk`; doc/output.md, "VTK files"): each frame is four XML
+//! PolyData files in `SET OUTdir`, `{prefix}_{kind}_c{cycle:08}.vtp` for the kinds of
+//! [`KINDS`], and each kind has its series index `{prefix}_{kind}.pvd` listing the frames
+//! written so far with their simulated times. [`frame`] and [`surfaces`] build the
+//! datasets (pure functions of the scene), [`xml`] encodes them; only [`write_frame`]
+//! touches the file system.
+
+pub mod frame;
+pub mod surfaces;
+pub mod xml;
+
+use std::path::{Path, PathBuf};
+
+use crate::sim::Scene;
+
+/// The kinds of file of a frame.
+pub const KINDS: [&str; 4] = ["particles", "contacts", "walls", "cell"];
+
+/// The frames of one series (one prefix) written in this session: (cycle, time).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
+    pub prefix: String,
+    pub frames: Vec<(u64, f64)>,
+}
+
+impl Series {
+    pub fn new(prefix: &str) -> Series {
+        Series {
+            prefix: prefix.to_string(),
+            frames: Vec::new(),
+        }
+    }
+}
+
+/// The file of one kind of a frame.
+pub fn file_name(prefix: &str, kind: &str, cycle: u64) -> String {
+    format!("{prefix}_{kind}_c{cycle:08}.vtp")
+}
+
+/// The bytes of the file of one kind (`KINDS`) for the scene as it is.
+pub fn encode_kind(scene: &Scene, kind: &str) -> Vec<u8> {
+    let d = match kind {
+        "particles" => frame::particles(scene),
+        "contacts" => frame::contacts(scene),
+        "walls" => surfaces::walls(scene),
+        _ => frame::cell_box(scene),
+    };
+    xml::encode(&d)
+}
+
+/// The `.pvd` index of one kind: a `DataSet` per frame, at its time.
+pub fn pvd(series: &Series, kind: &str) -> String {
+    let mut s = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+    );
+    for &(cycle, time) in &series.frames {
+        s.push_str(&format!(
+            "    <DataSet timestep=\"{time:e}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+            xml::escape(&file_name(&series.prefix, kind, cycle))
+        ));
+    }
+    s.push_str("  </Collection>\n</VTKFile>\n");
+    s
+}
+
+/// The directory of `SET OUTdir` (created if missing) and how a file in it is shown.
+fn out_dir(scene: &Scene) -> Result<Option<PathBuf>, String> {
+    let dir = scene.settings().out_dir.as_str();
+    if dir.is_empty() || dir == "." {
+        return Ok(None);
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("cannot create the output directory `{dir}` (SET OUTdir): {e}"))?;
+    Ok(Some(PathBuf::from(dir)))
+}
+
+fn write(dir: &Option<PathBuf>, name: &str, bytes: &[u8]) -> Result<String, String> {
+    let path = match dir {
+        Some(d) => d.join(name),
+        None => Path::new(name).to_path_buf(),
+    };
+    let shown = path.display().to_string();
+    // Written whole under another name, then renamed: a reader (ParaView reloading the
+    // series) never sees half a file.
+    let tmp = path.with_extension("part");
+    std::fs::write(&tmp, bytes)
+        .and_then(|_| std::fs::rename(&tmp, &path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            format!("cannot write the VTK file {shown}: {e}")
+        })?;
+    Ok(shown)
+}
+
+/// Writes one file in `SET OUTdir` (created if missing); returns how it is shown.
+pub fn write_file(scene: &Scene, name: &str, bytes: &[u8]) -> Result<String, String> {
+    write(&out_dir(scene)?, name, bytes)
+}
+
+/// Writes the frame of the scene as it is (its four files) and the series' indexes, with
+/// the frame added (a frame of the same cycle is replaced). Returns the files written, the
+/// frame's first. `series` changes only when every file was written.
+pub fn write_frame(scene: &Scene, series: &mut Series) -> Result<Vec<String>, String> {
+    let dir = out_dir(scene)?;
+    let mut next = series.clone();
+    next.frames.retain(|&(c, _)| c != scene.cycle());
+    next.frames.push((scene.cycle(), scene.time()));
+    let mut shown = Vec::new();
+    for kind in KINDS {
+        let name = file_name(&series.prefix, kind, scene.cycle());
+        shown.push(write(&dir, &name, &encode_kind(scene, kind))?);
+    }
+    for kind in KINDS {
+        let name = format!("{}_{kind}.pvd", series.prefix);
+        shown.push(write(&dir, &name, pvd(&next, kind).as_bytes())?);
+    }
+    *series = next;
+    Ok(shown)
+}

@@ -1,0 +1,294 @@
+//! A small writer of VTK XML PolyData files (`.vtp`) with every array in one appended raw
+//! block: `<AppendedData encoding="raw">_` followed, per array, by its length in bytes
+//! (UInt64, `header_type="UInt64"`) and its values in the machine's byte order, as the VTK
+//! file-format document ("VTK XML Formats", appended data) lays it out. Why a writer of our
+//! own rather than a crate: doc/design.md, "Choices" (VTK output).
+
+/// The values of one data array.
+pub enum Values {
+    F64(Vec<f64>),
+    F32(Vec<f32>),
+    I32(Vec<i32>),
+    I64(Vec<i64>),
+    U8(Vec<u8>),
+}
+
+impl Values {
+    fn type_name(&self) -> &'static str {
+        match self {
+            Values::F64(_) => "Float64",
+            Values::F32(_) => "Float32",
+            Values::I32(_) => "Int32",
+            Values::I64(_) => "Int64",
+            Values::U8(_) => "UInt8",
+        }
+    }
+    fn len(&self) -> usize {
+        match self {
+            Values::F64(v) => v.len(),
+            Values::F32(v) => v.len(),
+            Values::I32(v) => v.len(),
+            Values::I64(v) => v.len(),
+            Values::U8(v) => v.len(),
+        }
+    }
+    fn bytes(&self) -> &[u8] {
+        match self {
+            Values::F64(v) => bytemuck::cast_slice(v),
+            Values::F32(v) => bytemuck::cast_slice(v),
+            Values::I32(v) => bytemuck::cast_slice(v),
+            Values::I64(v) => bytemuck::cast_slice(v),
+            Values::U8(v) => v,
+        }
+    }
+}
+
+/// A named array of `components` values per tuple.
+pub struct Array {
+    pub name: String,
+    pub components: usize,
+    pub values: Values,
+}
+
+impl Array {
+    pub fn new(name: &str, components: usize, values: Values) -> Array {
+        Array {
+            name: name.to_string(),
+            components,
+            values,
+        }
+    }
+    /// A vector array (3 components) from 3-vectors, in single precision.
+    pub fn vectors(name: &str, v: impl Iterator<Item = [f64; 3]>) -> Array {
+        let mut out = Vec::new();
+        for x in v {
+            out.extend(x.iter().map(|&c| c as f32));
+        }
+        Array::new(name, 3, Values::F32(out))
+    }
+    /// A scalar array in single precision.
+    pub fn scalars(name: &str, v: impl Iterator<Item = f64>) -> Array {
+        Array::new(name, 1, Values::F32(v.map(|x| x as f32).collect()))
+    }
+    fn tuples(&self) -> usize {
+        self.values.len() / self.components.max(1)
+    }
+}
+
+/// Cells of one kind (vertices, lines or polygons): the point indices of every cell in a
+/// row, and where each cell ends in that row.
+#[derive(Default)]
+pub struct Cells {
+    pub connectivity: Vec<i64>,
+    pub offsets: Vec<i64>,
+}
+
+impl Cells {
+    /// Appends a cell through these points.
+    pub fn push(&mut self, points: &[usize]) {
+        self.connectivity.extend(points.iter().map(|&k| k as i64));
+        self.offsets.push(self.connectivity.len() as i64);
+    }
+    pub fn len(&self) -> usize {
+        self.offsets.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.offsets.is_empty()
+    }
+}
+
+/// One PolyData piece: points, cells, and the arrays on points, cells and the whole set
+/// (field data: the time and cycle of the frame).
+#[derive(Default)]
+pub struct PolyData {
+    pub points: Vec<[f64; 3]>,
+    pub verts: Cells,
+    pub lines: Cells,
+    pub polys: Cells,
+    pub point_data: Vec<Array>,
+    pub cell_data: Vec<Array>,
+    pub field_data: Vec<Array>,
+}
+
+/// Collects the XML header and the appended block as arrays are declared.
+struct Out {
+    xml: String,
+    data: Vec<u8>,
+}
+
+impl Out {
+    fn array(&mut self, indent: &str, a: &Array, field: bool) {
+        let tuples = if field {
+            format!(" NumberOfTuples=\"{}\"", a.tuples())
+        } else {
+            String::new()
+        };
+        self.xml.push_str(&format!(
+            "{indent}<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"{tuples} format=\"appended\" offset=\"{}\"/>\n",
+            a.values.type_name(),
+            escape(&a.name),
+            a.components,
+            self.data.len()
+        ));
+        let bytes = a.values.bytes();
+        self.data
+            .extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+        self.data.extend_from_slice(bytes);
+    }
+
+    fn cells(&mut self, tag: &str, c: &Cells) {
+        self.xml.push_str(&format!("      <{tag}>\n"));
+        let conn = Array::new("connectivity", 1, Values::I64(c.connectivity.clone()));
+        let offs = Array::new("offsets", 1, Values::I64(c.offsets.clone()));
+        self.array("        ", &conn, false);
+        self.array("        ", &offs, false);
+        self.xml.push_str(&format!("      </{tag}>\n"));
+    }
+}
+
+/// The whole `.vtp` file.
+pub fn encode(p: &PolyData) -> Vec<u8> {
+    let order = if cfg!(target_endian = "little") {
+        "LittleEndian"
+    } else {
+        "BigEndian"
+    };
+    let mut o = Out {
+        xml: format!(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"{order}\" header_type=\"UInt64\">\n  <PolyData>\n"
+        ),
+        data: Vec::new(),
+    };
+    if !p.field_data.is_empty() {
+        o.xml.push_str("    <FieldData>\n");
+        for a in &p.field_data {
+            o.array("      ", a, true);
+        }
+        o.xml.push_str("    </FieldData>\n");
+    }
+    o.xml.push_str(&format!(
+        "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+        p.points.len(),
+        p.verts.len(),
+        p.lines.len(),
+        p.polys.len()
+    ));
+    for (tag, arrays) in [("PointData", &p.point_data), ("CellData", &p.cell_data)] {
+        o.xml.push_str(&format!("      <{tag}>\n"));
+        for a in arrays {
+            o.array("        ", a, false);
+        }
+        o.xml.push_str(&format!("      </{tag}>\n"));
+    }
+    o.xml.push_str("      <Points>\n");
+    let pts = Array::new(
+        "Points",
+        3,
+        Values::F64(p.points.iter().flatten().copied().collect()),
+    );
+    o.array("        ", &pts, false);
+    o.xml.push_str("      </Points>\n");
+    o.cells("Verts", &p.verts);
+    o.cells("Lines", &p.lines);
+    o.cells("Strips", &Cells::default());
+    o.cells("Polys", &p.polys);
+    o.xml
+        .push_str("    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
+    let mut bytes = o.xml.into_bytes();
+    bytes.extend_from_slice(&o.data);
+    bytes.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");
+    bytes
+}
+
+/// A `.vti` file: ImageData of `n` nodes, the first at `origin`, `spacing` apart (x
+/// fastest), with its point arrays.
+pub fn encode_image(
+    n: [usize; 3],
+    origin: [f64; 3],
+    spacing: [f64; 3],
+    point_data: &[Array],
+    field_data: &[Array],
+) -> Vec<u8> {
+    let order = if cfg!(target_endian = "little") {
+        "LittleEndian"
+    } else {
+        "BigEndian"
+    };
+    let extent = format!("0 {} 0 {} 0 {}", n[0] - 1, n[1] - 1, n[2] - 1);
+    let mut o = Out {
+        xml: format!(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"{order}\" header_type=\"UInt64\">\n  <ImageData WholeExtent=\"{extent}\" Origin=\"{:e} {:e} {:e}\" Spacing=\"{:e} {:e} {:e}\">\n",
+            origin[0], origin[1], origin[2], spacing[0], spacing[1], spacing[2]
+        ),
+        data: Vec::new(),
+    };
+    if !field_data.is_empty() {
+        o.xml.push_str("    <FieldData>\n");
+        for a in field_data {
+            o.array("      ", a, true);
+        }
+        o.xml.push_str("    </FieldData>\n");
+    }
+    o.xml.push_str(&format!(
+        "    <Piece Extent=\"{extent}\">\n      <PointData>\n"
+    ));
+    for a in point_data {
+        o.array("        ", a, false);
+    }
+    o.xml.push_str(
+        "      </PointData>\n      <CellData>\n      </CellData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _",
+    );
+    let mut bytes = o.xml.into_bytes();
+    bytes.extend_from_slice(&o.data);
+    bytes.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");
+    bytes
+}
+
+/// `&`, `<`, `>` and `"` as XML entities (names and file names in attributes).
+pub fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The appended block holds each array as its byte count and its bytes, at the offset
+    /// the header names.
+    #[test]
+    fn arrays_sit_at_their_offsets() {
+        let mut p = PolyData {
+            points: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+            ..Default::default()
+        };
+        p.lines.push(&[0, 1]);
+        p.cell_data.push(Array::scalars("f", [7.5].into_iter()));
+        let bytes = encode(&p);
+        let text = String::from_utf8_lossy(&bytes);
+        let start = text.find("encoding=\"raw\">\n   _").unwrap() + "encoding=\"raw\">\n   _".len();
+        let at = |name: &str| -> usize {
+            let k = text.find(&format!("Name=\"{name}\"")).unwrap();
+            let o = text[k..].find("offset=\"").unwrap() + k + 8;
+            let e = text[o..].find('"').unwrap() + o;
+            text[o..e].parse().unwrap()
+        };
+        let f = start + at("f");
+        assert_eq!(u64::from_le_bytes(bytes[f..f + 8].try_into().unwrap()), 4);
+        assert_eq!(
+            f32::from_le_bytes(bytes[f + 8..f + 12].try_into().unwrap()),
+            7.5
+        );
+        let pt = start + at("Points");
+        assert_eq!(
+            u64::from_le_bytes(bytes[pt..pt + 8].try_into().unwrap()),
+            48
+        );
+        assert_eq!(
+            f64::from_le_bytes(bytes[pt + 32..pt + 40].try_into().unwrap()),
+            4.0
+        );
+    }
+}

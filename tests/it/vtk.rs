@@ -1,0 +1,257 @@
+//! `VTk`: the files read by the VTK library itself and checked against the JSON output of
+//! the same state (`tests/vtk/check.py`, with the Python of `.ci/vtk-venv`, which `.ci/run`
+//! installs and names in `TRUBAL_VTK_PYTHON`), and rendered off-screen by VTK into a
+//! picture that is not empty (`tests/vtk/render.py`); the schedule leaves the run's bits alone;
+//! bad input is refused with its place and writes nothing.
+
+use std::path::{Path, PathBuf};
+
+/// A fresh folder for one test's run.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("trubal-vtk-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `trubal --json in.tru` in `dir`; its output goes to `dir/out.jsonl`.
+fn run_in(dir: &Path, script: &str) -> (bool, String) {
+    std::fs::write(dir.join("in.tru"), script).unwrap();
+    let out = crate::common::trubal()
+        .current_dir(dir)
+        .args(["--json", "in.tru"])
+        .output()
+        .unwrap();
+    std::fs::write(dir.join("out.jsonl"), &out.stdout).unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The Python with the `vtk` wheel, or `None` outside CI when none was installed (a
+/// developer's `cargo test` without `.ci/run`); in CI its absence is a failure.
+fn vtk_python() -> Option<String> {
+    match std::env::var("TRUBAL_VTK_PYTHON") {
+        Ok(p) if !p.is_empty() => Some(p),
+        _ if std::env::var_os("CI").is_some() => {
+            panic!("TRUBAL_VTK_PYTHON is not set: .ci/run installs the VTK reader (.ci/vtk-venv)")
+        }
+        _ => {
+            eprintln!("vtk: TRUBAL_VTK_PYTHON not set (run .ci/vtk-venv): the files are not read");
+            None
+        }
+    }
+}
+
+fn check_with_vtk(dir: &Path, prefix: &str) {
+    let Some(py) = vtk_python() else { return };
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/vtk/check.py");
+    let out = std::process::Command::new(py)
+        .arg(script)
+        .arg(dir)
+        .arg(prefix)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{}: {text}", dir.display());
+    assert!(text.contains("VTK check passed"), "{text}");
+}
+
+/// A frame and a field rendered off-screen by VTK (`tests/vtk/render.py`: spheres by
+/// radius, contact tubes by force; a slice of the density): the pictures are not empty.
+fn render(dir: &Path) {
+    let Some(py) = vtk_python() else { return };
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/vtk/render.py");
+    let out = dir.join("out");
+    let runs: [Vec<std::ffi::OsString>; 2] = [
+        vec![
+            "network".into(),
+            out.clone().into(),
+            "imp".into(),
+            "1201".into(),
+            dir.join("network.png").into(),
+        ],
+        vec![
+            "field".into(),
+            out.join("imp_field_c00001201.vti").into(),
+            "density".into(),
+            dir.join("field.png").into(),
+        ],
+    ];
+    for args in runs {
+        let r = std::process::Command::new(&py)
+            .arg(&script)
+            .args(&args)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&r.stdout).into_owned();
+        assert!(
+            r.status.success() && text.contains("render check passed"),
+            "{text}{}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+    }
+}
+
+/// A JKR agglomerate (58 spheres) pressed onto a plane inside a sphere and a cylinder, with
+/// an obstacle aside: particle pairs, wall contacts, broken bonds (clusters), displacements
+/// since `PLot SAve`, every kind of wall; frames every 500 cycles and one at the end, and
+/// the coarse-grained fields of the last as a `.vti`.
+const AGGLOMERATE: &str = "start 1e-3 1e-3 1e-3 1000 200 4
+fraction 0.2
+set open all
+rad 30e-6 1
+density 2650 1
+ymd 70e9 1
+pra 0.3 1
+friction 0.3 1
+cohesion 0.5 1
+agglomerate 1 5.1961524227066318e-4 5.1961524227066318e-4 5.1961524227066318e-4 150e-6
+agen 1 1 1 0 0 0 69.28203230275509e-6 69.28203230275509e-6 69.28203230275509e-6
+agen 1 1 1 34.641016151377545e-6 34.641016151377545e-6 34.641016151377545e-6 69.28203230275509e-6 69.28203230275509e-6 69.28203230275509e-6
+rad 30.0021e-6 1
+cycle 1
+plot save
+print balls
+velocity 0 0 -0.2 0
+dwall p 0 0 1 0.38569e-3
+dwall ob 0.9e-3 0.9e-3 0.9e-3 0.05e-3
+dwall cy 0.5e-3 0.5e-3 0 0 0 1 0.49e-3
+dwall sp 0.5e-3 0.5e-3 0.5e-3 0.49e-3
+set outdir \"out\"
+vtk every 500 file imp
+cycle 1200
+vtk
+print balls contacts walls grid clusters
+field 4 4 4 2.5e-4 file imp
+";
+
+/// Two wet spheres whose bridge crosses the periodic x side (the line goes to B's image)
+/// and a third alone; no walls.
+const PERIODIC_BRIDGE: &str = "start 0.0078125 0.0078125 0.0078125 100 10 2
+set periodic x
+rad 9.765625e-4 1
+ymd 1e9 1
+pra 0.3 1
+density 2500 1
+liquid 1 0.072 0 0
+create 0.00048828125 0.00390625 0.00390625 0.2 0 0 0 0 0 1 1
+create 0.00634765625 0.00390625 0.00390625 -0.2 0 0 0 0 0 1 1
+create 0.00390625 0.00390625 0.00390625 0 0 0 0 0 0 1 1
+set outdir \"out\"
+cycle 100
+vtk file b
+print balls contacts walls grid clusters
+";
+
+#[test]
+fn vtk_files_read_by_vtk_match_the_json_output() {
+    for (name, script, prefix, frames) in [
+        (
+            "agglomerate",
+            AGGLOMERATE,
+            "imp",
+            [1u64, 500, 1000, 1201].as_slice(),
+        ),
+        ("periodic", PERIODIC_BRIDGE, "b", [100].as_slice()),
+    ] {
+        let dir = folder(name);
+        let (ok, err) = run_in(&dir, script);
+        assert!(ok, "{name}: {err}");
+        for kind in ["particles", "contacts", "walls", "cell"] {
+            assert!(dir.join(format!("out/{prefix}_{kind}.pvd")).exists());
+            for c in frames {
+                let f = dir.join(format!("out/{prefix}_{kind}_c{c:08}.vtp"));
+                assert!(f.exists(), "{}", f.display());
+            }
+        }
+        check_with_vtk(&dir, prefix);
+        if prefix == "imp" {
+            render(&dir);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// The frames of `VTk EVery` cut a Cycle in runs: the particles end with the same bits
+/// as without them, and as after one `Cycle` of the whole length.
+#[test]
+fn vtk_schedule_leaves_the_bits_alone() {
+    let base = AGGLOMERATE.split("set outdir").next().unwrap().to_string();
+    let end = "cycle 300\nprint balls contacts\n";
+    let mut outs = Vec::new();
+    for extra in ["", "vtk every 7\n", "vtk every 100\ncycle 50\nvtk off\n"] {
+        let dir = folder("bits");
+        let script = if extra.contains("cycle 50") {
+            format!("{base}{extra}cycle 250\nprint balls contacts\n")
+        } else {
+            format!("{base}{extra}{end}")
+        };
+        let (ok, err) = run_in(&dir, &script);
+        assert!(ok, "{err}");
+        let text = std::fs::read_to_string(dir.join("out.jsonl")).unwrap();
+        outs.push(
+            text.lines()
+                .filter(|l| l.starts_with('{'))
+                .map(String::from)
+                .collect::<Vec<_>>(),
+        );
+        if extra.contains("every 7") {
+            // Cycle 1 (the command), then 7, 14, ..., 301.
+            let pvd = std::fs::read_to_string(dir.join("trubal_particles.pvd")).unwrap();
+            assert_eq!(pvd.matches("<DataSet").count(), 1 + 301 / 7, "{pvd}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    assert_eq!(outs[0], outs[1]);
+    assert_eq!(outs[0], outs[2]);
+}
+
+/// Bad input: a located error, no file written, the session going on.
+#[test]
+fn vtk_refuses_bad_input_and_writes_nothing() {
+    let dir = folder("bad");
+    let cases = [
+        ("vtk every 0", "`k` must be at least 1"),
+        ("vtk every 2.5", "whole number"),
+        ("vtk file \"a/b\"", "letters, digits"),
+        ("vtk off every 5", "stands alone"),
+        ("vtk every 3 every 4", "given twice"),
+        ("vtk file", "needs `prefix`"),
+        ("vtk now", "unexpected `now`"),
+    ];
+    for (line, want) in cases {
+        let (ok, err) = run_in(&dir, &format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\n"));
+        assert!(!ok, "{line}");
+        assert!(err.contains("in.tru:2:"), "{line}: {err}");
+        assert!(err.contains(want), "{line}: {err}");
+    }
+    let (ok, err) = run_in(&dir, "vtk\n");
+    assert!(
+        !ok && err.contains("in.tru:1:1: error: no problem is defined"),
+        "{err}"
+    );
+    // An output directory that cannot be made: refused, and no schedule left behind.
+    std::fs::write(dir.join("plain"), "a file").unwrap();
+    let (ok, err) = run_in(
+        &dir,
+        "start 1e-3 1e-3 1e-3 10 10 1\nset outdir plain\nvtk every 2\n",
+    );
+    assert!(
+        !ok && err.contains("in.tru:3:1: error: cannot create the output directory"),
+        "{err}"
+    );
+    let written: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".vtp") || n.ends_with(".pvd"))
+        .collect();
+    assert!(written.is_empty(), "{written:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
