@@ -95,8 +95,11 @@ fn ci_runs_the_readme_test_command() {
         .find(|l| l.contains("# the tests (what CI runs)"))
         .expect("the README's test line");
     let command = line.split('#').next().unwrap().trim();
+    // The README names .ci/run itself (it installs the VTK reader first), or a line it runs.
+    let checks = "cargo fmt --check && cargo clippy --profile ci --all-targets -- -D warnings && cargo test --profile ci";
     assert!(
-        ci.lines().any(|l| l.trim() == command),
+        (command == ".ci/run" && ci.lines().any(|l| l.trim() == checks))
+            || ci.lines().any(|l| l.trim() == command),
         ".ci/run does not run `{command}`"
     );
 }
