@@ -151,6 +151,7 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
         stress: scene.cell.needs_stress() || scene.derived.servo.is_some(),
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&scene.derived.reach_ext[..]),
+        ext_max: reach::largest(&scene.derived.reach_ext[..]),
         reach: model.reach,
     };
     let wall_ctx = PairCtx {

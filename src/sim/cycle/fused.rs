@@ -27,8 +27,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::{
     Acc, CHUNK, ChunkArrays, ChunkSums, HotPair, Incidence, Laws, Left, Model, Mover, PairCtx,
-    PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, split_if_needed, task_pairs,
-    task_sums, wall_cuts, wall_forces,
+    PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, reach, split_if_needed,
+    task_pairs, task_sums, wall_cuts, wall_forces,
 };
 use crate::sim::contacts::{ChunkPlan, ContactState, Pair, StepParts};
 use crate::sim::scene::{Particles, Wall};
@@ -386,6 +386,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
         stress: false,
         uni: UniPair::of(model),
         ext: (laws_pp.margin > 0.0).then_some(&derived.reach_ext[..]),
+        ext_max: reach::largest(&derived.reach_ext[..]),
         reach: model.reach,
     };
     let wall_ctx = PairCtx {

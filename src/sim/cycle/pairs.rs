@@ -86,6 +86,9 @@ pub(super) struct PairCtx<'a> {
     pub(super) uni: Option<UniPair>,
     /// Per particle, the dashpot's margin of reach (`Scene::reach_ext`; `None`: none).
     pub(super) ext: Option<&'a [f64]>,
+    /// The largest entry of `ext` (0 without): the four-lane reach test's one margin for
+    /// every pair (`reach::mask_avx2`).
+    pub(super) ext_max: f64,
     /// With adhesion or liquid, a pair is evaluated while its centres are closer than this
     /// times the sum of the radii (`reach::evaluated`, `params::Model::reach`): `1 + 1e-6`
     /// (the round-off allowance of snap-in and bridge formation), more with a law of `SET

@@ -88,17 +88,58 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
     } else {
         mask
     };
+    compact(mask, start, idx)
+}
+
+/// The positions of the bits of each 4-bit value, in order (the rest: unused).
+const NIBBLE_BITS: [[u32; 4]; 16] = {
+    let mut t = [[0u32; 4]; 16];
+    let mut v = 0;
+    while v < 16 {
+        let (mut n, mut b) = (0, 0);
+        while b < 4 {
+            if (v >> b) & 1 == 1 {
+                t[v][n] = b as u32;
+                n += 1;
+            }
+            b += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
+/// The indices `start + k` of the set bits k of `mask` into `idx`, in order; returns how
+/// many. Four bits at a time from a table, without a branch: each group writes four
+/// entries at the count so far (at most 4 × its number, so inside `idx`), of which the
+/// later groups overwrite the ones past its count (a loop over the 32 bits was ~6
+/// instructions a candidate).
+#[inline(always)]
+fn compact(mask: u32, start: usize, idx: &mut [u32; SUB]) -> usize {
     let mut m = 0;
-    for k in 0..hots.len() {
-        idx[m] = (start + k) as u32;
-        m += ((mask >> k) & 1) as usize;
+    for g in 0..SUB / 4 {
+        let nib = ((mask >> (4 * g)) & 0xf) as usize;
+        let base = (start + 4 * g) as u32;
+        let row = &NIBBLE_BITS[nib];
+        let out = &mut idx[m..][..4];
+        for t in 0..4 {
+            out[t] = base + row[t];
+        }
+        // The number of bits of `nib` (one hexadecimal digit per value).
+        m += ((0x4332_3221_3221_2110u64 >> (4 * nib)) & 0xf) as usize;
     }
     m
 }
 
-/// Of the candidates in the dashpot's margin (bits of `zone`: beyond the reach, within it
-/// plus the particles' margins `PairCtx::ext`), the ones that may approach within half a
-/// step, as bits: the kernel treats a pair as approaching when `v_n < 0` and
+/// The largest margin of a table of margins (`PairCtx::ext_max`; 0 for none).
+pub(super) fn largest(ext: &[f64]) -> f64 {
+    ext.iter().fold(0.0f64, |m, &e| if e > m { e } else { m })
+}
+
+/// Of the candidates in the dashpot's margin (bits of `zone`: beyond the reach, and within
+/// it plus the largest margin of all, `PairCtx::ext_max`, or within it plus the pair's
+/// particles' margins `PairCtx::ext`: here the pair's own margins are tested, as
+/// [`reach2`] tests them), the ones that may approach within half a step, as bits: the kernel treats a pair as approaching when `v_n < 0` and
 /// `gap < −v_n Δt/2` (`interact`). With `d` the separation, `R` the sum of the radii, `e`
 /// the margins and `dv` the relative velocity of the centres, `gap |d| = d² − R |d|`, and
 /// for `R ≤ |d| ≤ R + e`, `gap |d| ≥ R (d² − R²)/(2R + e)`; so a pair with
@@ -116,10 +157,11 @@ fn approaching(
     let Some(ext) = c.ext else { return 0 };
     let half = 0.5 * c.laws.dt;
     let mut keep = 0u32;
-    for (k, h) in hots.iter().enumerate() {
-        if (zone >> k) & 1 == 0 {
-            continue;
-        }
+    let mut bits = zone;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let h = &hots[k];
         let (i, j) = (h.i as usize, h.j as usize);
         let d = separation(h, c);
         let r = match radius {
@@ -127,6 +169,11 @@ fn approaching(
             None => ur + ur,
         } * allow;
         let e = ext[i / EXT_GROUP] + ext[j / EXT_GROUP];
+        // The pair's own zone, as `reach2` (the four-lane test took the largest margin).
+        let z = r + e;
+        if !(d.norm_squared() <= z * z) {
+            continue;
+        }
         let dv = match c.cell {
             Some(cell) => c.vel[j] - c.vel[i] + cell.field(&d),
             None => c.vel[j] - c.vel[i],
@@ -257,6 +304,12 @@ unsafe fn mask_avx2(
     let (ur, allow) = ur_allow;
     let uni_reach = (ur + ur) * allow;
     let uni_r2 = _mm256_set1_pd(uni_reach * uni_reach);
+    // The dashpot's zone with the largest margin of all, for every pair: it holds every
+    // pair's own zone (`reach + (e_i + e_j)`, rounding is monotonic), which `approaching`
+    // then tests for the few candidates in it; so no margin is read per candidate here.
+    let ext2 = c.ext_max + c.ext_max;
+    let uni_zone = uni_reach + ext2;
+    let uni_z2 = _mm256_set1_pd(uni_zone * uni_zone);
     let full = hots.len() / 4 * 4;
     let mut mask = 0u32;
     let mut zones = 0u32;
@@ -265,7 +318,6 @@ unsafe fn mask_avx2(
         let mut d = [_mm256_setzero_pd(); 4];
         let mut live = 0u32;
         let mut reach = [0.0f64; 4];
-        let mut zone = [0.0f64; 4];
         for (l, h) in four.iter().enumerate() {
             let (i, j) = (h.i as usize, h.j as usize);
             assert!(i < len && j < len, "pair ({i}, {j}) of {len} particles");
@@ -283,20 +335,13 @@ unsafe fn mask_avx2(
             if let Some(r) = radius {
                 reach[l] = (r[i] + r[j]) * allow;
             }
-            if let Some(e) = c.ext {
-                let base = if radius.is_some() {
-                    reach[l]
-                } else {
-                    uni_reach
-                };
-                zone[l] = base + (e[i / EXT_GROUP] + e[j / EXT_GROUP]);
-            }
         }
-        let r2 = if radius.is_some() {
+        let (r2, z2) = if radius.is_some() {
             let r = _mm256_set_pd(reach[3], reach[2], reach[1], reach[0]);
-            _mm256_mul_pd(r, r)
+            let z = _mm256_add_pd(r, _mm256_set1_pd(ext2));
+            (_mm256_mul_pd(r, r), _mm256_mul_pd(z, z))
         } else {
-            uni_r2
+            (uni_r2, uni_z2)
         };
         // Transpose [x y z 0] × 4 into x, y, z of the four pairs.
         let t0 = _mm256_unpacklo_pd(d[0], d[1]); // x0 x1 z0 z1
@@ -324,8 +369,6 @@ unsafe fn mask_avx2(
         let near = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_NGT_UQ>(d2, r2)) as u32 | live;
         mask |= near << (4 * g);
         if c.ext.is_some() {
-            let z = _mm256_set_pd(zone[3], zone[2], zone[1], zone[0]);
-            let z2 = _mm256_mul_pd(z, z);
             let inside = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, z2)) as u32;
             zones |= (inside & !near & 0xf) << (4 * g);
         }
@@ -352,8 +395,10 @@ mod tests {
     use crate::sim::scene::{Material, Scene};
 
     /// The four-lane reach test and the scalar one pick the same candidates, with and
-    /// without periodic axes, in a sheared cell, and for every length of the last group
-    /// (the lanes' remainder goes through the scalar test).
+    /// without periodic axes, in a sheared cell, with and without the dashpot's margins
+    /// (the four lanes take the largest margin for every pair, the scalar test the pair's
+    /// own), and for every length of the last group (the lanes' remainder goes through the
+    /// scalar test).
     #[test]
     fn the_four_lane_test_is_the_scalar_test() {
         if !std::is_x86_feature_detected!("avx2") {
@@ -370,9 +415,12 @@ mod tests {
         for k in 0..200 {
             let x = Vec3::new(r.uniform(), r.uniform(), r.uniform()) * 1e-3;
             let rad = 6e-5 * (1.0 + 0.3 * r.uniform());
+            let v = Vec3::new(r.normal(), r.normal(), r.normal()) * 500.0;
             sc.particles
-                .push(k + 1, x, Vec3::zeros(), Vec3::zeros(), rad, 1e-9, 1, 1, 0);
+                .push(k + 1, x, v, Vec3::zeros(), rad, 1e-9, 1, 1, 0);
         }
+        // Margins of the four groups of 64 particles, unlike each other.
+        let margins = [2e-5, 9e-5, 1.3e-4, 4e-5];
         let model = crate::sim::params::build(&sc).unwrap();
         let laws = Laws::dry(1e-7, TangentialChoice::NoSlip);
         // Every pair, so that many are near (and many across the sides).
@@ -386,12 +434,16 @@ mod tests {
             })
             .collect();
         let p = &sc.particles;
-        for (periodic, shift) in [
+        let mut counts = [0usize; 2];
+        for ((periodic, shift), ext) in [
             ([false; 3], 0.0),
             ([true; 3], 0.0),
             ([true, true, false], 0.0),
             ([true; 3], 3.7e-4),
-        ] {
+        ]
+        .into_iter()
+        .flat_map(|p| [(p, None), (p, Some(&margins[..]))])
+        {
             let c = PairCtx {
                 pos: View::of(&p.pos),
                 vel: View::of(&p.vel),
@@ -407,7 +459,8 @@ mod tests {
                 cell: None,
                 stress: false,
                 uni: UniPair::of(&model),
-                ext: None,
+                ext,
+                ext_max: ext.map_or(0.0, largest),
                 reach: model.reach,
             };
             let mut near = 0;
@@ -422,6 +475,29 @@ mod tests {
                 }
             }
             assert!(near > 0);
+            counts[ext.is_some() as usize] += near;
+        }
+        // The margins bring pairs in (approaching within half a step).
+        assert!(counts[1] > counts[0], "{counts:?}");
+    }
+
+    /// The table-driven compaction of a mask is the loop over its bits.
+    #[test]
+    fn compact_lists_the_set_bits_in_order() {
+        let mut r = Rng::new(3);
+        for t in 0..2000 {
+            let mask = match t {
+                0 => 0,
+                1 => u32::MAX,
+                _ => (r.uniform() * 4294967296.0) as u32 & (r.uniform() * 4294967296.0) as u32,
+            };
+            let mut idx = [0u32; SUB];
+            let m = compact(mask, 77, &mut idx);
+            let want: Vec<u32> = (0..32)
+                .filter(|k| mask >> k & 1 == 1)
+                .map(|k| 77 + k)
+                .collect();
+            assert_eq!(idx[..m], want[..]);
         }
     }
 }

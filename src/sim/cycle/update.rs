@@ -235,11 +235,15 @@ impl Mover {
             });
         // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
         // the compiler vectorises (the divisions then do not stall the update below); not
-        // needed by the plain update of alike particles (`Plain::uniform`).
-        let mut step_v = [0.0; CHUNK];
-        let mut step_w = [0.0; CHUNK];
+        // needed by the plain update of alike particles (`Plain::uniform`), which then
+        // does not clear their arrays either (16 KB a chunk).
         let alike = plain_chunk && plain.is_some_and(|c| c.uniform.is_some());
+        let mut factors = None;
+        let mut step_v;
+        let mut step_w;
         if !alike {
+            step_v = [0.0; CHUNK];
+            step_w = [0.0; CHUNK];
             step_factors(
                 &mass[lo..hi],
                 &radius[lo..hi],
@@ -248,12 +252,12 @@ impl Mover {
                 &mut step_v,
                 &mut step_w,
             );
+            factors = Some((&step_v, &step_w));
         }
         if let (Some(c), true) = (&plain, plain_chunk) {
-            let (mass, step_v, step_w) = if alike {
-                (&[][..], &[][..], &[][..])
-            } else {
-                (&mass[lo..hi], &step_v[..n], &step_w[..n])
+            let (mass, step_v, step_w) = match factors {
+                None => (&[][..], &[][..], &[][..]),
+                Some((v, w)) => (&mass[lo..hi], &v[..n], &w[..n]),
             };
             let s = leapfrog::update(
                 c,
@@ -284,12 +288,15 @@ impl Mover {
                 w_fix: 0.0,
             };
         }
+        let Some(factors) = factors else {
+            unreachable!("a chunk of alike particles is plain")
+        };
         self.general(
             chunk,
             (vel, pos, disp, spin, rot),
             (force, moment),
             (mass, agg, fixed, radius),
-            (&step_v, &step_w),
+            factors,
         )
     }
 
