@@ -594,7 +594,18 @@ fn scene_command(
             }
         }
         Command::Probe { kind } => {
-            let (text, j) = exec::probe(scene, *kind)?;
+            // The progress line, and Ctrl-C stopping the probe (the scene put back).
+            let total = crate::sim::probe::PROBE_CYCLES.iter().sum();
+            let mut progress = progress::Progress::new(total, json);
+            let r = exec::probe(scene, *kind, &mut |s, done| {
+                progress.tick(s.cycle(), s.time(), s.particles().len(), done);
+                interrupt::requested()
+            });
+            progress.finish();
+            if interrupt::requested() {
+                interrupt::clear();
+            }
+            let (text, j) = r?;
             out = if json { j.to_string() } else { text };
         }
         _ => {

@@ -2,6 +2,7 @@
 //! measured by cycling it (`sim::cycle`) through a small strain and putting it back.
 
 use super::cycle::{self, Blowup};
+use super::params::Model;
 use super::scene::Scene;
 use super::stress;
 
@@ -17,22 +18,54 @@ pub const PROBE_CYCLES: [u64; 3] = [500, 250, 500];
 /// average stress per unit probe strain (Pa). The scene is then put back exactly as it was
 /// (a clone: every bit, the contact states included).
 pub fn probe(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], Blowup> {
+    let m = probe_watched(scene, dir, &mut |_, _| false)?;
+    Ok(m.expect("a probe no watcher stops runs to its end"))
+}
+
+/// [`probe`] with a watcher, called before each of its steps with the scene and the steps
+/// done so far (of the 1250): when it answers `true` the probe stops and the scene is put
+/// back as it was; `None` then (nothing measured).
+pub fn probe_watched(
+    scene: &mut Scene,
+    dir: [f64; 6],
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<Option<[[f64; 3]; 3]>, Blowup> {
     let kept = scene.clone();
-    let r = probe_run(scene, dir);
+    let r = probe_run(scene, dir, watch);
     *scene = kept;
     r
 }
 
-fn probe_run(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], Blowup> {
+/// The three runs of a probe; `None` if the watcher stopped one.
+fn probe_run(
+    scene: &mut Scene,
+    dir: [f64; 6],
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+) -> Result<Option<[[f64; 3]; 3]>, Blowup> {
     let [quiet, strain, settle] = PROBE_CYCLES;
+    let mut done = 0;
+    // One of the three runs, watched with the probe's count of steps; false if stopped.
+    let mut run = |scene: &mut Scene, n: u64| -> Result<(Model, bool), Blowup> {
+        let start = done;
+        let (model, ran) = cycle::run_watched(scene, n, &mut |s, k| watch(s, start + k))?;
+        done += ran;
+        Ok((model, ran == n))
+    };
     scene.cell.rate = [0.0; 6];
-    let model = cycle::run(scene, quiet)?;
+    let (model, whole) = run(scene, quiet)?;
+    if !whole {
+        return Ok(None);
+    }
     let before = stress::of(scene).total();
     let rate = PROBE_STRAIN / (strain as f64 * model.dt);
     scene.cell.rate = dir.map(|d| d * rate);
-    cycle::run(scene, strain)?;
+    if !run(scene, strain)?.1 {
+        return Ok(None);
+    }
     scene.cell.rate = [0.0; 6];
-    cycle::run(scene, settle)?;
+    if !run(scene, settle)?.1 {
+        return Ok(None);
+    }
     let after = stress::of(scene).total();
     let mut m = [[0.0; 3]; 3];
     for a in 0..3 {
@@ -40,5 +73,5 @@ fn probe_run(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], Blowup> 
             m[a][b] = (after[a][b] - before[a][b]) / PROBE_STRAIN;
         }
     }
-    Ok(m)
+    Ok(Some(m))
 }

@@ -423,3 +423,30 @@ fn ctrl_c_stops_agenerate_and_changes_nothing() {
     assert_eq!(code, Some(0), "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// PRObe (1250 cycles of a copy of the scene) shows the progress line and stops at Ctrl-C
+/// with the scene as before: the state saved afterwards is the same bytes as before it.
+#[test]
+fn ctrl_c_stops_a_probe_and_changes_nothing() {
+    let mut t = Pty::start("probe", &[]);
+    t.wait_for("trubal> ", 1);
+    let head = "start 0.02 0.02 0.02 100000 100000 0\nrad 1e-4 1\ndensity 2600 1\nymd 6e8 1\n\
+                pra 0.25 1\nfriction 0 1\nrge 100000 1 1 0\ngrid -1 -1 -1 0 0 0\ncycle 20\n\
+                grid 0 0 0 0 0 0\nsave before.sav\n";
+    for l in head.lines() {
+        t.send(&format!("{l}\r"));
+    }
+    t.wait_for("saved cycle", 1);
+    t.send("probe e11\r");
+    t.wait_for("of 1250 done", 1);
+    t.send("\x03");
+    t.wait_for("interrupted: PRObe E11 stopped at Ctrl-C", 1);
+    t.send("save after.sav\r");
+    t.wait_for("saved cycle", 2);
+    let (code, out, dir) = t.stop();
+    assert_eq!(code, Some(0), "{out}");
+    let a = std::fs::read(dir.join("before.sav")).unwrap();
+    let b = std::fs::read(dir.join("after.sav")).unwrap();
+    assert!(a == b, "the interrupted probe changed the scene");
+    let _ = std::fs::remove_dir_all(&dir);
+}

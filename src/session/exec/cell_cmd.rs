@@ -45,6 +45,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
 pub fn probe(
     scene: &mut Scene,
     kind: crate::lang::command::ProbeKind,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
 ) -> Result<(String, serde_json::Value), String> {
     use crate::lang::command::ProbeKind as P;
     // The rates' direction, and the modulus reported: −Δσ_ab/ε, or for E1M2 ...
@@ -73,7 +74,12 @@ pub fn probe(
     if let Some(m) = crate::sim::cell::grid_refusal(&dir, scene.settings().periodic) {
         return Err(format!("PRObe {name}: {m}"));
     }
-    let m = crate::sim::probe::probe(scene, dir).map_err(|e| e.message)?;
+    let Some(m) = crate::sim::probe::probe_watched(scene, dir, watch).map_err(|e| e.message)?
+    else {
+        return Err(format!(
+            "interrupted: PRObe {name} stopped at Ctrl-C; the state is as before, nothing measured"
+        ));
+    };
     let modulus = if half {
         -(m[a][a] - m[b][b]) / 2.0
     } else {
