@@ -77,7 +77,7 @@ fn command(g: &mut Lcg) -> String {
     let es = |g: &mut Lcg, n: usize| (0..n).map(|_| e(g)).collect::<Vec<_>>().join(" ");
     let ps = |g: &mut Lcg, n: usize| (0..n).map(|_| p(g)).collect::<Vec<_>>().join(" ");
     let mat = |g: &mut Lcg| g.pick(&["1", "2", "0", "9"]).to_string();
-    match g.below(40) {
+    match g.below(42) {
         0 => format!("create {} {} 1 1", ps(g, 3), es(g, 6)),
         1 => format!("rad {} {}", e(g), mat(g)),
         2 => format!(
@@ -236,6 +236,26 @@ fn command(g: &mut Lcg) -> String {
             ])
             .into(),
         38 => format!("{} {} {}", g.pick(&["cycle", "start", "log"]), e(g), e(g)),
+        39 => format!(
+            "vtk {}",
+            g.pick(&[
+                "",
+                "every 7",
+                "every 0",
+                "off",
+                "every 3 file f",
+                "file ../x",
+                "every"
+            ])
+        ),
+        40 => format!(
+            "field {} {} {} {} {}",
+            g.below(4),
+            g.below(4),
+            g.below(4),
+            e(g),
+            g.pick(&["", "lucy", "file g", "file"])
+        ),
         _ => format!("cycle {}", 1 + g.below(80)),
     }
 }
@@ -345,6 +365,8 @@ fn the_files_are_the_same_for_a_seed_and_differ_between_seeds() {
         "plot",
         "probe",
         "relax",
+        "vtk",
+        "field",
     ] {
         assert!(all.contains(c), "{c}");
     }

@@ -165,6 +165,8 @@ const WORDS: &[&str] = &[
     "gain",
     "mode",
     "probe",
+    "vtk",
+    "field",
     "iset",
     "rset",
     "vmu",
@@ -268,6 +270,10 @@ fn skipped(c: &Command) -> bool {
         Command::Save { .. }
         | Command::Restart { .. }
         | Command::Plot { .. }
+        | Command::Vtk { .. }
+        | Command::Field {
+            prefix: Some(_), ..
+        }
         | Command::Log { .. }
         | Command::Set(trubal::lang::command::Setting::OutDir(_)) => true,
         _ => false,
