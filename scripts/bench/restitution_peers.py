@@ -11,12 +11,10 @@ error (e_measured / e - 1) of both codes; writes doc/data/restitution_peers.csv.
 
 LIGGGHTS 3.8 (Debian package `liggghts`) must be on the PATH.
 """
-import argparse, csv, math, os, subprocess, tempfile
+import argparse, csv, math, os, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-PEERS = os.environ.get("PEERS_DIR", os.path.join(ROOT, "..", "shared", "peers"))
-DECK = os.path.join(PEERS, "s3_hertz_binary", "in.hertz2.liggghts")
 FRACTIONS = [0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0]
 ES = [0.1, 0.3, 0.5, 0.7, 0.9]
 # Elastic contact duration of the scene (Hertz), in Rayleigh steps (for the table).
@@ -26,26 +24,16 @@ TC = 2.868 * ((M / 2) ** 2 / (0.005 * E_STAR ** 2 * 20.0)) ** 0.2
 DT_R = math.pi * 0.01 * math.sqrt(2800 / (48e9 / 2.4)) / (0.1631 * 0.2 + 0.8766)
 
 
+# The impact (two spheres at +-10 m/s) as equal_error.py runs it at any speed.
+from equal_error import liggghts_e, trubal_e
+
+
 def liggghts(frac, e, tmp):
-    out = os.path.join(tmp, f"lig_{frac}_{e}.txt")
-    subprocess.run(["liggghts", "-in", DECK, "-var", "dtfrac", str(frac), "-var", "e", str(e),
-                    "-var", "out", out, "-log", "none"], cwd=tmp, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    last = open(out).read().split("\n")[-2].split()
-    return -float(last[3]) / 10.0
+    return liggghts_e(frac, e, 20.0, tmp)
 
 
 def trubal(exe, frac, e, tmp):
-    steps = int(math.ceil(1.5 * 3.12 / frac)) + 5
-    deck = (f"start 0.2 0.1 0.1 1000 10 2\nset open all\nrad 0.01 1\nymd 4.8e10 1\npra 0.2 1\n"
-            f"density 2800 1\ndamping restitution {e}\nfraction {frac}\n"
-            f"create 0.09 0.05 0.05 10 0 0 0 0 0 1 1\ncreate 0.11 0.05 0.05 -10 0 0 0 0 0 1 1\n"
-            f"cycle {steps}\nprint balls\n")
-    out = subprocess.run([exe, "--json", "-"], input=deck, text=True, capture_output=True,
-                         cwd=tmp, check=True).stdout
-    import json
-    balls = [json.loads(l) for l in out.splitlines() if l.startswith("{")][-1]["balls"]
-    return (balls[1]["vel"][0] - balls[0]["vel"][0]) / 20.0
+    return trubal_e(exe, frac, e, 20.0, tmp)
 
 
 def main():

@@ -667,11 +667,7 @@ fn walls(scene: &Scene) -> (String, Value) {
 fn chist(scene: &Scene) -> (String, Value) {
     // Histogram of the number of touching contacts per particle (`sim::scene::touch`).
     let n = scene.particles().len();
-    let mut z = vec![0usize; n];
-    for (i, j) in scene.touching_pairs().0 {
-        z[i] += 1;
-        z[j] += 1;
-    }
+    let z = scene.coordination();
     let zmax = z.iter().copied().max().unwrap_or(0);
     let mut h = vec![0usize; zmax + 1];
     for &k in &z {

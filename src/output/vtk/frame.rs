@@ -25,12 +25,7 @@ pub fn time_fields(scene: &Scene) -> Vec<Array> {
 /// Touching particle pairs per particle (`sim::scene::touch`: the one definition of every
 /// output; particle pairs only, as `PRint CHist` counts them).
 pub fn coordination(scene: &Scene) -> Vec<i32> {
-    let mut z = vec![0i32; scene.particles().len()];
-    for (i, j) in scene.touching_pairs().0 {
-        z[i] += 1;
-        z[j] += 1;
-    }
-    z
+    scene.coordination().into_iter().map(|k| k as i32).collect()
 }
 
 /// The particles: points at their centres (one vertex cell each) with radius, velocity

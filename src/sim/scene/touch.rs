@@ -113,6 +113,17 @@ impl Scene {
         (pairs, walls)
     }
 
+    /// Each particle's number of touching particle pairs (the coordination number of
+    /// `PRint CHist` and of the VTK frames).
+    pub fn coordination(&self) -> Vec<usize> {
+        let mut z = vec![0; self.particles.len()];
+        for (i, j) in self.touching_pairs().0 {
+            z[i] += 1;
+            z[j] += 1;
+        }
+        z
+    }
+
     /// The numbers of touching particle pairs and particle–wall pairs
     /// ([`Self::touching_pairs`]).
     pub fn touching_counts(&self) -> (usize, usize) {
