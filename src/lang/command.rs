@@ -348,5 +348,7 @@ pub enum Command {
         every: Option<u64>,
         off: bool,
         prefix: Option<String>,
+        /// `RAW`: uncompressed files.
+        raw: bool,
     },
 }

@@ -646,11 +646,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "VTk",
-        "[EVery k] [FILe prefix] | OFF",
-        &["EVery", "FILe", "OFF"],
+        "[EVery k] [FILe prefix] [RAW] | OFF",
+        &["EVery", "FILe", "RAW", "OFF"],
         false,
         b_vtk,
-        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended raw), and a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`); the series of a prefix grows with each frame this session writes."
+        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended, zlib-compressed; RAW: uncompressed, for this command's frames and its schedule's), and a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`). The series goes on across sessions: the first frame of a prefix keeps the frames an existing prefix_particles.pvd in OUTdir lists before the current cycle (after RESTart from a SAve the series continues; frames at later cycles, of a run the restart abandoned, leave the index)."
     ),
     def!(
         "Window",
@@ -1066,10 +1066,10 @@ fn vtk_prefix(a: &mut Args) -> Result<String, ParseError> {
     Ok(name)
 }
 
-const VTK_WORDS: &[Keyword<u8>] = &[kw("EVery", 0), kw("FILe", 1), kw("OFF", 2)];
+const VTK_WORDS: &[Keyword<u8>] = &[kw("EVery", 0), kw("FILe", 1), kw("OFF", 2), kw("RAW", 3)];
 
 fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
-    let (mut every, mut off, mut prefix) = (None, false, None);
+    let (mut every, mut off, mut prefix, mut raw) = (None, false, None, false);
     while let Some(t) = a.peek() {
         let Some(k) = a.try_keyword(VTK_WORDS)? else {
             break;
@@ -1079,20 +1079,26 @@ fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
                 .replace(a.int_in("k", 1, i64::MAX / 2)? as u64)
                 .is_some(),
             1 => prefix.replace(vtk_prefix(a)?).is_some(),
-            _ => std::mem::replace(&mut off, true),
+            2 => std::mem::replace(&mut off, true),
+            _ => std::mem::replace(&mut raw, true),
         };
         if again {
             return Err(ParseError::at(t, format!("VTk: `{}` given twice", t.text)));
         }
     }
-    if off && (every.is_some() || prefix.is_some()) {
+    if off && (every.is_some() || prefix.is_some() || raw) {
         return Err(ParseError {
             start: a.line_end,
             end: a.line_end + 1,
             message: "VTk OFF stands alone (it stops the schedule of EVery)".into(),
         });
     }
-    Ok(Command::Vtk { every, off, prefix })
+    Ok(Command::Vtk {
+        every,
+        off,
+        prefix,
+        raw,
+    })
 }
 
 fn b_pra(a: &mut Args) -> Result<Command, ParseError> {

@@ -386,5 +386,6 @@ pub fn vti(scene: &Scene, f: &Fields) -> Vec<u8> {
         f.spacing,
         &arrays,
         &super::vtk::frame::time_fields(scene),
+        super::vtk::xml::Encoding::Zlib,
     )
 }

@@ -231,6 +231,9 @@ impl Session {
                     return Err("a problem is already defined: give New first, then STArt".into());
                 }
                 self.scene = Some(Scene::new(*size, *nbox, *nball, *nwall));
+                // A new problem starts its VTK series anew (doc/output.md).
+                self.vtk.series = None;
+                self.vtk.resume = false;
                 if *log {
                     self.execute(&Command::Log {
                         on: true,
@@ -247,6 +250,9 @@ impl Session {
                 let scene = checkpoint::load(&self.path(&name))?;
                 self.emit(&format!("restarted from {name} at cycle {}", scene.cycle()));
                 self.scene = Some(scene);
+                // The series goes on from its index on disk (`output::vtk::resume`).
+                self.vtk.series = None;
+                self.vtk.resume = true;
                 return Ok(Flow::Continue);
             }
             _ => {}
@@ -257,8 +263,13 @@ impl Session {
             Command::Agenerate { .. }
             | Command::Rgenerate { .. }
             | Command::RgenerateSeed { .. } => return self.generate(cmd),
-            Command::Vtk { every, off, prefix } => {
-                return self.vtk(*every, *off, prefix.as_deref());
+            Command::Vtk {
+                every,
+                off,
+                prefix,
+                raw,
+            } => {
+                return self.vtk(*every, *off, prefix.as_deref(), *raw);
             }
             Command::Field {
                 nodes,

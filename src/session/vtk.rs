@@ -6,26 +6,30 @@
 //! one: ARCHITECTURE.md, "Determinism").
 
 use super::{Flow, Session, progress::Progress, watched};
-use crate::output::vtk::{Series, write_frame};
+use crate::output::vtk::{Series, resume, write_frame, xml::Encoding};
 use crate::sim::cycle::Blowup;
 
-/// The VTK output of a session: the series frames go to, and the schedule.
+/// The VTK output of a session: the series frames go to, and the schedule; `resume`: the
+/// problem came from `RESTart`, so a series starts from its index on disk (a `STArt`
+/// problem starts its series anew).
 #[derive(Debug, Default)]
 pub struct VtkState {
     pub series: Option<Series>,
     pub every: Option<u64>,
+    pub resume: bool,
 }
 
 /// The prefix of a series when `VTk FILe` names none.
 pub const DEFAULT_PREFIX: &str = "trubal";
 
 impl Session {
-    /// `VTk [EVery k] [FILe prefix] | OFF`.
+    /// `VTk [EVery k] [FILe prefix] [RAW] | OFF`.
     pub(super) fn vtk(
         &mut self,
         every: Option<u64>,
         off: bool,
         prefix: Option<&str>,
+        raw: bool,
     ) -> Result<Flow, String> {
         if off {
             self.vtk.every = None;
@@ -35,17 +39,26 @@ impl Session {
         let scene = self.scene.as_ref().ok_or_else(|| {
             "no problem is defined yet: give STArt (or RESTart) first".to_string()
         })?;
-        // A new prefix starts a new series; the same one goes on.
+        // The same prefix goes on; another one starts, after a RESTart from its index on
+        // disk if there is one.
         let mut series = match (&self.vtk.series, prefix) {
             (Some(s), None) => s.clone(),
             (Some(s), Some(p)) if s.prefix == p => s.clone(),
+            (_, p) if self.vtk.resume => resume(scene, p.unwrap_or(DEFAULT_PREFIX)),
             (_, p) => Series::new(p.unwrap_or(DEFAULT_PREFIX)),
         };
+        series.encoding = if raw { Encoding::Raw } else { Encoding::Zlib };
+        let before = series.frames.iter().filter(|f| f.0 < scene.cycle()).count();
         let files = write_frame(scene, &mut series)?;
         let text = format!(
-            "VTk: frame at cycle {} written to {}{}",
+            "VTk: frame at cycle {} written to {}{}{}",
             scene.cycle(),
             files[..4].join(", "),
+            if before > 0 {
+                format!("; the series holds {before} earlier frames")
+            } else {
+                String::new()
+            },
             match every {
                 Some(k) => format!("; then every {k} cycles during cycling"),
                 None => String::new(),

@@ -145,7 +145,7 @@ create 0.00634765625 0.00390625 0.00390625 -0.2 0 0 0 0 0 1 1
 create 0.00390625 0.00390625 0.00390625 0 0 0 0 0 0 1 1
 set outdir \"out\"
 cycle 100
-vtk file b
+vtk file b raw
 print balls contacts walls grid clusters
 ";
 
@@ -167,7 +167,11 @@ fn vtk_files_read_by_vtk_match_the_json_output() {
             assert!(dir.join(format!("out/{prefix}_{kind}.pvd")).exists());
             for c in frames {
                 let f = dir.join(format!("out/{prefix}_{kind}_c{c:08}.vtp"));
-                assert!(f.exists(), "{}", f.display());
+                let bytes = std::fs::read(&f).unwrap();
+                // zlib by default; the periodic case's `raw` uncompressed: both read below.
+                let zlib = String::from_utf8_lossy(&bytes[..300])
+                    .contains("compressor=\"vtkZLibDataCompressor\"");
+                assert_eq!(zlib, prefix == "imp", "{}", f.display());
             }
         }
         check_with_vtk(&dir, prefix);
@@ -253,5 +257,90 @@ fn vtk_refuses_bad_input_and_writes_nothing() {
         .filter(|n| n.ends_with(".vtp") || n.ends_with(".pvd"))
         .collect();
     assert!(written.is_empty(), "{written:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The cycles an index lists, from its file names, with its times.
+fn listed(pvd: &Path) -> Vec<(u64, f64)> {
+    let text = std::fs::read_to_string(pvd).unwrap();
+    text.lines()
+        .filter(|l| l.contains("<DataSet"))
+        .map(|l| {
+            let at = |key: &str| {
+                let k = l.find(key).unwrap() + key.len();
+                l[k..k + l[k..].find('"').unwrap()].to_string()
+            };
+            let file = at("file=\"");
+            let c = &file[file.len() - 12..file.len() - 4];
+            (c.parse().unwrap(), at("timestep=\"").parse().unwrap())
+        })
+        .collect()
+}
+
+/// The series goes on across sessions: a session restarted from a SAve keeps the frames
+/// before its cycle and rewrites the later ones with the same bits (the run is the same);
+/// a restart that stops earlier drops the abandoned frames from the index; a frame whose
+/// file is gone is not listed; a new problem (`STArt`) starts the series anew.
+#[test]
+fn vtk_series_goes_on_across_sessions() {
+    let dir = folder("series");
+    let base = PERIODIC_BRIDGE.split("set outdir").next().unwrap();
+    let (ok, err) = run_in(
+        &dir,
+        &format!(
+            "{base}set outdir \"out\"\nvtk every 50 file s\ncycle 100\nsave s.sav\ncycle 100\n"
+        ),
+    );
+    assert!(ok, "{err}");
+    let pvd = dir.join("out/s_particles.pvd");
+    let cycles = |v: Vec<(u64, f64)>| v.into_iter().map(|f| f.0).collect::<Vec<_>>();
+    assert_eq!(cycles(listed(&pvd)), [0, 50, 100, 150, 200]);
+    let first = listed(&pvd);
+    let c200 = std::fs::read(dir.join("out/s_particles_c00000200.vtp")).unwrap();
+    let saved = ["s.sav", "out/s.sav"]
+        .into_iter()
+        .find(|p| dir.join(p).exists())
+        .expect("the checkpoint");
+    // A new session from the checkpoint: frames 0 and 50 kept, 100 to 200 written again.
+    std::fs::remove_file(dir.join("out/s_particles_c00000200.vtp")).unwrap();
+    let (ok, err) = run_in(
+        &dir,
+        &format!("restart {saved}\nset outdir \"out\"\nvtk every 50 file s\ncycle 100\n"),
+    );
+    assert!(ok, "{err}");
+    assert_eq!(listed(&pvd), first);
+    for kind in ["contacts", "walls", "cell"] {
+        let k = dir.join(format!("out/s_{kind}.pvd"));
+        assert_eq!(cycles(listed(&k)), [0, 50, 100, 150, 200], "{kind}");
+    }
+    let again = std::fs::read(dir.join("out/s_particles_c00000200.vtp")).unwrap();
+    assert!(
+        again == c200,
+        "the frame of cycle 200 differs after SAve/RESTart"
+    );
+    let text = std::fs::read_to_string(dir.join("out.jsonl")).unwrap();
+    assert!(text.contains("the series holds 2 earlier frames"), "{text}");
+    // A restart that runs less: the frames after its last leave the index.
+    let (ok, err) = run_in(
+        &dir,
+        &format!(
+            "restart {saved}\nset outdir \"out\"\nvtk every 50 file s\ncycle 20\nvtk file s\n"
+        ),
+    );
+    assert!(ok, "{err}");
+    assert_eq!(cycles(listed(&pvd)), [0, 50, 100, 120]);
+    std::fs::remove_file(dir.join("out/s_particles_c00000050.vtp")).unwrap();
+    let (ok, err) = run_in(
+        &dir,
+        &format!("restart {saved}\nset outdir \"out\"\nvtk file s\n"),
+    );
+    assert!(ok, "{err}");
+    assert_eq!(cycles(listed(&pvd)), [0, 100]);
+    let (ok, err) = run_in(
+        &dir,
+        &format!("{base}set outdir \"out\"\ncycle 10\nvtk file s\n"),
+    );
+    assert!(ok, "{err}");
+    assert_eq!(cycles(listed(&pvd)), [10]);
     let _ = std::fs::remove_dir_all(&dir);
 }
