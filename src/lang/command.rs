@@ -343,6 +343,10 @@ pub enum Command {
         width: f64,
         lucy: bool,
         prefix: Option<String>,
+        /// `CSV`: also a CSV file.
+        csv: bool,
+        /// `AVerage k m`: the average of m samples, k cycles apart.
+        average: Option<(u64, u64)>,
     },
     Vtk {
         every: Option<u64>,

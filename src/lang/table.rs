@@ -298,11 +298,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "FIEld",
-        "n1 n2 n3 w [LUCy] [FILe prefix]",
-        &["LUCy", "FILe"],
+        "n1 n2 n3 w [LUCy] [FILe prefix] [CSV] [AVerage k m]",
+        &["LUCy", "FILe", "CSV", "AVerage"],
         false,
         b_field,
-        "Coarse-grained continuum fields (Goldhirsch 2010, Weinhart et al. 2012) on n1 x n2 x n3 nodes over the work-space (node centres at (i + 1/2) L/n): density, velocity, contact and kinetic stress (Pa, compression positive, as PRint Stress), solid fraction and coordination, with a Gaussian kernel of standard deviation w (m, cut at 3w) or with LUCy Lucy's kernel of range w; w at least the node spacing. The kernel is normalised on the grid, so the mass on the grid is the particles' mass and the grid's mean contact stress the contact part of PRint Stress. Prints a summary (with --json every node); FILe also writes OUTdir/prefix_field_cNNNNNNNN.vti (VTK ImageData, doc/output.md)."
+        "Coarse-grained continuum fields (Goldhirsch 2010, Weinhart et al. 2012) on n1 x n2 x n3 nodes over the work-space (node centres at (i + 1/2) L/n): density, velocity, contact and kinetic stress (Pa, compression positive, as PRint Stress), solid fraction and coordination, with a Gaussian kernel of standard deviation w (m, cut at 3w) or with LUCy Lucy's kernel of range w; w at least the node spacing. The kernel is normalised on the grid, so the mass on the grid is the particles' mass and the grid's mean contact stress the contact part of PRint Stress. Prints a summary (with --json every node); FILe also writes OUTdir/prefix_field_cNNNNNNNN.vti (VTK ImageData, doc/output.md), CSV OUTdir/prefix_field_cNNNNNNNN.csv (a line per node; prefix trubal without FILe). The velocity is the whole velocity (in a deforming cell the mean field G r added). AVerage k m: the time average of m states, this one and then one every k cycles during Cycle and RELax, printed and written when the m-th is taken (density, momentum, momentum flux and contact stress averaged, the velocity and kinetic stress made of the averages; Weinhart et al. 2012); a new AVerage replaces one still running."
     ),
     def!(
         "Fix",
@@ -1016,7 +1016,7 @@ fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
     Ok(Command::Plot { items })
 }
 
-const FIELD_WORDS: &[Keyword<u8>] = &[kw("LUCy", 0), kw("FILe", 1)];
+const FIELD_WORDS: &[Keyword<u8>] = &[kw("LUCy", 0), kw("FILe", 1), kw("CSV", 2), kw("AVerage", 3)];
 
 fn b_field(a: &mut Args) -> Result<Command, ParseError> {
     let nodes = [
@@ -1025,18 +1025,26 @@ fn b_field(a: &mut Args) -> Result<Command, ParseError> {
         a.int_in("n3", 1, 1 << 24)? as usize,
     ];
     let width = a.positive("w")?;
-    let (mut lucy, mut prefix) = (false, None);
+    let (mut lucy, mut prefix, mut csv, mut average) = (false, None, false, None);
     while let Some(t) = a.peek() {
-        match a.try_keyword(FIELD_WORDS)? {
-            Some(0) if !lucy => lucy = true,
-            Some(1) if prefix.is_none() => prefix = Some(vtk_prefix(a)?),
-            Some(_) => {
-                return Err(ParseError::at(
-                    t,
-                    format!("FIEld: `{}` given twice", t.text),
-                ));
+        let Some(k) = a.try_keyword(FIELD_WORDS)? else {
+            break;
+        };
+        let again = match k {
+            0 => std::mem::replace(&mut lucy, true),
+            1 => prefix.replace(vtk_prefix(a)?).is_some(),
+            2 => std::mem::replace(&mut csv, true),
+            _ => {
+                let every = a.int_in("k", 1, i64::MAX / 2)? as u64;
+                let samples = a.int_in("m", 1, 1 << 32)? as u64;
+                average.replace((every, samples)).is_some()
             }
-            None => break,
+        };
+        if again {
+            return Err(ParseError::at(
+                t,
+                format!("FIEld: `{}` given twice", t.text),
+            ));
         }
     }
     Ok(Command::Field {
@@ -1044,6 +1052,8 @@ fn b_field(a: &mut Args) -> Result<Command, ParseError> {
         width,
         lucy,
         prefix,
+        csv,
+        average,
     })
 }
 

@@ -39,11 +39,14 @@ pub struct Spec {
 }
 
 /// The fields at every node (x fastest, then y, then z); tensors row-major, row i the force
-/// component, column j the branch component.
+/// component, column j the branch component. `velocity` is the whole velocity: the
+/// coarse-grained peculiar velocity plus the mean field G r of a deforming cell at the node.
 #[derive(Clone, Debug, Default)]
 pub struct Fields {
     pub nodes: [usize; 3],
     pub spacing: [f64; 3],
+    /// States averaged (1: the scene as it is).
+    pub samples: usize,
     pub density: Vec<f64>,
     pub velocity: Vec<[f64; 3]>,
     pub stress_contact: Vec<[f64; 9]>,
@@ -192,8 +195,102 @@ fn outer(f: &Vec3, l: &Vec3) -> [f64; 9] {
     t
 }
 
+/// The kernel-weighted sums of one state, or of several added up ([`Sums::add`]): what a
+/// time average averages (Weinhart et al. 2012, §2.4: the fields' sums are averaged, then
+/// the velocity and the kinetic stress are made of the averages).
+#[derive(Clone, Debug)]
+pub struct Sums {
+    pub nodes: [usize; 3],
+    pub spacing: [f64; 3],
+    pub samples: usize,
+    density: Vec<f64>,
+    /// Σ m C φ, C the stored (peculiar) velocity.
+    momentum: Vec<[f64; 3]>,
+    /// Σ m C ⊗ C φ.
+    flux: Vec<[f64; 9]>,
+    contact: Vec<[f64; 9]>,
+    solid: Vec<f64>,
+    /// Σ z φ and Σ φ (coordination).
+    zphi: Vec<f64>,
+    phi: Vec<f64>,
+    /// The mean field's velocity G r at each node (doc/cell.md).
+    mean_field: Vec<[f64; 3]>,
+}
+
+impl Sums {
+    /// Adds the sums of another state on the same grid.
+    pub fn add(&mut self, o: &Sums) {
+        fn plus<const N: usize>(a: &mut [[f64; N]], b: &[[f64; N]]) {
+            for (x, y) in a.iter_mut().zip(b) {
+                for k in 0..N {
+                    x[k] += y[k];
+                }
+            }
+        }
+        for (a, b) in [
+            (&mut self.density, &o.density),
+            (&mut self.solid, &o.solid),
+            (&mut self.zphi, &o.zphi),
+            (&mut self.phi, &o.phi),
+        ] {
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += y;
+            }
+        }
+        plus(&mut self.momentum, &o.momentum);
+        plus(&mut self.flux, &o.flux);
+        plus(&mut self.contact, &o.contact);
+        plus(&mut self.mean_field, &o.mean_field);
+        self.spacing = o.spacing;
+        self.samples += o.samples;
+    }
+
+    /// The fields of the averages: ρ, p, Σ m C C φ, σᶜ averaged over the samples; the
+    /// velocity p/ρ plus the mean field; the kinetic stress Σ m C C φ − ρ (p/ρ)(p/ρ) of the
+    /// averages (so it holds the velocity's fluctuations in time as well as among the
+    /// particles).
+    pub fn finish(&self) -> Fields {
+        let s = 1.0 / self.samples.max(1) as f64;
+        let total = self.density.len();
+        let mut f = Fields {
+            nodes: self.nodes,
+            spacing: self.spacing,
+            samples: self.samples,
+            density: self.density.iter().map(|x| x * s).collect(),
+            velocity: vec![[0.0; 3]; total],
+            stress_contact: self.contact.iter().map(|t| t.map(|x| x * s)).collect(),
+            stress_kinetic: self.flux.iter().map(|t| t.map(|x| x * s)).collect(),
+            solid_fraction: self.solid.iter().map(|x| x * s).collect(),
+            coordination: vec![0.0; total],
+        };
+        for node in 0..total {
+            let rho = f.density[node];
+            let u = self.mean_field[node].map(|x| x * s);
+            let mut vel = [0.0; 3];
+            if rho > 0.0 {
+                vel = self.momentum[node].map(|x| x * s / rho);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        f.stress_kinetic[node][3 * i + j] -= rho * vel[i] * vel[j];
+                    }
+                }
+            }
+            f.velocity[node] = [0, 1, 2].map(|k| vel[k] + u[k]);
+            if self.phi[node] > 0.0 {
+                f.coordination[node] = self.zphi[node] / self.phi[node];
+            }
+        }
+        f
+    }
+}
+
 /// The fields of the scene as it is (`check` first).
 pub fn compute(scene: &Scene, spec: &Spec) -> Fields {
+    sample(scene, spec).finish()
+}
+
+/// The sums of the scene as it is, one sample (`check` first).
+pub fn sample(scene: &Scene, spec: &Spec) -> Sums {
     let size = scene.size();
     let n = spec.nodes;
     let total = n[0] * n[1] * n[2];
@@ -211,17 +308,19 @@ pub fn compute(scene: &Scene, spec: &Spec) -> Fields {
     };
     let p = scene.particles();
     let z = crate::output::vtk::frame::coordination(scene);
-    let mut f = Fields {
+    let mut f = Sums {
         nodes: n,
         spacing: h,
+        samples: 1,
         density: vec![0.0; total],
-        velocity: vec![[0.0; 3]; total],
-        stress_contact: vec![[0.0; 9]; total],
-        stress_kinetic: vec![[0.0; 9]; total],
-        solid_fraction: vec![0.0; total],
-        coordination: vec![0.0; total],
+        momentum: vec![[0.0; 3]; total],
+        flux: vec![[0.0; 9]; total],
+        contact: vec![[0.0; 9]; total],
+        solid: vec![0.0; total],
+        zphi: vec![0.0; total],
+        phi: vec![0.0; total],
+        mean_field: vec![[0.0; 3]; total],
     };
-    let mut number = vec![0.0; total];
     for i in 0..p.len() {
         let (m, v) = (p.mass[i], p.vel[i]);
         let mvv = outer(&(v * m), &v);
@@ -229,33 +328,25 @@ pub fn compute(scene: &Scene, spec: &Spec) -> Fields {
         grid.spread(&p.pos[i], |node, phi| {
             f.density[node] += m * phi;
             for k in 0..3 {
-                f.velocity[node][k] += m * v[k] * phi;
+                f.momentum[node][k] += m * v[k] * phi;
             }
             for k in 0..9 {
-                f.stress_kinetic[node][k] += mvv[k] * phi;
+                f.flux[node][k] += mvv[k] * phi;
             }
-            f.solid_fraction[node] += vol * phi;
-            f.coordination[node] += z[i] as f64 * phi;
-            number[node] += phi;
+            f.solid[node] += vol * phi;
+            f.zphi[node] += z[i] as f64 * phi;
+            f.phi[node] += phi;
         });
     }
-    for node in 0..total {
-        let rho = f.density[node];
-        if rho > 0.0 {
-            let mv = f.velocity[node];
-            let vel = [mv[0] / rho, mv[1] / rho, mv[2] / rho];
-            f.velocity[node] = vel;
-            for i in 0..3 {
-                for j in 0..3 {
-                    f.stress_kinetic[node][3 * i + j] -= rho * vel[i] * vel[j];
-                }
-            }
-        }
-        if number[node] > 0.0 {
-            f.coordination[node] /= number[node];
-        }
+    // The mean field u = G r of a deforming cell (doc/cell.md: ed11 x + ed12 y, ed22 y,
+    // ed33 z, from the cell's corner).
+    let r = scene.cell().rate;
+    for (node, u) in f.mean_field.iter_mut().enumerate() {
+        let ix = [node % n[0], (node / n[0]) % n[1], node / (n[0] * n[1])];
+        let x = [0, 1, 2].map(|k| (ix[k] as f64 + 0.5) * h[k]);
+        *u = [r[0] * x[0] + r[3] * x[1], r[1] * x[1], r[2] * x[2]];
     }
-    contact_stress(scene, &grid, &mut f.stress_contact);
+    contact_stress(scene, &grid, &mut f.contact);
     f
 }
 
@@ -329,8 +420,13 @@ pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Va
         Kernel::Gauss => "gauss",
         Kernel::Lucy => "lucy",
     };
+    let avg = if f.samples > 1 {
+        format!(" (the average of {} samples)", f.samples)
+    } else {
+        String::new()
+    };
     let text = format!(
-        "FIEld at cycle {}: {} x {} x {} nodes, {kernel} kernel of width {:e} m; mass on the grid {grid_mass:.6e} kg (particles {mass:.6e} kg); mean stress of the grid (Pa) xx {:.6e} yy {:.6e} zz {:.6e} xy {:.6e} yz {:.6e} zx {:.6e}\n",
+        "FIEld at cycle {}{avg}: {} x {} x {} nodes, {kernel} kernel of width {:e} m; mass on the grid {grid_mass:.6e} kg (particles {mass:.6e} kg); mean stress of the grid (Pa) xx {:.6e} yy {:.6e} zz {:.6e} xy {:.6e} yz {:.6e} zx {:.6e}\n",
         scene.cycle(),
         f.nodes[0],
         f.nodes[1],
@@ -348,13 +444,46 @@ pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Va
         "print": "field", "cycle": scene.cycle(), "time": scene.time(),
         "nodes": f.nodes, "spacing": f.spacing,
         "origin": origin,
-        "kernel": kernel, "width": spec.width,
+        "kernel": kernel, "width": spec.width, "samples": f.samples,
         "mass": mass, "grid_mass": grid_mass, "mean_stress": mean,
         "density": f.density, "velocity": f.velocity,
         "stress_contact": f.stress_contact, "stress_kinetic": f.stress_kinetic,
         "solid_fraction": f.solid_fraction, "coordination": f.coordination,
     });
     (text, j)
+}
+
+/// The columns of [`csv`]: the node's centre, then the fields.
+pub const CSV_COLUMNS: &str = "x,y,z,density,vx,vy,vz,\
+sxx,sxy,sxz,syx,syy,syz,szx,szy,szz,\
+scxx,scxy,scxz,scyx,scyy,scyz,sczx,sczy,sczz,\
+skxx,skxy,skxz,skyx,skyy,skyz,skzx,skzy,skzz,solid_fraction,coordination";
+
+/// The fields as CSV: a header line ([`CSV_COLUMNS`]: s the whole stress, sc its contact
+/// part, sk its kinetic part, row-major) and a line per node (x fastest), each number the
+/// shortest decimal that reads back to the same double.
+pub fn csv(f: &Fields) -> String {
+    use std::fmt::Write;
+    let mut out = String::from(CSV_COLUMNS);
+    out.push('\n');
+    let n = f.nodes;
+    for node in 0..f.density.len() {
+        let ix = [node % n[0], (node / n[0]) % n[1], node / (n[0] * n[1])];
+        let mut row: Vec<f64> = (0..3)
+            .map(|k| (ix[k] as f64 + 0.5) * f.spacing[k])
+            .collect();
+        row.push(f.density[node]);
+        row.extend(f.velocity[node]);
+        let (c, k) = (f.stress_contact[node], f.stress_kinetic[node]);
+        row.extend((0..9).map(|m| c[m] + k[m]));
+        row.extend(c);
+        row.extend(k);
+        row.push(f.solid_fraction[node]);
+        row.push(f.coordination[node]);
+        let line: Vec<String> = row.iter().map(|x| format!("{x:?}")).collect();
+        let _ = writeln!(out, "{}", line.join(","));
+    }
+    out
 }
 
 /// The fields as a VTK ImageData file (`.vti`): a point per node.

@@ -234,6 +234,7 @@ impl Session {
                 // A new problem starts its VTK series anew (doc/output.md).
                 self.vtk.series = None;
                 self.vtk.resume = false;
+                self.vtk.average = None;
                 if *log {
                     self.execute(&Command::Log {
                         on: true,
@@ -253,6 +254,7 @@ impl Session {
                 // The series goes on from its index on disk (`output::vtk::resume`).
                 self.vtk.series = None;
                 self.vtk.resume = true;
+                self.vtk.average = None;
                 return Ok(Flow::Continue);
             }
             _ => {}
@@ -276,7 +278,15 @@ impl Session {
                 width,
                 lucy,
                 prefix,
-            } => return self.field(*nodes, *width, *lucy, prefix.as_deref()),
+                csv,
+                average,
+            } => {
+                let out = vtk::FieldOut {
+                    prefix: prefix.clone(),
+                    csv: *csv,
+                };
+                return self.field(*nodes, *width, *lucy, out, *average);
+            }
             _ => {}
         }
         let json = self.json;

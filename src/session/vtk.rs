@@ -1,4 +1,5 @@
-//! `VTk`: VTK frames now or on a schedule (`crate::output::vtk`; doc/output.md). A frame is
+//! `VTk`: VTK frames now or on a schedule (`crate::output::vtk`; doc/output.md), and
+//! `FIEld`'s fields now or averaged over samples during cycling. A frame (or a sample) is
 //! written by the session between steps, never inside the core: with `VTk EVery k` set, a
 //! `Cycle` (or a `RELax` run) runs as consecutive watched runs that end at the cycles that
 //! are multiples of k, and the frame is written after each, with the forces of its last
@@ -6,17 +7,62 @@
 //! one: ARCHITECTURE.md, "Determinism").
 
 use super::{Flow, Session, progress::Progress, watched};
+use crate::output::fields;
 use crate::output::vtk::{Series, resume, write_frame, xml::Encoding};
+use crate::sim::Scene;
 use crate::sim::cycle::Blowup;
+
+/// Where `FIEld` writes besides its print: the `.vti` of `FILe prefix`, the CSV of `CSV`.
+#[derive(Clone, Debug, Default)]
+pub struct FieldOut {
+    pub prefix: Option<String>,
+    pub csv: bool,
+}
+
+/// A running `FIEld … AVerage k m`: the sums of the samples taken, and the next one's cycle.
+#[derive(Debug)]
+pub struct Average {
+    spec: fields::Spec,
+    out: FieldOut,
+    every: u64,
+    samples: u64,
+    next: u64,
+    sums: fields::Sums,
+}
+
+/// The fields' print (text, or JSON with `json`), after writing their files.
+fn field_output(
+    scene: &Scene,
+    spec: &fields::Spec,
+    out: &FieldOut,
+    f: &fields::Fields,
+    json: bool,
+) -> Result<String, String> {
+    let (mut text, j) = fields::report(scene, spec, f);
+    let name = |ext: &str| {
+        let p = out.prefix.as_deref().unwrap_or(DEFAULT_PREFIX);
+        format!("{p}_field_c{:08}.{ext}", scene.cycle())
+    };
+    if out.prefix.is_some() {
+        let shown = crate::output::vtk::write_file(scene, &name("vti"), &fields::vti(scene, f))?;
+        text.push_str(&format!("field written to {shown}\n"));
+    }
+    if out.csv {
+        let shown = crate::output::vtk::write_file(scene, &name("csv"), fields::csv(f).as_bytes())?;
+        text.push_str(&format!("field written to {shown}\n"));
+    }
+    Ok(if json { j.to_string() } else { text })
+}
 
 /// The VTK output of a session: the series frames go to, and the schedule; `resume`: the
 /// problem came from `RESTart`, so a series starts from its index on disk (a `STArt`
-/// problem starts its series anew).
+/// problem starts its series anew); the running `FIEld` average.
 #[derive(Debug, Default)]
 pub struct VtkState {
     pub series: Option<Series>,
     pub every: Option<u64>,
     pub resume: bool,
+    pub average: Option<Average>,
 }
 
 /// The prefix of a series when `VTk FILe` names none.
@@ -72,16 +118,17 @@ impl Session {
         Ok(Flow::Continue)
     }
 
-    /// `FIEld n1 n2 n3 w [LUCy] [FILe prefix]`: the fields printed, and with a prefix
-    /// written as `.vti` (nothing is written when the grid is refused).
+    /// `FIEld n1 n2 n3 w [LUCy] [FILe prefix] [CSV] [AVerage k m]`: the fields printed and
+    /// written; with `AVerage` the first of m samples taken, the output when the last is
+    /// (nothing is written and no average starts when the grid is refused).
     pub(super) fn field(
         &mut self,
         nodes: [usize; 3],
         width: f64,
         lucy: bool,
-        prefix: Option<&str>,
+        out: FieldOut,
+        average: Option<(u64, u64)>,
     ) -> Result<Flow, String> {
-        use crate::output::fields;
         let scene = self.scene.as_ref().ok_or_else(|| {
             "no problem is defined yet: give STArt (or RESTart) first".to_string()
         })?;
@@ -95,16 +142,68 @@ impl Session {
             },
         };
         fields::check(scene, &spec)?;
-        let f = fields::compute(scene, &spec);
-        let (mut text, j) = fields::report(scene, &spec, &f);
-        if let Some(p) = prefix {
-            let name = format!("{p}_field_c{:08}.vti", scene.cycle());
-            let shown = crate::output::vtk::write_file(scene, &name, &fields::vti(scene, &f))?;
-            text.push_str(&format!("field written to {shown}\n"));
+        let sums = fields::sample(scene, &spec);
+        match average {
+            Some((every, samples)) if samples > 1 => {
+                let text = format!(
+                    "FIEld: averaging {samples} states every {every} cycles, cycles {} to {} (the first taken){}",
+                    scene.cycle(),
+                    scene
+                        .cycle()
+                        .saturating_add(every.saturating_mul(samples - 1)),
+                    if self.vtk.average.is_some() {
+                        "; the average that was running is dropped"
+                    } else {
+                        ""
+                    }
+                );
+                self.vtk.average = Some(Average {
+                    spec,
+                    out,
+                    every,
+                    samples,
+                    next: scene.cycle().saturating_add(every),
+                    sums,
+                });
+                self.emit(&text);
+            }
+            _ => {
+                let text = field_output(scene, &spec, &out, &sums.finish(), self.json)?;
+                self.emit(&text);
+            }
         }
-        let out = if self.json { j.to_string() } else { text };
-        self.emit(&out);
         Ok(Flow::Continue)
+    }
+
+    /// After a run: the running average's sample, if one is due, and its output when it is
+    /// the last. A grid the cell has outgrown or an output that cannot be written is a
+    /// warning that ends the average.
+    fn field_due(&mut self) {
+        let (Some(scene), Some(a)) = (self.scene.as_ref(), self.vtk.average.as_mut()) else {
+            return;
+        };
+        if scene.cycle() < a.next {
+            return;
+        }
+        let result = fields::check(scene, &a.spec).and_then(|()| {
+            a.sums.add(&fields::sample(scene, &a.spec));
+            a.next = scene.cycle().saturating_add(a.every);
+            if (a.sums.samples as u64) < a.samples {
+                return Ok(None);
+            }
+            field_output(scene, &a.spec, &a.out, &a.sums.finish(), self.json).map(Some)
+        });
+        match result {
+            Ok(None) => {}
+            Ok(Some(text)) => {
+                self.vtk.average = None;
+                self.emit(&text);
+            }
+            Err(e) => {
+                self.vtk.average = None;
+                self.emit_err(&format!("warning: {e}; FIEld AVerage stopped"));
+            }
+        }
     }
 
     /// `n` steps watched (progress, Ctrl-C), in runs that end where a frame is due, each
@@ -128,10 +227,13 @@ impl Session {
             if done >= n {
                 break Ok(done);
             }
-            let m = match self.vtk.every {
+            let mut m = match self.vtk.every {
                 Some(k) => (k - scene.cycle() % k).min(n - done),
                 None => n - done,
             };
+            if let Some(a) = &self.vtk.average {
+                m = m.min(a.next.saturating_sub(scene.cycle()).max(1));
+            }
             progress.set_offset(base + done);
             let run = watched(scene, m, progress);
             notes.append(&mut scene.take_notes());
@@ -147,6 +249,7 @@ impl Session {
                 self.vtk.every = None;
                 failed = Some(e);
             }
+            self.field_due();
             if ran < m {
                 break Ok(done);
             }

@@ -103,3 +103,180 @@ fn field_refuses_bad_grids() {
         assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
     }
 }
+
+/// The 100 spheres of the first test compressed to 20 kPa, then the cell stopped: a dense
+/// packing whose particles still move.
+const PACKED: &str = "start 1e-3 1e-3 1e-3 100 1000 0\nrad 8e-5 1\ndensity 2600 1\nymd 1e8 1\n\
+     pra 0.25 1\nfriction 0.3 1\ndamping restitution 0.2\nrge 100 1 1 0\ngain 2e-2 600\n\
+     mode 1\ncycle 3000 s0 2e4\ngrid 0 0 0 0 0 0\n";
+
+/// `AVerage k m` is Weinhart's time average of the m states: density and contact stress
+/// the means of the states' fields, the velocity Σ ρV / Σ ρ, the kinetic stress the mean of
+/// (σᵏ + ρVV) less ρ̄V̄V̄, all recomputed here from three single `FIEld`s at the same
+/// cycles; the samples leave the run's bits alone; `CSV` writes the printed numbers.
+#[test]
+fn field_average_is_the_time_average_of_the_states() {
+    let f3 = "field 3 3 3 3.4e-4";
+    let dir = std::env::temp_dir().join(format!("trubal-fields-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = format!("set outdir \"{}\"\n", dir.display());
+    let avg = trubal_json(
+        &format!("{PACKED}{out}{f3} average 40 3 csv\ncycle 100\nprint balls\n"),
+        &[],
+    );
+    assert!(avg.ok, "{}", avg.stderr);
+    // (`set outdir` in both: a SET before a Cycle changes the run's bits.)
+    let one = trubal_json(
+        &format!("{PACKED}{out}{f3}\ncycle 40\n{f3}\ncycle 40\n{f3}\ncycle 20\nprint balls\n"),
+        &[],
+    );
+    assert!(one.ok, "{}", one.stderr);
+    assert_eq!(printed(&avg, "balls"), printed(&one, "balls"));
+    let a = &fields(&avg)[0];
+    let s = fields(&one);
+    assert_eq!(fields(&avg).len(), 1);
+    assert_eq!(a["samples"], 3);
+    assert_eq!(a["cycle"], s[2]["cycle"]);
+    assert!(
+        avg.stdout.contains("averaging 3 states every 40 cycles"),
+        "{}",
+        avg.stdout
+    );
+    let node = |v: &serde_json::Value, name: &str, k: usize| -> Vec<f64> {
+        match &v[name][k] {
+            serde_json::Value::Array(x) => x.iter().map(f).collect(),
+            x => vec![f(x)],
+        }
+    };
+    let close = |got: f64, want: f64, scale: f64, what: &str| {
+        assert!(
+            (got - want).abs() <= 1e-12 * scale,
+            "{what}: {got:e} against {want:e}"
+        );
+    };
+    let mut moving = 0.0f64;
+    for k in 0..27 {
+        let rho: Vec<f64> = s.iter().map(|v| node(v, "density", k)[0]).collect();
+        let rbar = rho.iter().sum::<f64>() / 3.0;
+        close(node(a, "density", k)[0], rbar, rbar, "density");
+        let vel: Vec<Vec<f64>> = s.iter().map(|v| node(v, "velocity", k)).collect();
+        let vbar: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|m| rho[m] * vel[m][i]).sum::<f64>() / (3.0 * rbar))
+            .collect();
+        let vscale = vel.iter().flatten().fold(1e-30f64, |x, y| x.max(y.abs()));
+        moving = moving.max(vscale);
+        for i in 0..3 {
+            close(node(a, "velocity", k)[i], vbar[i], vscale, "velocity");
+        }
+        let sc: Vec<Vec<f64>> = s.iter().map(|v| node(v, "stress_contact", k)).collect();
+        let sk: Vec<Vec<f64>> = s.iter().map(|v| node(v, "stress_kinetic", k)).collect();
+        let cscale = sc.iter().flatten().fold(1e-30f64, |x, y| x.max(y.abs()));
+        let kscale = rbar * vscale * vscale;
+        for (ij, (i, j)) in (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).enumerate() {
+            let c = (0..3).map(|m| sc[m][ij]).sum::<f64>() / 3.0;
+            close(
+                node(a, "stress_contact", k)[ij],
+                c,
+                cscale,
+                "contact stress",
+            );
+            let flux = (0..3)
+                .map(|m| sk[m][ij] + rho[m] * vel[m][i] * vel[m][j])
+                .sum::<f64>()
+                / 3.0;
+            let want = flux - rbar * vbar[i] * vbar[j];
+            close(
+                node(a, "stress_kinetic", k)[ij],
+                want,
+                kscale,
+                "kinetic stress",
+            );
+        }
+    }
+    assert!(moving > 1e-4, "the packing should still move: {moving:e}");
+    // The CSV: a header and a line per node with the printed numbers.
+    let name = format!("trubal_field_c{:08}.csv", a["cycle"].as_u64().unwrap());
+    let text = std::fs::read_to_string(dir.join(name)).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 28);
+    assert!(
+        lines[0].starts_with("x,y,z,density,vx,vy,vz,sxx,"),
+        "{}",
+        lines[0]
+    );
+    for (k, line) in lines[1..].iter().enumerate() {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert_eq!(v.len(), 36);
+        assert_eq!(v[3], node(a, "density", k)[0]);
+        assert_eq!(v[4..7], node(a, "velocity", k)[..]);
+        assert_eq!(v[16..25], node(a, "stress_contact", k)[..]);
+        assert_eq!(v[25..34], node(a, "stress_kinetic", k)[..]);
+        assert_eq!(v[34], node(a, "solid_fraction", k)[0]);
+        let h = f(&a["spacing"][1]);
+        assert!(
+            (v[1] - ((k / 3 % 3) as f64 + 0.5) * h).abs() < 1e-15,
+            "{line}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Simple shear of a periodic cell (`GRID 0 0 0 ed12 0 0`, Lees–Edwards): the velocity
+/// field, averaged over 20 states, is the linear profile V_x = ed12 y, V_y = V_z = 0
+/// within 5 % of ed12 L_y at every node, its slope by least squares within 3 %: the
+/// particles follow the shear (their peculiar velocities average out) and the field
+/// reports the whole velocity, the mean field included (doc/cell.md).
+#[test]
+fn field_velocity_of_a_simple_shear_cell_is_linear() {
+    let rate = 3000.0;
+    let run = trubal_json(
+        &format!(
+            "start 1e-3 1e-3 1e-3 400 1000 0\nrad 6e-5 1\ndensity 2600 1\nymd 1e8 1\n\
+             pra 0.25 1\nfriction 0.4 1\ndamping restitution 0.8\nrge 250 1 1 0\n\
+             grid 0 0 0 {rate} 0 0\ncycle 2000\nfield 4 8 4 2.5e-4 lucy average 100 20\n\
+             cycle 1900\nprint grid\n"
+        ),
+        &[],
+    );
+    assert!(run.ok, "{}", run.stderr);
+    let fl = &fields(&run)[0];
+    assert_eq!(fl["samples"], 20);
+    let ly = f(&printed(&run, "grid")[0]["size"][1]);
+    let scale = rate * ly;
+    let (mut sy, mut sv, mut syy, mut syv, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for k in 0..128 {
+        let y = ((k / 4 % 8) as f64 + 0.5) * ly / 8.0;
+        let v: Vec<f64> = (0..3).map(|i| f(&fl["velocity"][k][i])).collect();
+        assert!(
+            (v[0] - rate * y).abs() <= 0.05 * scale,
+            "node {k}: vx {} at y {y:e}",
+            v[0]
+        );
+        assert!(
+            v[1].abs() <= 0.05 * scale && v[2].abs() <= 0.05 * scale,
+            "node {k}: {v:?}"
+        );
+        (sy, sv, syy, syv, n) = (sy + y, sv + v[0], syy + y * y, syv + y * v[0], n + 1.0);
+    }
+    let slope = (n * syv - sy * sv) / (n * syy - sy * sy);
+    assert!(
+        (slope - rate).abs() <= 0.03 * rate,
+        "slope {slope:e}, ed12 {rate:e}"
+    );
+}
+
+/// Bad averaging input is refused with its place.
+#[test]
+fn field_refuses_bad_averages() {
+    for (line, want) in [
+        ("field 2 2 2 1e-3 average 0 3", "`k` must be at least 1"),
+        ("field 2 2 2 1e-3 average 5", "needs an integer `m`"),
+        ("field 2 2 2 1e-3 csv csv", "given twice"),
+        ("field 2 2 2 1e-3 average 5 2 average 5 2", "given twice"),
+    ] {
+        let run = trubal_json(&format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\n"), &[]);
+        assert!(!run.ok, "{line}");
+        assert!(run.stderr.contains("<stdin>:2:"), "{line}: {}", run.stderr);
+        assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
+    }
+}

@@ -274,6 +274,7 @@ fn skipped(c: &Command) -> bool {
         | Command::Field {
             prefix: Some(_), ..
         }
+        | Command::Field { csv: true, .. }
         | Command::Log { .. }
         | Command::Set(trubal::lang::command::Setting::OutDir(_)) => true,
         _ => false,

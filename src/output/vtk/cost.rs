@@ -33,7 +33,6 @@ mod tests {
             let mut scene = crate::checkpoint::load(std::path::Path::new(path)).unwrap();
             scene.unchecked().settings.out_dir = dir.display().to_string();
             let (mut step, mut zlib, mut raw) = (Vec::new(), Vec::new(), Vec::new());
-            let mut sizes = Vec::new();
             for _ in 0..reps {
                 let t = Instant::now();
                 crate::sim::cycle::run(&mut scene, 100).unwrap();
@@ -57,7 +56,7 @@ mod tests {
             }
             let (st, z, r) = (median(step), median(zlib), median(raw));
             println!(
-                "{path}: cycle {} particles {} contacts {}: step {:.3} ms; frame zlib {:.1} ms = {:.2} % of 1000 steps, raw {:.1} ms = {:.2} %",
+                "{path}: cycle {} particles {} candidate pairs {}: step {:.3} ms; frame zlib {:.1} ms = {:.2} % of 1000 steps, raw {:.1} ms = {:.2} %",
                 scene.cycle(),
                 scene.particles().len(),
                 scene.contacts().iter().count(),
