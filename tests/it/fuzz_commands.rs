@@ -245,7 +245,10 @@ fn command(g: &mut Lcg) -> String {
                 "off",
                 "every 3 file f",
                 "file ../x",
-                "every"
+                "every",
+                "raw",
+                "every 5 raw",
+                "off raw"
             ])
         ),
         40 => format!(
@@ -254,7 +257,16 @@ fn command(g: &mut Lcg) -> String {
             g.below(4),
             g.below(4),
             e(g),
-            g.pick(&["", "lucy", "file g", "file"])
+            g.pick(&[
+                "",
+                "lucy",
+                "file g",
+                "file",
+                "average 3 4",
+                "csv average 1 2",
+                "average 0 1",
+                "average 5"
+            ])
         ),
         _ => format!("cycle {}", 1 + g.below(80)),
     }

@@ -43,15 +43,11 @@ mod tests {
                     let t = Instant::now();
                     let files = write_frame(&scene, &mut s).unwrap();
                     times.push(t.elapsed().as_secs_f64());
-                    sizes = files[..4]
+                    let sizes: Vec<u64> = files[..4]
                         .iter()
                         .map(|f| std::fs::metadata(f).unwrap().len())
                         .collect();
-                    sizes.insert(0, encoding as u64);
-                    println!(
-                        "  {encoding:?} sizes (particles, contacts, walls, cell) {:?}",
-                        &sizes[1..]
-                    );
+                    println!("  {encoding:?} sizes (particles, contacts, walls, cell) {sizes:?}");
                 }
             }
             let (st, z, r) = (median(step), median(zlib), median(raw));
