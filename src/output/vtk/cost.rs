@@ -1,6 +1,6 @@
-//! The cost of a frame against a step, measured in one process (doc/performance.md, "VTK
-//! frames"): an ignored test, run by hand on checkpoints of the S1 bed, because a timing
-//! depends on the machine. For each checkpoint named in `TRUBAL_VTK_COST` (paths separated
+//! The cost of a frame against a step, measured in one process (doc/performance.md, the
+//! VTK row of its first table): an ignored test, run by hand on checkpoints of the S1 bed,
+//! because a timing depends on the machine. For each checkpoint named in `TRUBAL_VTK_COST` (paths separated
 //! by `:`), it alternates, `TRUBAL_VTK_COST_REPS` times (default 7): 100 steps (timed,
 //! per step), a frame zlib-compressed and a frame raw (each timed, encoding and writing
 //! the four files to a temporary folder), and prints the medians, the files' sizes, and
