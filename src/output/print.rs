@@ -46,6 +46,8 @@ pub fn item(scene: &Scene, it: PrintItem) -> (String, Value) {
         PrintItem::Bonds => analysis::bonds_item(scene),
         PrintItem::Clusters => analysis::clusters_item(scene),
         PrintItem::History => history(scene),
+        // (Read through `output::groups`, with the command's range.)
+        PrintItem::Range => (String::new(), json!({"print": "range"})),
     }
 }
 

@@ -558,9 +558,20 @@ fn scene_command(
     let mut out = String::new();
     let mut warnings = Vec::new();
     match cmd {
-        Command::Print { items } => {
+        Command::Print { items, ranges } => {
+            // The ranges first: a group not defined refuses the command before it prints.
+            let mut ranged = Vec::new();
+            for r in ranges {
+                ranged.push(crate::output::groups::item(scene, r.as_ref())?);
+            }
+            let mut ranged = ranged.into_iter();
             for it in items {
-                let (human, j) = print::item(scene, *it);
+                let (human, j) = match it {
+                    crate::lang::command::PrintItem::Range => ranged
+                        .next()
+                        .ok_or("internal: PRint has fewer ranges than GROup/RANge items")?,
+                    _ => print::item(scene, *it),
+                };
                 if json {
                     out.push_str(&j.to_string());
                     out.push('\n');
