@@ -39,6 +39,8 @@ pub enum GroupAction {
     Define { range: Range, dynamic: bool },
     /// `FORget`: remove it.
     Forget,
+    /// `HIStory [OFF]`: record its quantities with every history row, or no longer.
+    Record(bool),
 }
 
 /// What `PROPerty` (and `VELocity vx vy vz range`) assigns to the particles of a range.

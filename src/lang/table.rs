@@ -407,14 +407,14 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "GROup",
-        "name [DYNamic] range | name FORget",
+        "name [DYNamic] range | name FORget | name HIStory [OFF]",
         &[
-            "DYNamic", "FORget", "BOX", "SPHere", "CYLinder", "ID", "MATerial", "SIZe", "GROup",
-            "NOT", "OR"
+            "DYNamic", "FORget", "HIStory", "OFF", "BOX", "SPHere", "CYLinder", "ID", "MATerial",
+            "SIZe", "GROup", "NOT", "OR"
         ],
         false,
         b_group,
-        "Name a range as a group (doc/groups.md). The range: conditions BOX x1 x2 y1 y2 z1 z2 (centre in the box), SPHere xc yc zc r, CYLinder x y z ax ay az r (centre within r of the axis; infinitely long), ID i [TO j] ..., MATerial m ..., SIZe s ..., GROup name; all must hold; NOT before a condition negates it; OR starts another set of conditions. A group is static: the particles in the range when GROup runs, by id (later moves do not change it; deleted particles leave it). DYNamic keeps the range instead: it is evaluated on the particles as they are whenever the group is used (a PRint, a Fix, each history record). A group may be redefined; FORget removes it (refused while a dynamic group names it). Names: a letter then letters, digits, _ - . (at most 32, case-insensitive). Groups are saved with SAve. Usable by Fix, DELete, VELocity, PROPerty, PRint GROup and PLot."
+        "Name a range as a group (doc/groups.md). The range: conditions BOX x1 x2 y1 y2 z1 z2 (centre in the box), SPHere xc yc zc r, CYLinder x y z ax ay az r (centre within r of the axis; infinitely long), ID i [TO j] ..., MATerial m ..., SIZe s ..., GROup name; all must hold; NOT before a condition negates it; OR starts another set of conditions. A group is static: the particles in the range when GROup runs, by id (later moves do not change it; deleted particles leave it). DYNamic keeps the range instead: it is evaluated on the particles as they are whenever the group is used (a PRint, a Fix, each history record). A group may be redefined; FORget removes it (refused while a dynamic group names it). HIStory: with every history record (SET HIStory n) the group's quantities (count, mass, x y z of the centre of mass, its velocity vx vy vz, kinetic, fx fy fz of the force sum, coordination; a dynamic group evaluated then) are recorded as columns NAME.QUANTITY of PRint HIStory; HIStory OFF stops that. Names: a letter then letters, digits, _ - . (at most 32, case-insensitive). Groups are saved with SAve. Usable by Fix, DELete, VELocity, PROPerty, PRint GROup and PLot."
     ),
     def!(
         "HELP",
@@ -1202,11 +1202,18 @@ fn b_group(a: &mut Args) -> Result<Command, ParseError> {
     enum W {
         Dynamic,
         Forget,
+        History,
     }
-    const WORDS: &[Keyword<W>] = &[kw("DYNamic", W::Dynamic), kw("FORget", W::Forget)];
+    const WORDS: &[Keyword<W>] = &[
+        kw("DYNamic", W::Dynamic),
+        kw("FORget", W::Forget),
+        kw("HIStory", W::History),
+    ];
+    const OFF: &[Keyword<()>] = &[kw("OFF", ())];
     let name = super::range::group_name(a)?;
     let action = match a.try_keyword(WORDS)? {
         Some(W::Forget) => GroupAction::Forget,
+        Some(W::History) => GroupAction::Record(a.try_keyword(OFF)?.is_none()),
         Some(W::Dynamic) => GroupAction::Define {
             range: super::range::range(a)?,
             dynamic: true,

@@ -62,6 +62,43 @@ pub fn item(scene: &Scene, range: Option<&Range>) -> Result<(String, Value), Str
     }
 }
 
+/// The history's columns of the recorded groups (`NAME.QUANTITY`, the groups in the order
+/// they were defined) and, for each history row, their values at its cycle (`None`: not
+/// recorded then).
+pub fn history_columns(scene: &Scene) -> (Vec<String>, Vec<Vec<Option<f64>>>) {
+    let recorded: Vec<_> = scene
+        .groups()
+        .list
+        .iter()
+        .filter(|g| g.record || !g.rows.is_empty())
+        .collect();
+    let mut cols = Vec::new();
+    for g in &recorded {
+        cols.extend(
+            aggregate::QUANTITIES
+                .iter()
+                .map(|q| format!("{}.{q}", g.name)),
+        );
+    }
+    let rows = scene
+        .history()
+        .rows
+        .iter()
+        .map(|r| {
+            let mut out = Vec::with_capacity(cols.len());
+            for g in &recorded {
+                let at = g.rows.binary_search_by(|x| x[0].total_cmp(&r[0]));
+                match at {
+                    Ok(k) => out.extend(g.rows[k][1..].iter().map(|&x| Some(x))),
+                    Err(_) => out.extend(aggregate::QUANTITIES.iter().map(|_| None)),
+                }
+            }
+            out
+        })
+        .collect();
+    (cols, rows)
+}
+
 fn kind(dynamic: bool) -> &'static str {
     if dynamic { "dynamic" } else { "static" }
 }

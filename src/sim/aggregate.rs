@@ -20,8 +20,10 @@ pub struct Aggregate {
     pub velocity: [f64; 3],
     /// Σ ½ m v² + ½ I ω² (J), as the energy ledger's kinetic energy counts it.
     pub kinetic: f64,
-    /// Σ of the particles' out-of-balance forces of the last step (N; what `PRint Balls`
-    /// shows).
+    /// Σ of the contact forces on the particles of the last step (N: particle and wall
+    /// contacts, bridges and their dashpots, what `PRint Balls` shows as `force`; gravity and
+    /// mass damping act in the update and are not in it). Zero in a scene that has not
+    /// cycled since it changed.
     pub force: [f64; 3],
     /// Mean number of touching particle pairs per particle (`PRint CHist`'s coordination,
     /// partners in or out of the range); NaN for an empty range.
@@ -125,6 +127,24 @@ pub fn over(scene: &Scene, members: &[usize]) -> Aggregate {
 /// names a group the range refers to that is not defined.
 pub fn of_range(scene: &Scene, range: &Range) -> Result<Aggregate, String> {
     Ok(over(scene, &scene.members(range)?))
+}
+
+/// Appends a row (the cycle, then [`Aggregate::values`]) to every group recorded in the
+/// history (`GROup name HIStory`); called with each history row.
+pub fn record(scene: &mut Scene) {
+    let mut rows = Vec::new();
+    for (k, g) in scene.groups.list.iter().enumerate() {
+        if g.record
+            && let Ok(a) = of_group(scene, &g.name)
+        {
+            let mut row = vec![scene.cycle as f64];
+            row.extend(a.values());
+            rows.push((k, row));
+        }
+    }
+    for (k, row) in rows {
+        scene.groups.list[k].rows.push(row);
+    }
 }
 
 /// The sums and averages over the named group now.

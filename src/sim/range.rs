@@ -184,6 +184,10 @@ pub struct Group {
     pub range: Range,
     /// `Some(ids)`: static; `None`: dynamic (`GROup name DYNamic ...`).
     pub ids: Option<Vec<u32>>,
+    /// `GROup name HIStory`: each history record (`SET HIStory n`) appends a row to `rows`.
+    pub record: bool,
+    /// The recorded rows: the cycle, then the quantities of `sim::aggregate::QUANTITIES`.
+    pub rows: Vec<Vec<f64>>,
 }
 
 /// The scene's groups, in the order they were first defined (a redefinition keeps its place).
@@ -241,10 +245,15 @@ impl Groups {
             .collect()
     }
 
-    /// Defines or redefines a group (a redefinition keeps its place in the list).
-    pub fn put(&mut self, g: Group) {
+    /// Defines or redefines a group (a redefinition keeps its place in the list, and its
+    /// recording and rows: the history's columns continue with the new definition).
+    pub fn put(&mut self, mut g: Group) {
         match self.list.iter_mut().find(|x| x.name == g.name) {
-            Some(x) => *x = g,
+            Some(x) => {
+                g.record = x.record;
+                g.rows = std::mem::take(&mut x.rows);
+                *x = g;
+            }
             None => self.list.push(g),
         }
     }

@@ -22,6 +22,7 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
         Command::Group { name, action } => match action {
             GroupAction::Define { range, dynamic } => scene.define_group(name, range, *dynamic),
             GroupAction::Forget => scene.forget_group(name),
+            GroupAction::Record(on) => scene.record_group(name, *on),
         },
         Command::Property { what, range } => {
             if let Property::Material(m) = what {

@@ -108,6 +108,8 @@ impl Scene {
             name: name.to_string(),
             range: range.clone(),
             ids,
+            record: false,
+            rows: Vec::new(),
         });
         Ok(format!(
             "group {name}: {} particles now ({kind})",
@@ -129,6 +131,23 @@ impl Scene {
         Ok(format!("group {name} forgotten"))
     }
 
+    /// `GROup name HIStory [OFF]`: the group's quantities recorded with every history row
+    /// (`SET HIStory n`), or no longer; the rows recorded stay.
+    pub fn record_group(&mut self, name: &str, on: bool) -> Result<String, String> {
+        self.check_names(&Range::group(name))?;
+        if let Some(g) = self.groups.list.iter_mut().find(|g| g.name == name) {
+            g.record = on;
+        }
+        let every = self.settings.history_every;
+        Ok(match (on, every) {
+            (false, _) => format!("group {name}: no longer recorded in the history"),
+            (true, 0) => format!(
+                "group {name}: recorded in the history once SET HIStory n records (it is off)"
+            ),
+            (true, n) => format!("group {name}: recorded in the history every {n} cycles"),
+        })
+    }
+
     /// The groups of a decoded checkpoint: names unique, static ids sorted, no circle.
     pub(super) fn check_groups(&self) -> Result<(), String> {
         let gs = &self.groups;
@@ -141,6 +160,12 @@ impl Scene {
             }
             if g.range.any.is_empty() || g.range.any.iter().any(|a| a.is_empty()) {
                 return Err(format!("group `{}` has an empty range", g.name));
+            }
+            let width = crate::sim::aggregate::QUANTITIES.len() + 1;
+            if g.rows.iter().any(|r| r.len() != width)
+                || g.rows.windows(2).any(|w| !(w[0][0] < w[1][0]))
+            {
+                return Err(format!("group `{}` has malformed history rows", g.name));
             }
             if let Some(ids) = &g.ids
                 && ids.windows(2).any(|w| w[0] >= w[1])
