@@ -30,23 +30,8 @@ pub struct Aggregate {
     pub coordination: f64,
 }
 
-/// The names of the quantities, in the order of [`Aggregate::values`] (the columns of a
-/// group in the history, the names an expression reads).
-pub const QUANTITIES: &[&str] = &[
-    "count",
-    "mass",
-    "x",
-    "y",
-    "z",
-    "vx",
-    "vy",
-    "vz",
-    "kinetic",
-    "fx",
-    "fy",
-    "fz",
-    "coordination",
-];
+/// The names of the quantities (`sim::range`, where the history's rows are checked).
+pub use super::range::QUANTITIES;
 
 impl Aggregate {
     /// The quantities in the order of [`QUANTITIES`].

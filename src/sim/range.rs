@@ -196,6 +196,24 @@ pub struct Groups {
     pub list: Vec<Group>,
 }
 
+/// The names of the quantities of a range (`sim::aggregate::Aggregate::values`, in this
+/// order): the columns of a group in the history, the names an expression reads.
+pub const QUANTITIES: &[&str] = &[
+    "count",
+    "mass",
+    "x",
+    "y",
+    "z",
+    "vx",
+    "vy",
+    "vz",
+    "kinetic",
+    "fx",
+    "fy",
+    "fz",
+    "coordination",
+];
+
 /// The most groups a scene holds (a bound for typos and runaway scripts, not a cost).
 pub const MAX_GROUPS: usize = 1000;
 

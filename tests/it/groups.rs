@@ -363,3 +363,23 @@ fn a_group_redefined_keeps_its_place_and_forgotten_is_gone() {
     assert_eq!(g[0]["groups"][0]["count"], 10);
     assert_eq!(names(&g[1]), ["b"]);
 }
+
+/// Recording groups in the history keeps the forces of the steps it records in the particle
+/// arrays: the run is the same to the bit as without the groups.
+#[test]
+fn recording_groups_changes_no_result() {
+    let base = format!(
+        "{LATTICE}damping restitution 0.5 1\ngravity 0 0 -1000\ndwall p 0 0 1 0\nset history 7\n"
+    );
+    let tail = "cycle 2000\nprint balls energy\n";
+    let plain = run_ok(&format!("{base}{tail}"));
+    let grouped = run_ok(&format!(
+        "{base}group low box 0 0.01 0 0.01 0 0.004\ngroup lowd dynamic box 0 0.01 0 0.01 0 0.004\n\
+         group low history\ngroup lowd history\n{tail}"
+    ));
+    assert_eq!(printed(&plain, "balls"), printed(&grouped, "balls"));
+    assert_eq!(printed(&plain, "energy"), printed(&grouped, "energy"));
+    // (The lowest layer has reached the floor by then: contact forces act in the run.)
+    let e = &printed(&grouped, "energy")[0];
+    assert!(e["dissipated"]["total"].as_f64().unwrap() > 0.0, "{e}");
+}

@@ -161,7 +161,7 @@ impl Scene {
             if g.range.any.is_empty() || g.range.any.iter().any(|a| a.is_empty()) {
                 return Err(format!("group `{}` has an empty range", g.name));
             }
-            let width = crate::sim::aggregate::QUANTITIES.len() + 1;
+            let width = crate::sim::range::QUANTITIES.len() + 1;
             if g.rows.iter().any(|r| r.len() != width)
                 || g.rows.windows(2).any(|w| !(w[0][0] < w[1][0]))
             {
