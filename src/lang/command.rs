@@ -283,6 +283,8 @@ pub enum Command {
     New,
     Plot {
         items: Vec<PlotItem>,
+        /// `PLot ... range` (e.g. `GROup name`): its particles drawn in the highlight colour.
+        mark: Option<Range>,
     },
     Pra {
         nu: f64,

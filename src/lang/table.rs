@@ -491,7 +491,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_plot,
-        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded."
+        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded. A range after the items (e.g. PLot BALl GROup top) draws the particles in it now in the highlight colour (with BALl, DISks, CLUster or LCLuster; the file name ends in _NAME, or _range; doc/groups.md)."
     ),
     def!(
         "PRA",
@@ -1047,7 +1047,12 @@ fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
             },
         });
     }
-    Ok(Command::Plot { items })
+    let mark = if super::range::starts_range(a) {
+        Some(super::range::range(a)?)
+    } else {
+        None
+    };
+    Ok(Command::Plot { items, mark })
 }
 
 const FIELD_WORDS: &[Keyword<u8>] = &[kw("LUCy", 0), kw("FILe", 1)];

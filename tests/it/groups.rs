@@ -383,3 +383,64 @@ fn recording_groups_changes_no_result() {
     let e = &printed(&grouped, "energy")[0];
     assert!(e["dissipated"]["total"].as_f64().unwrap() > 0.0, "{e}");
 }
+
+/// `PLot BALl GROup name`: the group's particles, and only they, in the highlight colour, a
+/// legend line naming it, the file named after it; a plot without particles refuses it.
+#[test]
+fn plot_highlights_a_group() {
+    use trubal::lang::command::PlotItem;
+    use trubal::plot::picture::colour::HIGHLIGHT;
+    let s = session(&format!(
+        "{LATTICE}group top box 0 0.01 0 0.01 0.006 0.01\n"
+    ));
+    let sc = s.scene.as_ref().unwrap();
+    let members = sc
+        .members(&trubal::sim::range::Range::group("top"))
+        .unwrap();
+    let ids: Vec<u32> = members.iter().map(|&i| sc.particles().id[i]).collect();
+    assert_eq!(ids.len(), 50);
+    let m = trubal::plot::Marked {
+        label: "top".into(),
+        ids: ids.clone(),
+    };
+    let pic = trubal::plot::picture_marked(sc, &[PlotItem::Ball], Some(&m)).unwrap();
+    assert_eq!(pic.discs.len(), 125);
+    for d in &pic.discs {
+        assert_eq!(
+            d.fill == HIGHLIGHT,
+            ids.contains(&d.id),
+            "particle {}",
+            d.id
+        );
+    }
+    assert!(pic.legend.iter().any(|l| l.text == "top: 50 particles"));
+    // Through the binary: the file name, and the errors.
+    let run = run_ok(&format!(
+        "{LATTICE}group top box 0 0.01 0 0.01 0.006 0.01\nplot ball group top\nplot ball id 1 to 3\n"
+    ));
+    assert!(
+        run.stdout
+            .contains("plot written to plot_c00000000_ball_top.png"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout
+            .contains("plot written to plot_c00000000_ball_range.png"),
+        "{}",
+        run.stdout
+    );
+    let run = trubal_json(&format!("{LATTICE}plot save ball group top\n"), &[]);
+    assert!(
+        run.stderr
+            .contains(":11:1: error: group `top` is not defined"),
+        "{}",
+        run.stderr
+    );
+    let run = trubal_json(&format!("{LATTICE}group a id 1\nplot bou group a\n"), &[]);
+    assert!(
+        run.stderr.contains("give BALl, DISks, CLUster or LCLuster"),
+        "{}",
+        run.stderr
+    );
+}
