@@ -21,10 +21,34 @@ pub struct WallOptions {
     pub servo: Option<Servo>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Ranges and groups are the simulation's (`sim::range`, doc/groups.md).
+pub use crate::sim::range::Range;
+
+#[derive(Clone, Debug, PartialEq)]
 pub enum FixTarget {
     All,
     Particle(usize),
+    /// The particles in a range (`Fix ... GROup name`, `Fix ... BOX ...`).
+    Range(Range),
+}
+
+/// `GROup name ...`: what to do with the group.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GroupAction {
+    /// Define (or redefine) it: static (the ids in the range now) or dynamic.
+    Define { range: Range, dynamic: bool },
+    /// `FORget`: remove it.
+    Forget,
+    /// `HIStory [OFF]`: record its quantities with every history row, or no longer.
+    Record(bool),
+}
+
+/// What `PROPerty` (and `VELocity vx vy vz range`) assigns to the particles of a range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Property {
+    Velocity([f64; 3]),
+    Spin([f64; 3]),
+    Material(usize),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +86,9 @@ pub enum PrintItem {
     Bonds,
     Clusters,
     History,
+    /// `GROup name` or `RANge ...`: the sums and averages over the next of the command's
+    /// ranges (`Command::Print::ranges`, in order; `None` there: every group).
+    Range,
 }
 
 /// What `PLot` can draw.
@@ -256,6 +283,8 @@ pub enum Command {
     New,
     Plot {
         items: Vec<PlotItem>,
+        /// `PLot ... range` (e.g. `GROup name`): its particles drawn in the highlight colour.
+        mark: Option<Range>,
     },
     Pra {
         nu: f64,
@@ -263,6 +292,22 @@ pub enum Command {
     },
     Print {
         items: Vec<PrintItem>,
+        /// The ranges of the `PrintItem::Range` items, in order (`None`: `GROup ALL`).
+        ranges: Vec<Option<Range>>,
+    },
+    /// `GROup name [DYNamic] range | FORget`.
+    Group {
+        name: String,
+        action: GroupAction,
+    },
+    /// `PROperty ... range` (and `VELocity vx vy vz range`).
+    Property {
+        what: Property,
+        range: Range,
+    },
+    /// `DELete range`: remove the particles in a range.
+    DeleteRange {
+        range: Range,
     },
     Probe {
         kind: ProbeKind,

@@ -7,6 +7,7 @@ pub mod doc;
 pub mod keyword;
 pub mod lexer;
 pub mod parse;
+pub mod range;
 pub mod table;
 
 pub use args::ParseError;

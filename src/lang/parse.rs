@@ -122,5 +122,8 @@ pub fn command_name(c: &Command) -> &'static str {
         TwoD => "2-D",
         Vtk { .. } => "VTk",
         Field { .. } => "FIEld",
+        Group { .. } => "GROup",
+        Property { .. } => "PROPerty",
+        DeleteRange { .. } => "DELete",
     }
 }

@@ -56,6 +56,8 @@ pub const PRINT_ITEMS: &[Keyword<PrintItem>] = &[
     kw("SETtings", PrintItem::Settings),
     kw("Stress", PrintItem::Stress),
     kw("Walls", PrintItem::Walls),
+    kw("GROup", PrintItem::Range),
+    kw("RANge", PrintItem::Range),
 ];
 
 const CONTACT_FILTERS: &[Keyword<ContactsFilter>] = &[
@@ -197,6 +199,10 @@ const VIEWS: &[Keyword<View>] = &[kw("XZ", View::Xz), kw("YZ", View::Yz), kw("XY
 const AXES: &[Keyword<usize>] = &[kw("X", 0), kw("Y", 1), kw("Z", 2), kw("ALL", 3)];
 const ONOFF: &[Keyword<bool>] = &[kw("ON", true), kw("OFF", false)];
 const DEFAULT_KW: &[Keyword<()>] = &[kw("DEFault", ())];
+/// The words of a range (`lang::range`), for the commands that take one.
+const RANGE_KWS: &[&str] = &[
+    "BOX", "SPHere", "CYLinder", "ID", "MATerial", "SIZe", "GROup", "NOT", "OR",
+];
 
 /// Every command, in alphabetical order of Appendix B plus trubal's additions.
 pub const COMMANDS: &[CommandDef] = &[
@@ -282,11 +288,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "DELete",
-        "x1 x2 y1 y2 z1 z2",
-        &[],
+        "x1 x2 y1 y2 z1 z2 | range",
+        RANGE_KWS,
         false,
         b_delete,
-        "Delete the particles whose centres lie in the box x1<=x<=x2, y1<=y<=y2, z1<=z<=z2 (e.g. to cut a settled bed to a height), with their contacts and bridges; what they held (kinetic energy, the strain energy of their contacts) leaves the energy ledger as work of commands. An error if no particle is in the box."
+        "Delete the particles whose centres lie in the box x1<=x<=x2, y1<=y<=y2, z1<=z<=z2 (e.g. to cut a settled bed to a height), or the particles in a range (BOX, SPHere, CYLinder, ID, MATerial, SIZe, GROup, NOT, OR; doc/groups.md), with their contacts and bridges; what they held (kinetic energy, the strain energy of their contacts) leaves the energy ledger as work of commands. An error if no particle is in the box or range."
     ),
     def!(
         "DWAll",
@@ -306,11 +312,13 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "Fix",
-        "ix iy iz irx iry irz iadd|All",
-        &["All"],
+        "ix iy iz irx iry irz iadd|All|range",
+        &[
+            "All", "BOX", "SPHere", "CYLinder", "ID", "MATerial", "SIZe", "GROup", "NOT", "OR"
+        ],
         true,
         b_fix,
-        "Hold velocity components constant (1 = fixed, 0 = free) for particle iadd or All. Does not zero them (see Zero)."
+        "Hold velocity components constant (1 = fixed, 0 = free) for particle iadd, All, or the particles in a range now (e.g. GROup base; doc/groups.md). Does not zero them (see Zero)."
     ),
     def!(
         "FMM",
@@ -398,6 +406,17 @@ pub const COMMANDS: &[CommandDef] = &[
         "Strain rates of the periodic cell (1/s, ed_ij = dv_i/dx_j): ed11 ed22 ed33 stretch (> 0) or compress it, ed12 shears it with Lees-Edwards images (x step between the bottom and top y sides); ed23 and ed31 are not used (0). Particle velocities are then relative to the mean field (doc/cell.md)."
     ),
     def!(
+        "GROup",
+        "name [DYNamic] range | name FORget | name HIStory [OFF]",
+        &[
+            "DYNamic", "FORget", "HIStory", "OFF", "BOX", "SPHere", "CYLinder", "ID", "MATerial",
+            "SIZe", "GROup", "NOT", "OR"
+        ],
+        false,
+        b_group,
+        "Name a range as a group (doc/groups.md). The range: conditions BOX x1 x2 y1 y2 z1 z2 (centre in the box), SPHere xc yc zc r, CYLinder x y z ax ay az r (centre within r of the axis; infinitely long), ID i [TO j] ..., MATerial m ..., SIZe s ..., GROup name; all must hold; NOT before a condition negates it; OR starts another set of conditions. A group is static: the particles in the range when GROup runs, by id (later moves do not change it; deleted particles leave it). DYNamic keeps the range instead: it is evaluated on the particles as they are whenever the group is used (a PRint, a Fix, each history record). A group may be redefined; FORget removes it (refused while a dynamic group names it). HIStory: with every history record (SET HIStory n) the group's quantities (count, mass, x y z of the centre of mass, its velocity vx vy vz, kinetic, fx fy fz of the force sum, coordination; a dynamic group evaluated then) are recorded as columns NAME.QUANTITY of PRint HIStory; HIStory OFF stops that. Names: a letter then letters, digits, _ - . (at most 32, case-insensitive). Groups are saved with SAve. Usable by Fix, DELete, VELocity, PROPerty, PRint GROup and PLot."
+    ),
+    def!(
         "HELP",
         "[command [item]]",
         &[],
@@ -472,7 +491,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_plot,
-        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded."
+        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded. A range after the items (e.g. PLot BALl GROup top) draws the particles in it now in the highlight colour (with BALl, DISks, CLUster or LCLuster; the file name ends in _NAME, or _range; doc/groups.md)."
     ),
     def!(
         "PRA",
@@ -502,11 +521,13 @@ pub const COMMANDS: &[CommandDef] = &[
             "Partitions",
             "SETtings",
             "Stress",
-            "Walls"
+            "Walls",
+            "GROup",
+            "RANge"
         ],
         true,
         b_print,
-        "Print the items (restricted by Window where it applies). With --json each item is one JSON object per line."
+        "Print the items (restricted by Window where it applies). GROup name (or ALL, every group) and RANge range: the sums and averages over a group's or a range's particles now (count, mass, centre of mass, its velocity, kinetic energy, force sum, mean coordination; doc/groups.md). With --json each item is one JSON object per line."
     ),
     def!(
         "PRObe",
@@ -519,6 +540,17 @@ pub const COMMANDS: &[CommandDef] = &[
             kind: a.keyword(PROBES, "probe")?
         }),
         "Apply a strain probe to the periodic cell and print the modulus."
+    ),
+    def!(
+        "PROPerty",
+        "VELocity vx vy vz | SPIn wx wy wz | MATerial mtyp, then range",
+        &[
+            "VELocity", "SPIn", "MATerial", "BOX", "SPHere", "CYLinder", "ID", "SIZe", "GROup",
+            "NOT", "OR"
+        ],
+        false,
+        b_property,
+        "Assign to the particles in a range now (doc/groups.md): VELocity (m/s), SPIn (angular velocity, rad/s) or MATerial (a defined material type; the masses follow its density, the contacts are re-evaluated at the next Cycle). The kinetic energy this adds or removes is booked as work of commands. An error if no particle is in the range."
     ),
     def!(
         "RAdius",
@@ -630,11 +662,11 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "VELocity",
-        "v1x v1y v1z [v2x v2y v2z] ivd",
-        &[],
+        "v1x v1y v1z [v2x v2y v2z] ivd | vx vy vz range",
+        RANGE_KWS,
         true,
         b_velocity,
-        "Set the velocity of every particle of agglomerate 1 (and 2); ivd = 1 marks the impact: contacts made afterwards use the base surface energy."
+        "Set the velocity of every particle of agglomerate 1 (and 2); ivd = 1 marks the impact: contacts made afterwards use the base surface energy. With three numbers and a range (e.g. VELocity 0 0 -1 GROup top), the velocity of the particles in the range now (as PROPerty VELocity; doc/groups.md)."
     ),
     def!(
         "VMU",
@@ -913,6 +945,8 @@ fn b_fix(a: &mut Args) -> Result<Command, ParseError> {
     const ALL: &[Keyword<()>] = &[kw("All", ())];
     let target = if a.try_keyword(ALL)?.is_some() {
         FixTarget::All
+    } else if super::range::starts_range(a) {
+        FixTarget::Range(super::range::range(a)?)
     } else {
         FixTarget::Particle(a.index("iadd")?)
     };
@@ -1013,7 +1047,12 @@ fn b_plot(a: &mut Args) -> Result<Command, ParseError> {
             },
         });
     }
-    Ok(Command::Plot { items })
+    let mark = if super::range::starts_range(a) {
+        Some(super::range::range(a)?)
+    } else {
+        None
+    };
+    Ok(Command::Plot { items, mark })
 }
 
 const FIELD_WORDS: &[Keyword<u8>] = &[kw("LUCy", 0), kw("FILe", 1), kw("CSV", 2), kw("AVerage", 3)];
@@ -1128,12 +1167,19 @@ fn b_pra(a: &mut Args) -> Result<Command, ParseError> {
 
 fn b_print(a: &mut Args) -> Result<Command, ParseError> {
     let mut items = Vec::new();
-    while let Some(k) = a.try_keyword(PRINT_ITEMS)? {
+    let mut ranges = Vec::new();
+    while let Some(t) = a.peek()
+        && let Some(k) = a.try_keyword(PRINT_ITEMS)?
+    {
         let k = match k {
             PrintItem::Contacts(_) => match a.try_keyword(CONTACT_FILTERS)? {
                 Some(f) => PrintItem::Contacts(f),
                 None => k,
             },
+            PrintItem::Range => {
+                ranges.push(print_range(a, t)?);
+                k
+            }
             _ => k,
         };
         items.push(k);
@@ -1155,7 +1201,73 @@ fn b_print(a: &mut Args) -> Result<Command, ParseError> {
             },
         });
     }
-    Ok(Command::Print { items })
+    Ok(Command::Print { items, ranges })
+}
+
+/// The range of `PRint GROup name|ALL` (`None`: every group) or `PRint RANge range`; `t` the
+/// item's word.
+fn print_range(a: &mut Args, t: &super::lexer::Token) -> Result<Option<Range>, ParseError> {
+    const WHICH: &[Keyword<bool>] = &[kw("GROup", true), kw("RANge", false)];
+    const ALL: &[Keyword<()>] = &[kw("ALL", ())];
+    if super::keyword::match_keyword(&t.text, WHICH) == Ok(false) {
+        return super::range::range(a).map(Some);
+    }
+    if a.try_keyword(ALL)?.is_some() {
+        return Ok(None);
+    }
+    Ok(Some(Range::group(&super::range::group_name(a)?)))
+}
+
+fn b_group(a: &mut Args) -> Result<Command, ParseError> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum W {
+        Dynamic,
+        Forget,
+        History,
+    }
+    const WORDS: &[Keyword<W>] = &[
+        kw("DYNamic", W::Dynamic),
+        kw("FORget", W::Forget),
+        kw("HIStory", W::History),
+    ];
+    const OFF: &[Keyword<()>] = &[kw("OFF", ())];
+    let name = super::range::group_name(a)?;
+    let action = match a.try_keyword(WORDS)? {
+        Some(W::Forget) => GroupAction::Forget,
+        Some(W::History) => GroupAction::Record(a.try_keyword(OFF)?.is_none()),
+        Some(W::Dynamic) => GroupAction::Define {
+            range: super::range::range(a)?,
+            dynamic: true,
+        },
+        None => GroupAction::Define {
+            range: super::range::range(a)?,
+            dynamic: false,
+        },
+    };
+    Ok(Command::Group { name, action })
+}
+
+fn b_property(a: &mut Args) -> Result<Command, ParseError> {
+    #[derive(Clone, Copy)]
+    enum W {
+        Velocity,
+        Spin,
+        Material,
+    }
+    const WORDS: &[Keyword<W>] = &[
+        kw("VELocity", W::Velocity),
+        kw("SPIn", W::Spin),
+        kw("MATerial", W::Material),
+    ];
+    let what = match a.keyword(WORDS, "property (VELocity, SPIn or MATerial)")? {
+        W::Velocity => Property::Velocity(a.vec3(["vx", "vy", "vz"])?),
+        W::Spin => Property::Spin(a.vec3(["wx", "wy", "wz"])?),
+        W::Material => Property::Material(a.material_type("mtyp")?),
+    };
+    Ok(Command::Property {
+        what,
+        range: super::range::range(a)?,
+    })
 }
 
 fn b_radius(a: &mut Args) -> Result<Command, ParseError> {
@@ -1505,6 +1617,12 @@ fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
         toks.push(a.peek().cloned());
         nums.push(a.real("v")?);
     }
+    if nums.len() == 3 && super::range::starts_range(a) {
+        return Ok(Command::Property {
+            what: Property::Velocity([nums[0], nums[1], nums[2]]),
+            range: super::range::range(a)?,
+        });
+    }
     let (v1, v2, ivd_tok, ivd) = match nums.len() {
         4 => ([nums[0], nums[1], nums[2]], None, &toks[3], nums[3]),
         7 => (
@@ -1539,6 +1657,11 @@ fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
 }
 
 fn b_delete(a: &mut Args) -> Result<Command, ParseError> {
+    if !a.peek_is_number() && a.peek().is_some() {
+        return Ok(Command::DeleteRange {
+            range: super::range::range(a)?,
+        });
+    }
     Ok(Command::Delete {
         bounds: box_bounds(a, true)?,
     })

@@ -49,20 +49,23 @@ fn thesis_examples_parse() {
                 PrintItem::Grid,
                 PrintItem::Contacts(ContactsFilter::Loaded),
                 PrintItem::Info
-            ]
+            ],
+            ranges: vec![]
         }
     );
     assert_eq!(
         one("Pr cO"),
         Command::Print {
-            items: vec![PrintItem::Contacts(ContactsFilter::Loaded)]
+            items: vec![PrintItem::Contacts(ContactsFilter::Loaded)],
+            ranges: vec![]
         }
     );
     assert_eq!(one("RGE Seed 5"), Command::RgenerateSeed { n: 5 });
     assert_eq!(
         one("pr c all"),
         Command::Print {
-            items: vec![PrintItem::Contacts(ContactsFilter::All)]
+            items: vec![PrintItem::Contacts(ContactsFilter::All)],
+            ranges: vec![]
         }
     );
 }

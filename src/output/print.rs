@@ -46,6 +46,8 @@ pub fn item(scene: &Scene, it: PrintItem) -> (String, Value) {
         PrintItem::Bonds => analysis::bonds_item(scene),
         PrintItem::Clusters => analysis::clusters_item(scene),
         PrintItem::History => history(scene),
+        // (Read through `output::groups`, with the command's range.)
+        PrintItem::Range => (String::new(), json!({"print": "range"})),
     }
 }
 
@@ -716,16 +718,34 @@ fn grid(scene: &Scene) -> (String, Value) {
 }
 
 fn history(scene: &Scene) -> (String, Value) {
-    let cols = crate::sim::history::COLUMNS;
+    let mut cols: Vec<String> = crate::sim::history::COLUMNS
+        .iter()
+        .map(|c| c.to_string())
+        .collect();
+    // The groups recorded with the history (`GROup name HIStory`): their columns follow,
+    // empty (null) in the rows recorded before or while they were not.
+    let (group_cols, group_rows) = super::groups::history_columns(scene);
+    cols.extend(group_cols);
     let mut s = cols.join(",");
     s.push('\n');
-    for r in &scene.history().rows {
-        let line: Vec<String> = r.iter().map(|x| format!("{x:e}")).collect();
+    let mut rows = Vec::new();
+    for (r, g) in scene.history().rows.iter().zip(&group_rows) {
+        let mut line: Vec<String> = r.iter().map(|x| format!("{x:e}")).collect();
+        line.extend(
+            g.iter()
+                .map(|x| x.map(|x| format!("{x:e}")).unwrap_or_default()),
+        );
         s.push_str(&line.join(","));
         s.push('\n');
+        let mut row: Vec<Value> = r.iter().map(|&x| json!(x)).collect();
+        row.extend(g.iter().map(|x| {
+            x.filter(|x| x.is_finite())
+                .map_or(Value::Null, |x| json!(x))
+        }));
+        rows.push(Value::Array(row));
     }
     (
         s,
-        json!({"print": "history", "columns": cols, "rows": scene.history().rows}),
+        json!({"print": "history", "columns": cols, "rows": rows}),
     )
 }

@@ -31,6 +31,8 @@ pub mod colour {
     pub const BROKEN: Rgb = Rgb(220, 0, 0);
     pub const NEW: Rgb = Rgb(0, 0, 230);
     pub const KEPT: Rgb = Rgb(0, 190, 210);
+    /// The particles of `PLot ... GROup name`.
+    pub const HIGHLIGHT: Rgb = Rgb(255, 105, 0);
     /// Vector plots: the line, and the red dot at its forward end (Fig. 6.1c).
     pub const VECTOR: Rgb = Rgb(40, 40, 40);
     pub const TIP: Rgb = Rgb(220, 0, 0);

@@ -579,9 +579,20 @@ fn scene_command(
     let mut out = String::new();
     let mut warnings = Vec::new();
     match cmd {
-        Command::Print { items } => {
+        Command::Print { items, ranges } => {
+            // The ranges first: a group not defined refuses the command before it prints.
+            let mut ranged = Vec::new();
+            for r in ranges {
+                ranged.push(crate::output::groups::item(scene, r.as_ref())?);
+            }
+            let mut ranged = ranged.into_iter();
             for it in items {
-                let (human, j) = print::item(scene, *it);
+                let (human, j) = match it {
+                    crate::lang::command::PrintItem::Range => ranged
+                        .next()
+                        .ok_or("internal: PRint has fewer ranges than GROup/RANge items")?,
+                    _ => print::item(scene, *it),
+                };
                 if json {
                     out.push_str(&j.to_string());
                     out.push('\n');
@@ -600,7 +611,23 @@ fn scene_command(
             checkpoint::save(scene, &join(dir, &name))?;
             out = format!("saved cycle {} to {name}", scene.cycle());
         }
-        Command::Plot { items } => {
+        Command::Plot { items, mark } => {
+            // The range first: an undefined group refuses the command before PLot SAVe.
+            let marked = match mark {
+                Some(r) => {
+                    crate::plot::check_mark(items)?;
+                    let members = scene.members(r)?;
+                    let mut ids: Vec<u32> =
+                        members.iter().map(|&i| scene.particles().id[i]).collect();
+                    ids.sort_unstable();
+                    let label = match r.groups_named().as_slice() {
+                        [g] if r.text() == format!("GROup {g}") => g.to_string(),
+                        _ => "range".to_string(),
+                    };
+                    Some(crate::plot::Marked { label, ids })
+                }
+                None => None,
+            };
             let mut drawn: Vec<PlotItem> = Vec::new();
             for it in items {
                 if *it == PlotItem::Save {
@@ -610,7 +637,7 @@ fn scene_command(
                 }
             }
             if !drawn.is_empty() {
-                let file = crate::plot::plot(scene, &drawn)?;
+                let file = crate::plot::plot_marked(scene, &drawn, marked.as_ref())?;
                 out = format!("plot written to {file}");
             }
         }

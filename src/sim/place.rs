@@ -483,6 +483,27 @@ pub fn delete_in_box(scene: &mut Scene, b: [f64; 6]) -> Result<String, String> {
     ))
 }
 
+/// `DELete range`: deletes the particles of index `members` (ascending, from
+/// [`Scene::members`]); `what` names the range for the message.
+pub fn delete_members(scene: &mut Scene, members: &[usize], what: &str) -> Result<String, String> {
+    let mut gone = vec![false; scene.particles.len()];
+    for &i in members {
+        if let Some(g) = gone.get_mut(i) {
+            *g = true;
+        }
+    }
+    let n = crate::sim::cycle::delete_marked(scene, &gone);
+    if n == 0 {
+        return Err(format!(
+            "no particle is in the range {what}: nothing deleted"
+        ));
+    }
+    Ok(format!(
+        "deleted {n} particles; {} remain",
+        scene.particles.len()
+    ))
+}
+
 /// `RGEnerate Seed n`: draws and discards `n` random numbers (all or none: `watch` saying
 /// stop gives them back).
 pub fn discard_random(scene: &mut Scene, n: u64, watch: Watch) -> Result<String, String> {

@@ -12,6 +12,7 @@ mod access;
 pub(in crate::sim) mod cell;
 mod check;
 mod edit;
+mod groups;
 mod ledger;
 mod overlap;
 mod reference;
@@ -434,6 +435,9 @@ pub struct Scene {
     /// format 5 have none (Hertz/JKR everywhere, no rolling friction).
     #[serde(deserialize_with = "old_laws")]
     pub(in crate::sim) laws: crate::sim::model::ContactLaws,
+    /// The named groups (`GROup`, `sim::range`); checkpoints before format 10 have none.
+    #[serde(deserialize_with = "old_groups")]
+    pub(in crate::sim) groups: crate::sim::range::Groups,
     /// What a `Cycle` and the commands derive and keep between steps or commands, never
     /// saved (see [`Derived`]).
     #[serde(skip)]
@@ -535,6 +539,7 @@ impl Scene {
             history: Default::default(),
             cell: Default::default(),
             laws: Default::default(),
+            groups: Default::default(),
             derived: Derived::default(),
         }
     }
@@ -655,6 +660,17 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
             pair_values: Vec::new(),
         }),
         _ => crate::sim::model::ContactLaws::deserialize(de),
+    }
+}
+
+/// Reads the groups in the layout of the checkpoint being decoded: formats 1–9 had none
+/// (nothing read).
+fn old_groups<'de, D: serde::Deserializer<'de>>(
+    de: D,
+) -> Result<crate::sim::range::Groups, D::Error> {
+    match super::contacts::old::version() {
+        1..=9 => Ok(Default::default()),
+        _ => crate::sim::range::Groups::deserialize(de),
     }
 }
 

@@ -20,7 +20,8 @@ use trubal::sim::{Scene, Vec3};
 /// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`);
 /// the last cycles with `MDR` (the spring row of the sliding pair, made from the force it
 /// held; the Thornton–Ning wall contact keeps the MD law). (`SET TANgential HM`, the last
-/// setting of the format-8 fixture, is a setting only: that fixture holds it.)
+/// setting of the format-8 fixture, is a setting only: that fixture holds it.) A static
+/// group recorded in the history and a dynamic one naming it (format 10).
 const FIXTURE_SCRIPT: &str = "start 0.004 0.004 0.004 100 10 2
 set open z
 set tol 40e-6
@@ -65,6 +66,9 @@ set normal nguyen 4
 set pair 1 2 friction 0.35 restitution 0.3
 create 0.001 0.001 0.002 0 0 0 0 0 0 1 4
 create 0.001 0.001 0.00220002 0 0 0 0 0 0 1 4
+group low box 0 0.004 0 0.004 0 0.001
+group wet dynamic material 1 not group low or id 6
+group low history
 cycle 40
 set tangential walton
 cycle 5
@@ -180,7 +184,7 @@ fn facts(sc: &Scene) -> Value {
     let rng_next: Vec<String> = (0..4).map(|_| rng.next_u64().to_string()).collect();
     let l = &sc.ledger();
     let st = &sc.settings();
-    json!({
+    let mut v = json!({
         "size": fs(&sc.size()), "nbox": sc.nbox(), "nball": sc.nball(), "nwall": sc.nwall(),
         "sizes": fs(sc.sizes()),
         "materials": sc.materials().iter().map(|m| json!({
@@ -252,7 +256,10 @@ fn facts(sc: &Scene) -> Value {
             "work": f(sc.cell().work), "half": sc.cell().half.iter().map(|r| fs(r)).collect::<Vec<_>>(),
             "pending": f(sc.cell().pending),
         },
-    })
+    });
+    // (Format 10: the named groups.)
+    v["groups"] = json!(format!("{:?}", sc.groups()));
+    v
 }
 
 /// First difference between two JSON values, as a path. Keys of `b` that `a` lacks count

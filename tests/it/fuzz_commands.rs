@@ -77,7 +77,7 @@ fn command(g: &mut Lcg) -> String {
     let es = |g: &mut Lcg, n: usize| (0..n).map(|_| e(g)).collect::<Vec<_>>().join(" ");
     let ps = |g: &mut Lcg, n: usize| (0..n).map(|_| p(g)).collect::<Vec<_>>().join(" ");
     let mat = |g: &mut Lcg| g.pick(&["1", "2", "0", "9"]).to_string();
-    match g.below(42) {
+    match g.below(44) {
         0 => format!("create {} {} 1 1", ps(g, 3), es(g, 6)),
         1 => format!("rad {} {}", e(g), mat(g)),
         2 => format!(
@@ -268,8 +268,72 @@ fn command(g: &mut Lcg) -> String {
                 "average 5"
             ])
         ),
+        41 => format!(
+            "group {} {}{}",
+            g.pick(&[
+                "a",
+                "b",
+                "B.2",
+                "9x",
+                "all",
+                "a-very-long-name-over-thirty-two-chars"
+            ]),
+            g.pick(&[
+                "",
+                "dynamic ",
+                "forget",
+                "history",
+                "history off",
+                "dyn group a "
+            ]),
+            range(g)
+        ),
+        42 => format!(
+            "{} {}",
+            g.pick(&[
+                "fix 1 1 1 0 0 0",
+                "delete",
+                "velocity 0 0 -1",
+                "property velocity 1 2 3",
+                "property spin 1 2 3",
+                "property material 2",
+                "property material 7",
+                "print group",
+                "print range",
+                "print group all",
+                "plot ball"
+            ]),
+            range(g)
+        ),
         _ => format!("cycle {}", 1 + g.below(80)),
     }
+}
+
+/// A random range (doc/groups.md), sometimes malformed.
+fn range(g: &mut Lcg) -> String {
+    let e = |g: &mut Lcg| g.pick(EXTREME).to_string();
+    let p = |g: &mut Lcg| format!("{}", 0.01 * g.unit());
+    let mut out = Vec::new();
+    for k in 0..1 + g.below(3) {
+        if k > 0 && g.below(3) == 0 {
+            out.push("or".to_string());
+        }
+        if g.below(4) == 0 {
+            out.push("not".to_string());
+        }
+        out.push(match g.below(9) {
+            0 => format!("box 0 {} 0 {} 0 {}", p(g), p(g), p(g)),
+            1 => format!("box {} {} {} {} {} {}", e(g), e(g), e(g), e(g), e(g), e(g)),
+            2 => format!("sphere {} {} {} {}", p(g), p(g), p(g), e(g)),
+            3 => format!("cylinder {} {} {} 0 0 {} {}", p(g), p(g), p(g), e(g), e(g)),
+            4 => format!("id {} to {} {}", g.below(70), g.below(70), e(g)),
+            5 => format!("material {}", g.pick(&["1", "2", "0", "65", "1 2"])),
+            6 => format!("size {}", g.pick(&["1", "2", "x", "1 2 3"])),
+            7 => format!("group {}", g.pick(&["a", "b", "b.2", "zz"])),
+            _ => g.pick(&["", "or", "not", "to 3"]).to_string(),
+        });
+    }
+    out.join(" ")
 }
 
 fn deck(seed: u64) -> String {

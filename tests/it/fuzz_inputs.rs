@@ -175,6 +175,21 @@ const WORDS: &[&str] = &[
     "vmu",
     "fmm",
     "twod",
+    "group",
+    "dynamic",
+    "forget",
+    "box",
+    "sphere",
+    "cylinder",
+    "id",
+    "to",
+    "material",
+    "size",
+    "not",
+    "or",
+    "range",
+    "property",
+    "spin",
 ];
 
 /// A mutated line or file from `seed`.

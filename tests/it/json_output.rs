@@ -50,6 +50,8 @@ fn json_name(it: PrintItem) -> &'static str {
         PrintItem::Bonds => "bonds",
         PrintItem::Clusters => "clusters",
         PrintItem::History => "history",
+        // `PRint GROup name` (`RANge range`: "range"; `GROup ALL`: "groups").
+        PrintItem::Range => "group",
     }
 }
 
@@ -71,6 +73,7 @@ const ALL_ITEMS: &[PrintItem] = &[
     PrintItem::Bonds,
     PrintItem::Clusters,
     PrintItem::History,
+    PrintItem::Range,
 ];
 
 /// The words of the PRint command's keyword list, as typed (All/Gap qualify Contacts).
@@ -188,10 +191,11 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
     let items: Vec<&str> = kws
         .iter()
         .copied()
-        .filter(|k| !["All", "Gap"].contains(k))
+        .filter(|k| !["All", "Gap", "GROup", "RANge"].contains(k))
         .collect();
+    // (GROup and RANge take a group or a range: printed below, one item for both.)
     assert_eq!(
-        items.len() + 2,
+        items.len() + 3,
         ALL_ITEMS.len(),
         "PRint keywords vs ALL_ITEMS: {kws:?}"
     );
@@ -204,18 +208,23 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
     script.push_str("print info balls energy\n");
     // PRint Stress with a Window adds the bin's stress (`window`).
     script.push_str("window -1 1 -1 1 -1 1\nprint stress\n");
+    // The sums and averages over a group, a range, every group (doc/groups.md).
+    script.push_str(
+        "group g box -1 1 -1 1 -1 1\nprint group g\nprint range id 1 to 2\nprint group all\n",
+    );
     let out = run_json(&script);
     let lines = json_lines(&out);
     let mut expected: Vec<String> = vec!["bonds".into()];
     for k in &items {
         let it = trubal::lang::parse::parse_line(&format!("print {k}")).unwrap();
-        let trubal::lang::command::Command::Print { items } = &it[0].command else {
+        let trubal::lang::command::Command::Print { items, .. } = &it[0].command else {
             panic!()
         };
         expected.push(json_name(items[0]).into());
     }
     expected
         .extend(["contacts", "contacts", "info", "balls", "energy", "stress"].map(String::from));
+    expected.extend(["group", "range", "groups"].map(String::from));
     let got: Vec<String> = lines
         .iter()
         .map(|v| v["print"].as_str().unwrap().to_string())
@@ -223,7 +232,10 @@ fn every_print_item_is_one_json_object_per_line_with_the_documented_keys() {
     assert_eq!(got, expected, "one object per item, in order:\n{out}");
     // No other non-JSON output than the messages of DWAll/Cycle-less commands.
     for l in out.lines().filter(|l| !l.starts_with('{')) {
-        assert!(l.starts_with("wall 1 defined"), "unexpected line: {l}");
+        assert!(
+            l.starts_with("wall 1 defined") || l.starts_with("group g: "),
+            "unexpected line: {l}"
+        );
     }
 
     // Keys: the union over all lines of a row equals the documented fields of that row.

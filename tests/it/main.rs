@@ -20,6 +20,7 @@ mod fields;
 mod fuzz_commands;
 mod fuzz_inputs;
 mod golden;
+mod groups;
 mod hard_cases;
 mod hertz_mindlin;
 mod indentation;

@@ -9,6 +9,7 @@ use crate::sim::walls;
 
 mod cell_cmd;
 pub use cell_cmd::probe;
+mod groups_cmd;
 mod materials;
 mod model;
 mod motion;
@@ -69,6 +70,9 @@ pub fn apply_watched(scene: &mut Scene, cmd: &Command, watch: Watch) -> Result<S
         Command::Delete { bounds } => place::delete_in_box(scene, *bounds),
         Command::RgenerateSeed { n } => place::discard_random(scene, *n, watch),
         Command::Dwall(_) | Command::Awall { .. } => walls_cmd::apply(scene, cmd),
+        Command::Group { .. } | Command::Property { .. } | Command::DeleteRange { .. } => {
+            groups_cmd::apply(scene, cmd)
+        }
         Command::Grid { .. } | Command::Gain { .. } | Command::Mode { .. } => {
             cell_cmd::apply(scene, cmd)
         }

@@ -9,8 +9,13 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 .iter()
                 .enumerate()
                 .fold(0u8, |b, (k, &f)| if f { b | (1 << k) } else { b });
+            if let FixTarget::Range(r) = target {
+                let m = super::groups_cmd::members_nonempty(scene, r)?;
+                scene.fix_members(bits, &m);
+                return Ok(format!("fixed {} particles", m.len()));
+            }
             let i = match target {
-                FixTarget::All => None,
+                FixTarget::All | FixTarget::Range(_) => None,
                 FixTarget::Particle(id) => Some(
                     scene
                         .index_of(*id)

@@ -148,7 +148,13 @@ fn run_steps(
         let allowed = 1e3 * audit.scale(scene);
         // The forces of the last step are kept for what reads them after the Cycle (PRint,
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
-        let keep = last || step + 1 == n || snapshot_before(step + 1);
+        // So are those of a step whose history row records a group (its force sum,
+        // `GROup name HIStory`).
+        let every = scene.settings.history_every;
+        let recorded = every > 0
+            && (scene.cycle + 1).is_multiple_of(every)
+            && scene.groups.list.iter().any(|g| g.record);
+        let keep = last || step + 1 == n || snapshot_before(step + 1) || recorded;
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
@@ -575,6 +581,8 @@ pub fn record_history(scene: &mut Scene) {
     let e = scene.cell.strain;
     row.extend([e[0], e[1], e[2], e[3]]);
     scene.history.rows.push(row);
+    // The groups recorded with the history (`GROup name HIStory`).
+    super::aggregate::record(scene);
 }
 
 #[cfg(test)]

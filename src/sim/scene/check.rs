@@ -9,7 +9,8 @@ impl Scene {
     /// that passed the checksum but holds an impossible state is refused instead of making a
     /// later command panic.
     pub fn check_consistency(&self) -> Result<(), String> {
-        check_consistency(self)
+        check_consistency(self)?;
+        self.check_groups()
     }
 }
 

@@ -420,3 +420,40 @@ impl Scene {
             .for_each(|v| *v = Vec3::zeros());
     }
 }
+
+/// `Fix`, `VELocity` and `PROPerty` over a range (doc/groups.md): the particles of index
+/// `members` (from [`Scene::members`]).
+impl Scene {
+    /// `Fix ... range`: the fixed degrees of freedom of the members.
+    pub fn fix_members(&mut self, bits: u8, members: &[usize]) {
+        for &i in members {
+            self.particles.fixed[i] = bits;
+        }
+    }
+
+    /// `PROPerty VELocity` / `VELocity vx vy vz range`.
+    pub fn set_velocity_of(&mut self, members: &[usize], v: [f64; 3]) {
+        for &i in members {
+            self.particles.vel[i] = Vec3::from(v);
+        }
+    }
+
+    /// `PROPerty SPIn`.
+    pub fn set_spin_of(&mut self, members: &[usize], w: [f64; 3]) {
+        for &i in members {
+            self.particles.spin[i] = Vec3::from(w);
+        }
+    }
+
+    /// `PROPerty MATerial m`: the members take material `m` (defined: the caller checks),
+    /// their masses its density; the contacts see new constants.
+    pub fn set_material_of(&mut self, members: &[usize], m: usize) {
+        let rho = self.materials[m - 1].density;
+        let p = &mut self.particles;
+        for &i in members {
+            p.material[i] = m as u16;
+            p.mass[i] = sphere_mass(rho, p.radius[i]);
+        }
+        self.contacts.mark_stale();
+    }
+}
