@@ -41,6 +41,10 @@ cycle 2
 
 
 def binary():
+    """TRUBAL_BIN, or the binary of the profile the module was built in (pip install . builds
+    release; .ci/run builds the `ci` profile)."""
+    if os.environ.get("TRUBAL_BIN"):
+        return os.environ["TRUBAL_BIN"]
     for p in ("target/release/trubal", "target/ci/trubal"):
         path = os.path.join(ROOT, p)
         if os.path.exists(path):
