@@ -26,7 +26,12 @@ pyo3::create_exception!(
 #[pymodule]
 fn trubal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<session::PySession>()?;
-    m.add("CommandError", m.py().get_type::<CommandError>())?;
+    let error = m.py().get_type::<CommandError>();
+    // An error of no command line (an array call on a session without a scene) has none.
+    for name in ["message", "line", "column"] {
+        error.setattr(name, m.py().None())?;
+    }
+    m.add("CommandError", error)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("HISTORY_COLUMNS", crate::sim::history::COLUMNS.to_vec())?;
     Ok(())

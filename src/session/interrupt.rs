@@ -27,7 +27,7 @@ pub fn requested() -> bool {
 }
 
 /// A press made by other means than the signal: the Python module's, whose interpreter
-/// keeps the SIGINT handler and tells the running command through this (`python::run`).
+/// keeps the SIGINT handler and tells the running command through this (`src/python/released.rs`).
 pub fn request() {
     PENDING.fetch_add(1, Ordering::SeqCst);
 }

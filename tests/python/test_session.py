@@ -235,19 +235,21 @@ def test_ctrl_c_raises_keyboard_interrupt_with_a_shorter_cycles_state(tmp_path):
 def test_cycling_releases_the_interpreter():
     s = session()
     ticks = 0
-    t = threading.Thread(target=lambda: s.cycle(3000))
+    t = threading.Thread(target=lambda: s.cycle(20000))
     t.start()
     while t.is_alive():
         ticks += 1
         time.sleep(0.001)
     t.join()
-    assert s.cycles == 3001
+    assert s.cycles == 20001
+    # Holding the interpreter for the whole Cycle would let this loop run once or twice.
     assert ticks > 10
 
 
 def test_no_scene_yet():
     s = trubal.Session(threads=1)
-    with pytest.raises(trubal.CommandError, match="STArt"):
+    with pytest.raises(trubal.CommandError, match="STArt") as e:
         s.particles()
+    assert e.value.line is None
     with pytest.raises(trubal.CommandError, match="STArt"):
         s.cycle(5)
