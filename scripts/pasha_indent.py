@@ -2,8 +2,9 @@
 """Ball indentation of a cohesive powder bed (Pasha 2013, ch. 5; issue 36; doc/indentation.md).
 
 Feeds scripts/pasha_indent.tru (the set-up: die, floor, piston, materials of Tables 5.2-5.3,
-sizes of Table 5.1 generated inside the die) to `trubal --json -` and drives the procedure
-of ch. 5 through the same pipe, reading the JSON of each PRint:
+sizes of Table 5.1 generated inside the die) to a trubal session and drives the procedure of
+ch. 5 through it (scripts/trubal_session.py: the Python module `trubal` when installed, the
+particles read as arrays; else `trubal --json -` on a pipe), reading the JSON of each PRint:
   1. settle under gravity (until the kinetic energy is below 1e-4 of m g d_p of the bed);
   2. consolidate: the piston, brought to the bed's top, comes down at rate x bed height
      (constant strain rate) until its force reaches sigma_pre x die area; then a servo of
@@ -75,6 +76,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import run_table  # noqa: E402
+import trubal_session  # noqa: E402
 from lun_shear import option as arg  # noqa: E402
 
 # Pasha 2013 Table 5.1: diameter (mm), number frequency (%).
@@ -83,42 +85,6 @@ TABLE_5_1 = [(0.59, 0.33), (0.72, 3.84), (0.81, 11.24), (0.90, 21.00), (1.00, 27
 DIE, BED, N_PASHA = 39e-3, 13e-3, 16000
 RHO = 2456  # Table 5.2, material 1 (kg/m^3; scripts/pasha_indent.tru)
 G = 9.81
-
-
-class Trubal:
-    """A trubal session on a pipe: commands in, the JSON lines of PRint out."""
-
-    def __init__(self, sets, log, work):
-        # One thread unless TRUBAL_THREADS says otherwise (the results do not depend on it).
-        args = [run_table.trubal_binary(), "--json", "-", "--threads", os.environ.get("TRUBAL_THREADS", "1")]
-        for k, v in sets.items():
-            args += ["--set", f"{k}={v}"]
-        self.p = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                  stderr=log, text=True, bufsize=1, cwd=work)
-
-    def send(self, text):
-        self.p.stdin.write(text if text.endswith("\n") else text + "\n")
-        self.p.stdin.flush()
-
-    def print(self, item):
-        """PRint item: its JSON object (other lines are skipped)."""
-        self.send(f"print {item}")
-        while True:
-            line = self.p.stdout.readline()
-            if not line:
-                raise RuntimeError(f"trubal ended before `print {item}` answered (see the log)")
-            if line.startswith("{"):
-                o = json.loads(line)
-                if o.get("print") == item:
-                    return o
-
-    def cycle(self, n):
-        self.send(f"cycle {int(n)}")
-
-    def close(self):
-        self.send("stop")
-        self.p.stdin.close()
-        self.p.wait()
 
 
 def steps_in(t, dt):
@@ -187,7 +153,7 @@ def sizes(scale):
 
 def bed_top(balls):
     """The bed's height: the mean top of its highest 5 % of particles."""
-    tops = sorted(b["pos"][2] + b["radius"] for b in balls)
+    tops = sorted(float(x[2] + r) for x, r in zip(balls["pos"], balls["radius"]))
     k = max(1, len(tops) // 20)
     return sum(tops[-k:]) / k, tops
 
@@ -265,7 +231,9 @@ def main():
     os.makedirs(work, exist_ok=True)
     log = open(os.path.join(work, f"run{tag}.log"), "w")
     t0 = time.time()
-    tr = Trubal(sets, log, work)
+    # The module when installed (pip install .), else the binary on a pipe.
+    binary = None if trubal_session.trubal else run_table.trubal_binary()
+    tr = trubal_session.Session(sets, log, work, binary=binary)
     out = {"particles": np_, "scale": scale, "soften": soften, "d": d_ind, "die": die,
            "law": law, "mur": mur, "Gamma": gamma_w, "d_over_dp": d_ind / d_mean, "die_over_dp": die / d_mean,
            "rate": rate, "sigma_pre": sigma, "gamma_star": rate * math.sqrt(d_mean / G)}
@@ -286,7 +254,7 @@ def main():
         tr.cycle(0)
         info = tr.print("info")
         dt = info["dt"] or 0.0
-        balls = tr.print("balls")["balls"]
+        balls = tr.balls()
         h_bed = prev["bed_height"]
         v = rate * h_bed
         out["particles"] = info["balls"]
@@ -379,11 +347,11 @@ def main():
                 tr.send(f"friction 0.15 1\nset rolling {mur!r} 1 1")
             tr.send(f"save settled{tag}.sav")
             out["settle_cycles"] = settle
-        balls = tr.print("balls")["balls"]
+        balls = tr.balls()
         h_bed, tops = bed_top(balls)
         if cut > 0:
             # The solids and the mass of the particles kept (the rest criterion's m g d_p).
-            vsolid = sum(4 / 3 * math.pi * b["radius"] ** 3 for b in balls)
+            vsolid = sum(4 / 3 * math.pi * float(r) ** 3 for r in balls["radius"])
             mass = RHO * vsolid
         say(f"settled: {time.time() - t0:.0f} s, bed {h_bed:.4g} m")
         out.update({"bed_height": h_bed, "bed_over_dp": h_bed / d_mean,
@@ -473,8 +441,8 @@ def main():
             # The piston stops there while the bed comes to rest.
             tr.send("awall 3 v 0 0 0")
         tr.cycle(2000)
-        balls = tr.print("balls")["balls"]
-        z_top = max(b["pos"][2] + b["radius"] for b in balls)
+        balls = tr.balls()
+        z_top = max(float(x[2] + r) for x, r in zip(balls["pos"], balls["radius"]))
         # A plane at rest (a velocity turns the servo off).
         tr.send(f"awall 3 p 0 0 -1 {-(z_top + d_ind + 4e-3)!r} v 0 0 0")
         out["unloaded_height"] = z_top
@@ -495,8 +463,8 @@ def main():
         say(f"unloaded: bed top {z_top:.4g} m, {time.time() - t0:.0f} s")
 
     # 4. Indent at constant speed from just above the highest particle under the indenter.
-    under = [b["pos"][2] + b["radius"] for b in balls
-             if math.hypot(b["pos"][0] - c, b["pos"][1] - c) < d_ind / 2]
+    under = [float(x[2] + r) for x, r in zip(balls["pos"], balls["radius"])
+             if math.hypot(x[0] - c, x[1] - c) < d_ind / 2]
     z0 = max(under) + 0.2 * d_mean + d_ind / 2
     if ball_mur > 0:
         tr.send(f"set rolling {ball_mur!r} 1 3")

@@ -42,6 +42,14 @@ import subprocess
 import sys
 import time
 
+try:
+    # The Python module (pip install .; doc/python.md): prepared states are read into arrays
+    # in-process. Without it (or with TRUBAL_BIN naming another build) through the binary's
+    # JSON, as before.
+    import trubal as trubal_module
+except ImportError:
+    trubal_module = None
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPTS = os.path.join(ROOT, "scripts")
 DATA = os.path.join(ROOT, "doc", "data")
@@ -357,8 +365,23 @@ def trubal(exe, script, sets, work, log):
     return r.returncode, dt
 
 
+def module_state(work, state):
+    """A module session restarted from WORK/STATE, or None when the binary is to be used."""
+    if trubal_module is None or os.environ.get("TRUBAL_BIN"):
+        return None
+    s = trubal_module.Session(threads=1, json=True, dir=work)
+    s.run(f"restart {state}")
+    return s
+
+
 def balls_of(exe, work, state):
-    """Positions, radii, agglomerates of a saved state (through `PRint Balls`)."""
+    """Positions, radii, agglomerates of a saved state (the module's arrays, or `PRint
+    Balls`)."""
+    s = module_state(work, state)
+    if s is not None:
+        p = s.particles()
+        return [{"pos": x, "radius": r, "agglomerate": a} for x, r, a in
+                zip(p["position"].tolist(), p["radius"].tolist(), p["agglomerate"].tolist())]
     tmp = os.path.join(work, "_balls.tru")
     with open(tmp, "w") as f:
         f.write(f"restart {state}\nprint balls\n")
@@ -375,29 +398,41 @@ def state_summary(exe, work, state):
     """One line on a prepared state: particles, bonds, coordination, bridges with a net
     compressive / tensile force (solid + static + viscous, Lian's 7391 / 7515 count), the
     largest net force, kinetic energy, circumscribing radius and fractal dimension (7.1)."""
-    tmp = os.path.join(work, "_state.tru")
-    with open(tmp, "w") as f:
-        f.write(f"restart {state}\nprint info contacts clusters energy balls\n")
-    r = subprocess.run([exe, tmp, "--json", "--threads", "1"], cwd=work, capture_output=True, text=True, check=True)
+    s = module_state(work, state)
     d = {}
-    for line in r.stdout.splitlines():
-        if line.startswith("{"):
+    if s is not None:
+        # The contacts and particles as the module's arrays; PRint's small items as JSON.
+        for line in s.run("print info clusters").splitlines():
             o = json.loads(line)
             d[o["print"]] = o
-    comp = tens = 0
-    fmax = 0.0
-    for c in d["contacts"]["contacts"]:
-        b = c.get("bridge")
-        net = (c["normal_force"] if c["touching"] else 0.0) + (b["viscous_force"] - b["static_force"] if b else 0.0)
-        fmax = max(fmax, abs(net))
-        if b:
-            if net > 0:
-                comp += 1
-            else:
-                tens += 1
+        c = s.contacts()
+        net = [(f if t else 0.0) + bf for f, t, bf in
+               zip(c["normal_force"].tolist(), c["touching"].tolist(), c["bridge_force"].tolist())]
+        bridged = c["bridge"].tolist()
+        d["energy"] = {"kinetic": s.energy()["kinetic"]}
+        balls = balls_of(exe, work, state)
+    else:
+        tmp = os.path.join(work, "_state.tru")
+        with open(tmp, "w") as f:
+            f.write(f"restart {state}\nprint info contacts clusters energy balls\n")
+        r = subprocess.run([exe, tmp, "--json", "--threads", "1"], cwd=work, capture_output=True, text=True, check=True)
+        for line in r.stdout.splitlines():
+            if line.startswith("{"):
+                o = json.loads(line)
+                d[o["print"]] = o
+        net, bridged = [], []
+        for c in d["contacts"]["contacts"]:
+            b = c.get("bridge")
+            net.append((c["normal_force"] if c["touching"] else 0.0)
+                       + (b["viscous_force"] - b["static_force"] if b else 0.0))
+            bridged.append(b is not None)
+        balls = d["balls"]["balls"]
+    comp = sum(1 for f, b in zip(net, bridged) if b and f > 0)
+    tens = sum(1 for f, b in zip(net, bridged) if b and not f > 0)
+    fmax = max((abs(f) for f in net), default=0.0)
     out = []
-    for agg in sorted({x["agglomerate"] for x in d["balls"]["balls"]}):
-        bs = [x for x in d["balls"]["balls"] if x["agglomerate"] == agg]
+    for agg in sorted({x["agglomerate"] for x in balls}):
+        bs = [x for x in balls if x["agglomerate"] == agg]
         c = [sum(x["pos"][k] for x in bs) / len(bs) for k in range(3)]
         rc = max(math.dist(x["pos"], c) + x["radius"] for x in bs)
         rm = sum(x["radius"] for x in bs) / len(bs)

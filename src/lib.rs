@@ -8,6 +8,8 @@ pub mod lang;
 pub mod output;
 pub mod physics;
 pub mod plot;
+#[cfg(feature = "python")]
+mod python;
 pub mod session;
 pub mod sim;
 pub mod sweep;

@@ -111,7 +111,7 @@ fn session_main(
     vars: Vec<(String, String)>,
 ) -> ExitCode {
     let batch = file.is_none() && input::batch_requested();
-    let out: Box<dyn std::io::Write> = if batch {
+    let out: Box<dyn std::io::Write + Send> = if batch {
         match std::fs::File::create("TRUBAL.OUT") {
             Ok(f) => Box::new(std::io::BufWriter::new(f)),
             Err(e) => {

@@ -26,6 +26,12 @@ pub fn requested() -> bool {
     PENDING.load(Ordering::SeqCst) > 0
 }
 
+/// A press made by other means than the signal: the Python module's, whose interpreter
+/// keeps the SIGINT handler and tells the running command through this (`src/python/released.rs`).
+pub fn request() {
+    PENDING.fetch_add(1, Ordering::SeqCst);
+}
+
 /// The press has been answered: the next one is a first press again.
 pub fn clear() {
     PENDING.store(0, Ordering::SeqCst);

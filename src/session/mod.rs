@@ -2,6 +2,7 @@
 //! to the simulation and writes the output. Data flows one way: text → command → scene →
 //! output. A command that fails changes nothing.
 
+pub mod arrays;
 pub mod exec;
 mod generation;
 pub mod input;
@@ -52,9 +53,9 @@ pub struct Session {
     pub scene: Option<Scene>,
     pub json: bool,
     pub vars: HashMap<String, String>,
-    out: Box<dyn Write>,
+    out: Box<dyn Write + Send>,
     /// Diagnostics (errors, warnings): standard error unless a caller (a test) gives another.
-    diag: Box<dyn Write>,
+    diag: Box<dyn Write + Send>,
     log: Option<File>,
     echo: bool,
     /// Working directory for relative file names (checkpoints, logs).
@@ -64,7 +65,7 @@ pub struct Session {
 }
 
 impl Session {
-    pub fn new(out: Box<dyn Write>, json: bool) -> Self {
+    pub fn new(out: Box<dyn Write + Send>, json: bool) -> Self {
         Session {
             scene: None,
             json,
@@ -80,7 +81,7 @@ impl Session {
 
     /// Diagnostics go to `w` instead of standard error (tests keep them out of the test
     /// runner's output this way).
-    pub fn with_diagnostics(mut self, w: Box<dyn Write>) -> Self {
+    pub fn with_diagnostics(mut self, w: Box<dyn Write + Send>) -> Self {
         self.diag = w;
         self
     }

@@ -4,9 +4,8 @@
 
 use crate::common;
 
-use std::cell::RefCell;
 use std::io::Write;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex};
 
 use serde_json::Value;
 use trubal::session::Session;
@@ -14,11 +13,11 @@ use trubal::sim::Vec3;
 
 /// Output sink shared with the test.
 #[derive(Clone, Default)]
-struct Sink(Rc<RefCell<Vec<u8>>>);
+struct Sink(Arc<Mutex<Vec<u8>>>);
 
 impl Write for Sink {
     fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
-        self.0.borrow_mut().extend_from_slice(b);
+        self.0.lock().expect("the sink's lock").extend_from_slice(b);
         Ok(b.len())
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -56,10 +55,10 @@ impl Run {
 
     /// Runs one PRint line and returns its JSON objects by name.
     fn print(&mut self, items: &str) -> std::collections::HashMap<String, Value> {
-        self.out.0.borrow_mut().clear();
+        self.out.0.lock().expect("the sink's lock").clear();
         self.lines(&format!("print {items}"));
         self.s.flush();
-        let text = String::from_utf8(self.out.0.borrow().clone()).unwrap();
+        let text = String::from_utf8(self.out.0.lock().expect("the sink's lock").clone()).unwrap();
         text.lines()
             .filter(|l| l.starts_with('{'))
             .map(|l| {
@@ -309,9 +308,9 @@ fn reduced_impact(base: &Session, v: f64) -> (f64, f64, f64) {
 #[test]
 fn reduced_wall_impact_has_a_damage_threshold_and_closes_its_ledger() {
     let mut r = Run::new(&lattice(250e-6));
-    r.out.0.borrow_mut().clear();
+    r.out.0.lock().expect("the sink's lock").clear();
     r.lines("liquid 0.1 0.025 0 0.1\nrelax 1e-17 1e-6 10000");
-    let msg = String::from_utf8(r.out.0.borrow().clone()).unwrap();
+    let msg = String::from_utf8(r.out.0.lock().expect("the sink's lock").clone()).unwrap();
     assert!(msg.contains("RELax: relaxed"), "{msg}");
     let base = r.s;
 

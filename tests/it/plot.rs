@@ -1,19 +1,18 @@
 //! `PLot` through a session: files in `SET OUTdir`, the message naming them, PNG headers, and
 //! errors that leave the session going.
 
-use std::cell::RefCell;
 use std::io::Write;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex};
 
 use trubal::session::Session;
 
 /// Output captured from the session.
 #[derive(Clone, Default)]
-struct Shared(Rc<RefCell<Vec<u8>>>);
+struct Shared(Arc<Mutex<Vec<u8>>>);
 
 impl Write for Shared {
     fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
-        self.0.borrow_mut().extend_from_slice(b);
+        self.0.lock().expect("the sink's lock").extend_from_slice(b);
         Ok(b.len())
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -23,7 +22,10 @@ impl Write for Shared {
 
 impl Shared {
     fn take(&self) -> String {
-        String::from_utf8_lossy(&std::mem::take(&mut *self.0.borrow_mut())).into_owned()
+        String::from_utf8_lossy(&std::mem::take(
+            &mut *self.0.lock().expect("the sink's lock"),
+        ))
+        .into_owned()
     }
 }
 

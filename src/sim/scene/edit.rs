@@ -457,3 +457,81 @@ impl Scene {
         self.contacts.mark_stale();
     }
 }
+
+/// Whole arrays set by a library caller (the Python module, `session::arrays`): checked
+/// whole before anything changes, as a command's input is.
+impl Scene {
+    /// Every particle's position (in the order of [`Scene::particles`]): each finite and in
+    /// the work-space as `CReate` places one (an open side at least a radius away, a periodic
+    /// axis in [0, L)), and none behind a wall. Contacts are re-made at the next `Cycle`
+    /// (the store marked stale, as `MOve` does), which books the strain energy of the
+    /// overlaps as it finds them (`cycle::prime`); the kinetic energy does not change.
+    pub fn set_positions(&mut self, pos: &[[f64; 3]]) -> Result<(), String> {
+        self.check_rows(pos.len(), "positions")?;
+        for (i, x) in pos.iter().enumerate() {
+            let v = Vec3::from(*x);
+            let r = self.particles.radius[i];
+            if !x.iter().all(|c| c.is_finite()) {
+                return Err(format!(
+                    "position of particle {} (row {i}) is not finite: {x:?}",
+                    self.particles.id[i]
+                ));
+            }
+            if !crate::sim::generate::inside(self, None, &v, r) {
+                return Err(format!(
+                    "position of particle {} (row {i}) ({:.6e}, {:.6e}, {:.6e}) is outside the work-space {:?} (its radius {r:.4e} from an open side; a periodic axis takes 0 <= x < L)",
+                    self.particles.id[i], x[0], x[1], x[2], self.size
+                ));
+            }
+            if self.settings.two_d && x[2] != self.particles.pos[i].z {
+                return Err(format!(
+                    "position of particle {} (row {i}): a 2-D scene keeps z (it was {:e}, the array has {:e})",
+                    self.particles.id[i], self.particles.pos[i].z, x[2]
+                ));
+            }
+        }
+        let new: Vec<Vec3> = pos.iter().map(|x| Vec3::from(*x)).collect();
+        let old = std::mem::replace(&mut self.particles.pos, new);
+        if let Some(m) = crate::sim::cycle::behind_a_wall(self) {
+            self.particles.pos = old;
+            return Err(format!("positions refused: {m}"));
+        }
+        self.contacts.mark_stale();
+        Ok(())
+    }
+
+    /// Every particle's velocity (the stored one: in a deforming cell relative to the mean
+    /// field, as `PRint Balls` shows it), each finite; a 2-D scene's z velocities 0. The
+    /// caller books the kinetic energy (`Scene::booked_edit`), as for `VELocity`.
+    pub fn set_velocities(&mut self, vel: &[[f64; 3]]) -> Result<(), String> {
+        self.check_rows(vel.len(), "velocities")?;
+        for (i, v) in vel.iter().enumerate() {
+            if !v.iter().all(|c| c.is_finite()) {
+                return Err(format!(
+                    "velocity of particle {} (row {i}) is not finite: {v:?}",
+                    self.particles.id[i]
+                ));
+            }
+            if self.settings.two_d && v[2] != 0.0 {
+                return Err(format!(
+                    "velocity of particle {} (row {i}): a 2-D scene has no z velocity (the array has {:e})",
+                    self.particles.id[i], v[2]
+                ));
+            }
+        }
+        for (dst, v) in self.particles.vel.iter_mut().zip(vel) {
+            *dst = Vec3::from(*v);
+        }
+        Ok(())
+    }
+
+    fn check_rows(&self, rows: usize, what: &str) -> Result<(), String> {
+        let n = self.particles.len();
+        if rows != n {
+            return Err(format!(
+                "{what}: the array has {rows} rows, the scene {n} particles (one row each, in the order of the particle arrays)"
+            ));
+        }
+        Ok(())
+    }
+}

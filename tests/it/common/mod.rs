@@ -105,7 +105,7 @@ pub fn trubal() -> std::process::Command {
 /// used the pool yet): two test threads that each cycled on a two-thread pool whose idle
 /// worker polls through a Cycle would fight over the two cores; the thread counts
 /// themselves are tested through the binary (`tests/it/threads.rs`).
-pub fn session_with(out: Box<dyn std::io::Write>, json: bool) -> Session {
+pub fn session_with(out: Box<dyn std::io::Write + Send>, json: bool) -> Session {
     static ONE: std::sync::Once = std::sync::Once::new();
     ONE.call_once(|| {
         let _ = rayon::ThreadPoolBuilder::new()

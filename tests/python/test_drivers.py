@@ -1,0 +1,56 @@
+"""The drivers' two ways to a session give the same numbers: scripts/trubal_session.py (the
+module, or the binary on a pipe) and scripts/run_table.py's reading of prepared states (the
+module's arrays, or `PRint` through the binary)."""
+
+import os
+import sys
+
+import numpy as np
+
+from conftest import IMPACT, ROOT, run_binary, trubal_binary
+
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import run_table  # noqa: E402
+import trubal_session  # noqa: E402
+
+
+def test_run_table_reads_states_the_same_through_the_module(tmp_path, monkeypatch):
+    exe = trubal_binary()
+    run_binary(IMPACT + "cycle 800\nsave st.sav\n", tmp_path)
+    monkeypatch.setenv("TRUBAL_BIN", exe)  # names a build: the binary's JSON
+    assert run_table.module_state(str(tmp_path), "st.sav") is None
+    pipe = (run_table.state_summary(exe, str(tmp_path), "st.sav"),
+            run_table.wall_height(exe, str(tmp_path), "st.sav"),
+            run_table.balls_of(exe, str(tmp_path), "st.sav"))
+    monkeypatch.delenv("TRUBAL_BIN")
+    assert run_table.module_state(str(tmp_path), "st.sav") is not None
+    module = (run_table.state_summary(exe, str(tmp_path), "st.sav"),
+              run_table.wall_height(exe, str(tmp_path), "st.sav"),
+              run_table.balls_of(exe, str(tmp_path), "st.sav"))
+    assert module[0] == pipe[0] and "bridges" in module[0]
+    assert module[1] == pipe[1]
+    assert [(b["pos"], b["radius"], b["agglomerate"]) for b in module[2]] == \
+        [(b["pos"], b["radius"], b["agglomerate"]) for b in pipe[2]]
+
+
+def test_driver_session_module_and_pipe_agree(tmp_path, monkeypatch):
+    out = {}
+    for way in ("module", "pipe"):
+        d = tmp_path / way
+        d.mkdir()
+        monkeypatch.chdir(tmp_path)
+        if way == "pipe":
+            monkeypatch.setenv("TRUBAL_PIPE", "1")
+        with open(d / "log", "w") as log:
+            s = trubal_session.Session({"v": 0.2}, log, str(d), binary=trubal_binary())
+            assert s.module == (way == "module")
+            s.send(IMPACT.replace("velocity 0 0 -0.2 0", "velocity 0 0 -$v 0"))
+            s.cycle(300)
+            e = s.print("energy")
+            b = s.balls()
+            s.send("save end.sav")
+            w = s.print("walls")
+            s.close()
+        out[way] = (e, np.asarray(b["pos"]).tolist(), np.asarray(b["radius"]).tolist(), w)
+    assert out["module"] == out["pipe"]
+    assert (tmp_path / "module" / "end.sav").read_bytes() == (tmp_path / "pipe" / "end.sav").read_bytes()
