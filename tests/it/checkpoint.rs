@@ -17,7 +17,8 @@ use trubal::sim::{Scene, Vec3};
 /// a sliding particle pair (tangential history and a bridge) and a particle on the wall;
 /// cycles with Walton's law (its history beside the Mindlin–Deresiewicz one); laws of
 /// `SET NORmal` (a Thornton–Ning and a linear wall contact, a pair with LIGGGHTS' JKR held
-/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`);
+/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`)
+/// and dashpot form (`SET DASHpot`, format 10);
 /// the last cycles with `MDR` (the spring row of the sliding pair, made from the force it
 /// held; the Thornton–Ning wall contact keeps the MD law). (`SET TANgential HM`, the last
 /// setting of the format-8 fixture, is a setting only: that fixture holds it.)
@@ -63,6 +64,7 @@ density 2500 4
 cohesion 0.05 4
 set normal nguyen 4
 set pair 1 2 friction 0.35 restitution 0.3
+set dashpot liggghts 1 2
 create 0.001 0.001 0.002 0 0 0 0 0 0 1 4
 create 0.001 0.001 0.00220002 0 0 0 0 0 0 1 4
 cycle 40
@@ -180,7 +182,7 @@ fn facts(sc: &Scene) -> Value {
     let rng_next: Vec<String> = (0..4).map(|_| rng.next_u64().to_string()).collect();
     let l = &sc.ledger();
     let st = &sc.settings();
-    json!({
+    let mut facts = json!({
         "size": fs(&sc.size()), "nbox": sc.nbox(), "nball": sc.nball(), "nwall": sc.nwall(),
         "sizes": fs(sc.sizes()),
         "materials": sc.materials().iter().map(|m| json!({
@@ -252,7 +254,10 @@ fn facts(sc: &Scene) -> Value {
             "work": f(sc.cell().work), "half": sc.cell().half.iter().map(|r| fs(r)).collect::<Vec<_>>(),
             "pending": f(sc.cell().pending),
         },
-    })
+    });
+    // (Format 10; outside the macro, which has reached its recursion limit.)
+    facts["dashpot"] = json!(format!("{:?}", sc.laws().dashpot));
+    facts
 }
 
 /// First difference between two JSON values, as a path. Keys of `b` that `a` lacks count

@@ -34,6 +34,7 @@ mod readme;
 mod restitution;
 mod slurm;
 mod sweep;
+mod tables;
 mod terminal;
 mod threads;
 mod timestep_study;
