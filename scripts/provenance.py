@@ -12,6 +12,8 @@ after writing it; that writes PATH.provenance.json next to it:
 the source tree (the build the binary came from when it was built from this tree: the
 scripts build it through cargo unless TRUBAL_BIN names another), `command` is the command
 line of the script (sys.argv, with the python3 in front) and `TRUBAL_BIN` when it was set.
+TRUBAL_BUILD_REV=COMMIT replaces `git` when TRUBAL_BIN is a copy of the build of COMMIT
+(the tree may move on while a long run goes).
 
     python3 scripts/provenance.py FILE...    prints the provenance of the files (or "none")
 
@@ -40,7 +42,10 @@ def version(exe):
 @functools.lru_cache(maxsize=None)
 def git_describe():
     """`git describe --always --dirty` of the source tree (a -dirty build has uncommitted
-    changes: regenerate from a commit)."""
+    changes: regenerate from a commit), or TRUBAL_BUILD_REV when set (the commit a copied
+    binary, TRUBAL_BIN, was built from, while the tree moves on)."""
+    if os.environ.get("TRUBAL_BUILD_REV"):
+        return os.environ["TRUBAL_BUILD_REV"]
     try:
         return subprocess.run(["git", "describe", "--always", "--dirty", "--tags"], cwd=ROOT,
                               capture_output=True, text=True, check=True).stdout.strip()
