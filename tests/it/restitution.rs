@@ -213,3 +213,48 @@ fn dashpot_form_is_per_material_pair() {
         "wall, LIMITFORCE: {wall1} against {want}"
     );
 }
+
+/// Bad `SET DASHpot` input is refused with its place, and changes nothing: the form given
+/// before still holds after the refusals (`--keep-going`).
+#[test]
+fn bad_dashpot_input_is_refused_with_its_place_and_changes_nothing() {
+    let head = format!("start 0.1 0.1 0.1 100 10 2\nset open all\n{MATERIAL}");
+    for (line, col, msg) in [
+        ("set dashpot", 12, "TRUBAL, LIGGGHTS, EDEM or LIMITFORCE"),
+        (
+            "set dashpot tsuji",
+            13,
+            "TRUBAL, LIGGGHTS, EDEM or LIMITFORCE",
+        ),
+        (
+            "set dashpot liggghts 9",
+            1,
+            "material type 9 is not defined",
+        ),
+        ("set dashpot liggghts 1 1 junk", 26, "junk"),
+    ] {
+        let run = trubal_json(&format!("{head}{line}\n"), &[]);
+        let want = format!("<stdin>:7:{col}: error");
+        assert!(
+            run.stderr.contains(&want) && run.stderr.contains(msg),
+            "{line}: {}",
+            run.stderr
+        );
+    }
+    let run = trubal_json(
+        &format!(
+            "{head}set dashpot limitforce\nset dashpot tsuji\nset dashpot trubal 9\n\
+             damping restitution 0.25\ndwall p 0 0 1 0.02\n\
+             create 0.05 0.05 0.0310 0 0 -1 0 0 0 1 1\ncycle 400\nprint balls\n"
+        ),
+        &["--keep-going"],
+    );
+    let b = &printed(&run, "balls")[0]["balls"][0];
+    let e = b["vel"][2].as_f64().unwrap();
+    let want = liggghts_rebound_ode(0.25, true, 1.0, true);
+    assert!(
+        (e - want).abs() < 0.011 * want,
+        "{e} against {want}: {}",
+        run.stderr
+    );
+}
