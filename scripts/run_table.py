@@ -476,6 +476,14 @@ def approach_shift(exe, work, state, clearance=1e-6):
     return shift - clearance
 
 
+def needed_states(t, runs):
+    """The prepared states the runs start from, when the table's derivation says (Olsson's:
+    one per liquid content), else None (all of them)."""
+    if t.get("derive") in ("olsson", "olsson_regime"):
+        return {"olsson_dry.sav" if r["liquid"] == "dry" else f"olsson_{r['liquid']}.sav" for r in runs}
+    return None
+
+
 def derive(kind, exe, work, run, cache):
     sets = dict(run)
     if kind == "wall":
@@ -787,9 +795,12 @@ def main():
     runs = [r for r in t["runs"] if all(str(r.get(k)) == v for k, v in (o.split("=", 1) for o in a.only))]
 
     if not a.plot_only:
+        need = needed_states(t, runs)
         for script, sets, state in t["prepare"]:
             if os.path.exists(os.path.join(work, state)) and not a.force:
                 continue
+            if need is not None and state not in need:
+                continue  # (no selected run starts from it)
             log = os.path.join(work, "logs", "prepare_" + state + ".log")
             print(f"preparing {state} ({script}) ...", flush=True)
             rc, dt = trubal(exe, script, sets, work, log)
