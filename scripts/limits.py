@@ -12,6 +12,8 @@ Python 3 standard library only.
 """
 import argparse, csv, json, os, re, subprocess, sys, tempfile, time
 
+import provenance
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
@@ -161,6 +163,7 @@ def main():
             w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
             w.writeheader()
             w.writerows(rows)
+        provenance.record(a.csv, a.trubal)
 
 
 if __name__ == "__main__":

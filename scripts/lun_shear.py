@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Simple shear of smooth inelastic spheres against Lun's kinetic theory (issue 35, item 6).
 
-Runs scripts/lun_shear.tru at solid fractions 0.1 ... 0.5 (np = 250 spheres of 20 um,
-E = 0.6 GPa, mu = 0, restitution 0.95, s = 10^4 1/s), time-averages the second half of the
-recorded history and writes doc/data/lun_shear.csv and doc/img/lun_shear.png next to the
-theory of doc/spec/shang1998.md §3.5 with beta = -1 (smooth spheres: eta2 = 0).
+Runs scripts/lun_shear.tru at solid fractions 0.05 ... 0.55 (np = 400 spheres of 20 um,
+E = 0.6 GPa, mu = 0, restitution 0.95, s = 10^4 1/s, 60 strain units: the defaults are the
+run of doc/validation.md), time-averages the second half of the recorded history and writes
+doc/data/lun_shear.csv (with its provenance) and doc/img/lun_shear.png next to the theory of
+doc/spec/shang1998.md §3.5 with beta = -1 (smooth spheres: eta2 = 0). Options other than the
+defaults print the rows and write nothing (unless --write).
 
-usage: scripts/lun_shear.py [--strain UNITS] [--np N] [PHI ...]
+usage: scripts/lun_shear.py [--strain UNITS] [--np N] [--seed K] [--write] [PHI ...]
        scripts/lun_shear.py --chart-only     (redraw from doc/data/lun_shear.csv)
 """
 import csv
@@ -19,6 +21,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import provenance  # noqa: E402
 import run_table  # noqa: E402  (binary, chart)
 
 SIGMA, RHO, E, NU, S, ECOEF = 2e-5, 2600.0, 6e8, 0.25, 1e4, 0.95
@@ -68,12 +71,15 @@ def run_json(exe, tru, sets, work):
     return [json.loads(x) for x in out.splitlines() if x.startswith("{")]
 
 
-def run(exe, phi, npart, strain, work):
+STRAIN, NPART, PHIS = 60.0, 400, [0.05, 0.1, 0.2, 0.3, 0.4, 0.45, 0.5, 0.55]
+
+
+def run(exe, phi, npart, strain, work, seed=0):
     dt = rayleigh_dt()
     l0, rc, nc = start(phi, npart, dt)
     n = int(strain / (S * dt))
     h = max(1, n // 400)
-    sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": S, "n": n, "h": h}
+    sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": S, "n": n, "h": h, "seed": seed}
     objs = run_json(exe, "lun_shear.tru", sets, work)
     grid = next(o for o in objs if o["print"] == "grid")
     hist = next(o for o in objs if o["print"] == "history")
@@ -105,28 +111,35 @@ def option(argv, name, default):
 
 def main():
     argv = sys.argv[1:]
-    strain = option(argv, "--strain", 40.0)
-    npart = option(argv, "--np", 250)
+    strain = option(argv, "--strain", STRAIN)
+    npart = option(argv, "--np", NPART)
+    seed = option(argv, "--seed", 0)
+    write = "--write" in argv
+    argv = [x for x in argv if x != "--write"]
     if "--chart-only" in argv:
         with open(os.path.join(ROOT, "doc", "data", "lun_shear.csv")) as fh:
             draw([{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)])
         return
-    phis = [float(x) for x in argv] or [0.1, 0.2, 0.3, 0.4, 0.5]
+    phis = [float(x) for x in argv] or PHIS
+    documented = (strain, npart, seed, phis) == (STRAIN, NPART, 0, PHIS)
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "lun_shear")
     os.makedirs(work, exist_ok=True)
     rows = []
     for phi in phis:
-        r = run(exe, phi, npart, strain, work)
+        r = run(exe, phi, npart, strain, work, seed)
         t = lun(r["phi"])
         r.update({"lun_pxy": t["pxy"], "lun_pyy": t["pyy"], "lun_3T": t["3T"]})
         rows.append(r)
         print(json.dumps(r), flush=True)
+    if not (documented or write):
+        return
     data = os.path.join(ROOT, "doc", "data", "lun_shear.csv")
     with open(data, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    provenance.record(data, exe, particles=npart, strain_units=strain, seed=seed)
     draw(rows)
 
 

@@ -24,6 +24,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import provenance  # noqa: E402
 import run_table as rt  # noqa: E402
 
 N = 4000
@@ -136,6 +137,7 @@ def main():
         w.writeheader()
         for r in rows:
             w.writerow({k: (round(x, 4) if isinstance(x, float) else x) for k, x in r.items()})
+    provenance.record(a.csv, rt.trubal_binary(), sweep=a.sweep)
     print(",".join(keys))
     for r in rows:
         print(",".join(str(round(r[k], 4) if isinstance(r[k], float) else r[k]) for k in keys))

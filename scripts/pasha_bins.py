@@ -33,6 +33,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import provenance  # noqa: E402
 import run_table  # noqa: E402
 from pasha_indent import G, Trubal, sizes  # noqa: E402
 
@@ -51,6 +52,7 @@ def draw(tag, rows, o, d_mean, nrow):
         series,
         "penetration h/d",
         "σ_zz, hardness H [kPa]",
+        extra=["--xmin", "0"],
     )
 
 
@@ -146,6 +148,7 @@ def main():
         wr = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         wr.writeheader()
         wr.writerows(rows)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.csv"), run_table.trubal_binary())
     draw(tag, rows, o, d_mean, nrow)
     late = [r for r in rows if r["h_over_d"] >= 0.1]
     summary = {
@@ -156,6 +159,7 @@ def main():
     }
     with open(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.json"), run_table.trubal_binary())
     print(json.dumps(summary, indent=1))
 
 

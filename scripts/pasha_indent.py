@@ -75,6 +75,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import provenance  # noqa: E402
 import run_table  # noqa: E402
 import trubal_session  # noqa: E402
 from lun_shear import option as arg  # noqa: E402
@@ -112,14 +113,14 @@ def load(tag):
 
 
 def hardness(o, rows):
-    """H (kPa) against h/d from a penetration of one particle radius on (Pasha plots from one
-    diameter)."""
+    """H (kPa) against h/r (r the indenter's radius), as Pasha plots it, from a penetration of
+    one particle diameter on (his start)."""
     dp = o["d"] / o["d_over_dp"]
-    return [(r["h_over_d"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp / 2]
+    return [(r["h_over_r"], r["hardness"] / 1e3) for r in rows if r["h"] >= dp]
 
 
 def compare(tags, out="pasha_indent_compare.png", title="Ball indentation hardness, σ_pre = 10 kPa"):
-    """One chart of H against h/d of the runs TAG[=LABEL] in doc/img/OUT."""
+    """One chart of H against h/r of the runs TAG[=LABEL] in doc/img/OUT."""
     series = []
     for spec in tags:
         # TAG or TAG=LABEL (the legend's label; default from the run's parameters).
@@ -129,7 +130,7 @@ def compare(tags, out="pasha_indent_compare.png", title="Ball indentation hardne
         if o.get("law", "hertz") != "hertz" or o.get("mur", 0):
             label = f"d = {o['d'] * 1e3:.0f} mm, E/{o['soften']:.0f}, μ_r = {o['mur']:g}"
         series.append((given or label, hardness(o, rows)))
-    run_table.chart(os.path.join(IMG, out), title, series, "penetration h/d", "hardness H [kPa]", **PASHA)
+    run_table.chart(os.path.join(IMG, out), title, series, "penetration h/r (r: indenter radius)", "hardness H [kPa]", **PASHA)
 
 
 def run_charts(tag, directory):
@@ -137,7 +138,7 @@ def run_charts(tag, directory):
     o, rows = load(tag)
     size = f"d = {o['d'] * 1e3:.0f} mm ({o['d_over_dp']:.0f} d_p), {o['particles']} particles"
     run_table.chart(os.path.join(directory, f"pasha_indent{tag}.png"), f"Ball indentation, {size}",
-                    [("trubal", hardness(o, rows))], "penetration h/d", "hardness H [kPa]", **PASHA)
+                    [("trubal", hardness(o, rows))], "penetration h/r (r: indenter radius)", "hardness H [kPa]", **PASHA)
     run_table.chart(os.path.join(directory, f"pasha_indent_force{tag}.png"), f"Force on the indenter, {size}",
                     [("trubal", [(r["h"] * 1e3, r["force"]) for r in rows])],
                     "penetration h [mm]", "force on the indenter F [N]")
@@ -416,6 +417,7 @@ def main():
             if kept[-1] != consolidation[-1]:
                 kept.append(consolidation[-1])
             wr.writerows([(c_, f_, f_target) for c_, f_ in kept])
+        provenance.record(os.path.join(ROOT, "doc", "data", f"pasha_consolidation{tag}.csv"), run_table.trubal_binary())
 
         say(f"consolidated: {n} cycles, force {consolidation[-1][1]:.4g} N of {f_target:.4g}, {time.time() - t0:.0f} s")
         # 3. Unload at the same top speed (the servo's target 0, or with --hold 0 the piston
@@ -508,6 +510,7 @@ def main():
         wr = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         wr.writeheader()
         wr.writerows(rows)
+    provenance.record(data, run_table.trubal_binary())
     plateau = [r["hardness"] for r in rows if 0.35 <= r["h_over_r"] <= hmax]
     mean = sum(plateau) / max(1, len(plateau))
     sd = math.sqrt(sum((x - mean) ** 2 for x in plateau) / max(1, len(plateau)))
@@ -519,6 +522,7 @@ def main():
     })
     with open(os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.json"), "w") as fh:
         json.dump(out, fh, indent=1)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"pasha_indent{tag}.json"), run_table.trubal_binary())
     run_charts(tag, WORK)
     print(json.dumps(out, indent=1))
 

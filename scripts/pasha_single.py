@@ -4,8 +4,12 @@ for a range of impact speeds with Pasha's simplified linear law (Table 4.2) and 
 Thornton-Ning (Table 4.1), and prints the coefficient of restitution of each next to the
 closed form of the simplified law (Pasha (A3.6), (A3.9), integrated independently here).
 
+The table goes to doc/data/pasha_single.csv (with its provenance, scripts/provenance.py) when
+run with the default FRAction 0.05, the run of doc/validation.md.
+
 usage: scripts/pasha_single.py [--frac F]     (TRUBAL_BIN selects the binary)
 """
+import csv
 import json
 import math
 import os
@@ -66,9 +70,21 @@ def main():
     if "--frac" in sys.argv:
         frac = float(sys.argv[sys.argv.index("--frac") + 1])
     print(f"{'v (m/s)':>8} {'e Pasha (run)':>14} {'e Pasha (closed)':>17} {'e T-N (run)':>12}")
+    rows = []
     for v in SPEEDS:
-        print(f"{v:8.2f} {run('pasha', v, frac):14.4f} {analytic(v):17.4f} {run('tning', v, frac):12.4f}")
+        row = {"v": v, "e_pasha": run("pasha", v, frac), "e_pasha_closed": analytic(v), "e_tning": run("tning", v, frac)}
+        rows.append(row)
+        print(f"{v:8.2f} {row['e_pasha']:14.4f} {row['e_pasha_closed']:17.4f} {row['e_tning']:12.4f}")
     print(f"asymptote (k_p/k_e)^1/2 = {math.sqrt(KP / KE):.4f}")
+    if frac == 0.05:
+        sys.path.insert(0, HERE)
+        import provenance
+        out = os.path.join(ROOT, "doc", "data", "pasha_single.csv")
+        with open(out, "w", newline="") as fh:
+            w = csv.DictWriter(fh, list(rows[0].keys()))
+            w.writeheader()
+            w.writerows({k: f"{x:.6g}" for k, x in r_.items()} for r_ in rows)
+        provenance.record(out, binary(), frac=frac)
 
 
 if __name__ == "__main__":

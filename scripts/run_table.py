@@ -49,6 +49,7 @@ try:
     import trubal as trubal_module
 except ImportError:
     trubal_module = None
+import provenance
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPTS = os.path.join(ROOT, "scripts")
@@ -140,8 +141,14 @@ def olsson_regime_runs():
     return runs
 
 
-def olsson_long_runs():
-    return [{"liquid": "dry", "v": v, "n": "17200"} for v in ["1", "1.5", "2", "3"]]
+def olsson_long_runs(extra=None):
+    return [dict({"liquid": "dry", "v": v, "n": "17200"}, **(extra or {})) for v in ["1", "1.5", "2", "3"]]
+
+
+def olsson_liggghts_runs():
+    """Tables 4:1-4:2 with Olsson's dashpot (his eq. (6): LIGGGHTS' hertz form, SET DASHpot
+    LIGGGHTS) in the impact, from the same prepared states."""
+    return [dict(r, dashpot="liggghts") for r in olsson_runs()]
 
 
 TABLES = {
@@ -250,6 +257,32 @@ TABLES = {
         ],
         "derive": "olsson_regime",
         "runs": olsson_regime_runs(),
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+    # Tables 4:1-4:2 with Olsson's (LIGGGHTS') dashpot in the impact (issue 53 item 2).
+    "olsson_liggghts": {
+        "title": "Olsson, LIGGGHTS' dashpot: 4000-particle agglomerate on a wall",
+        "script": "olsson_impact.tru",
+        "work": "olsson",
+        "prepare": [
+            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
+            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
+        ],
+        "derive": "olsson",
+        "runs": olsson_liggghts_runs(),
+        "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
+    },
+    # The same dry, 2.4 ms (Olsson: "until the capture ratio and damage ratio reach
+    # asymptotic values", §3.4).
+    "olsson_long_liggghts": {
+        "title": "Olsson, dry, LIGGGHTS' dashpot, 2.4 ms",
+        "script": "olsson_impact.tru",
+        "work": "olsson_long",  # (the run names of olsson_liggghts without n: not in its work)
+        "prepare": [("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav")],
+        "derive": "olsson",
+        "runs": olsson_long_runs({"dashpot": "liggghts"}),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
     },
     # Fragments drift apart slowly: the dry cases again for 2.4 ms (4 x 17,200 x 35 ns).
@@ -477,6 +510,14 @@ def approach_shift(exe, work, state, clearance=1e-6):
     return shift - clearance
 
 
+def needed_states(t, runs):
+    """The prepared states the runs start from, when the table's derivation says (Olsson's:
+    one per liquid content), else None (all of them)."""
+    if t.get("derive") in ("olsson", "olsson_regime"):
+        return {"olsson_dry.sav" if r["liquid"] == "dry" else f"olsson_{r['liquid']}.sav" for r in runs}
+    return None
+
+
 def derive(kind, exe, work, run, cache):
     sets = dict(run)
     if kind == "wall":
@@ -509,7 +550,8 @@ def derive(kind, exe, work, run, cache):
             cache[key] = wall_height(exe, work, state)
         # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
         n = run.get("n", "4300" if run["liquid"] == "dry" else "12500")
-        sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n}
+        sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n,
+                "dashpot": run.get("dashpot", "trubal")}
         if kind == "olsson_regime":
             sets["n"] = run.get("n", "4300" if run["liquid"] == "dry" else "125000")
             sets["smin"] = run.get("smin", "default")
@@ -658,9 +700,10 @@ def group_key(group, values):
     return ", ".join(parts)
 
 
-def lian_fit(vo, grid):
-    """Lian's fit D_r = log10(v / v_o) from v_o (D_r = 0) over his velocities, to D_r = 1."""
-    return [(vo, 0.0)] + [(v, math.log10(v / vo)) for v in grid if vo < v <= 10 * vo]
+def lian_fit(vo, grid, vmax):
+    """Lian's fit D_r = log10(v / v_o) from v_o (D_r = 0) to his fastest run of the series
+    (vmax, cases-lian1994.md Tables 6.1 and 7.1): not beyond his data."""
+    return [(vo, 0.0)] + [(v, math.log10(v / vo)) for v in sorted(set(grid) | {vmax}) if vo < v <= vmax]
 
 
 # The theses' results drawn dashed, by the key of the group of our runs they belong to
@@ -668,9 +711,10 @@ def lian_fit(vo, grid):
 LIAN6_GRID = (0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)
 LIAN7_GRID = (0.7, 1, 1.2, 1.5, 2, 3, 4, 5)
 REFERENCES = {
-    "lian6": [(eta, lian_fit(vo, LIAN6_GRID)) for eta, vo in (("0", 0.35), ("0.01", 0.44), ("0.1", 0.98))],
-    "lian7": [(key, lian_fit(vo, LIAN7_GRID))
-              for key, vo in (("0.001/0.025", 0.73), ("0.01/0.025", 0.91), ("0.01/0.05", 1.19))],
+    "lian6": [(eta, lian_fit(vo, LIAN6_GRID, vmax)) for eta, vo, vmax in (("0", 0.35, 2.0), ("0.01", 0.44, 3.0),
+                                                                          ("0.1", 0.98, 8.0))],
+    "lian7": [(key, lian_fit(vo, LIAN7_GRID, vmax))
+              for key, vo, vmax in (("0.001/0.025", 0.73, 2.0), ("0.01/0.025", 0.91, 5.0), ("0.01/0.05", 1.19, 5.0))],
     "lian7_oblique": [("0.342 cos²θ", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
     "olsson": [
         ("dry", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
@@ -681,7 +725,8 @@ REFERENCES = {
 }
 REFERENCES["lian6_debris"] = REFERENCES["lian6_small"] = REFERENCES["lian6"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
-REFERENCES["olsson_regime"] = REFERENCES["olsson"]
+REFERENCES["olsson_regime"] = REFERENCES["olsson_liggghts"] = REFERENCES["olsson"]
+REFERENCES["olsson_long_liggghts"] = REFERENCES["olsson"][:1]
 REF_NAMES = {"lian": "Lian (1994)", "olsson": "Olsson (2017)"}
 # The order of the groups (their colours), the same in every chart of a table.
 KEY_ORDER = {"eta": ["0", "0.001", "0.01", "0.1"], "liquid": ["dry", "0.01", "0.1", "1"]}
@@ -784,9 +829,12 @@ def main():
     runs = [r for r in t["runs"] if all(str(r.get(k)) == v for k, v in (o.split("=", 1) for o in a.only))]
 
     if not a.plot_only:
+        need = needed_states(t, runs)
         for script, sets, state in t["prepare"]:
             if os.path.exists(os.path.join(work, state)) and not a.force:
                 continue
+            if need is not None and state not in need:
+                continue  # (no selected run starts from it)
             log = os.path.join(work, "logs", "prepare_" + state + ".log")
             print(f"preparing {state} ({script}) ...", flush=True)
             rc, dt = trubal(exe, script, sets, work, log)
@@ -814,6 +862,7 @@ def main():
                 line = state_summary(exe, work, state)
                 print(line, flush=True)
                 f.write(line + "\n")
+        provenance.record(os.path.join(DATA, a.table + "_states.txt"), exe)
     rows = []
     for r in runs:
         got = finished(work, t["script"], r)
@@ -838,6 +887,7 @@ def main():
         w.writeheader()
         for row in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
     print("wrote", out)
     group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
     series = {}
@@ -850,6 +900,7 @@ def main():
             for line in fits:
                 print(line)
                 f.write(line + "\n")
+        provenance.record(os.path.join(DATA, a.table + "_fit.txt"), exe)
     draw_table(a.table, t, work)
 
 

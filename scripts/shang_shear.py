@@ -6,7 +6,11 @@ time-step table (1.2326, 2.4509, 1.3184 at s = 12000 1/s) and Lun's theory (e = 
 beta = 0); with --sweep, the same at several shear rates, against the energy cohesion number
 CN_e (Shang (3.17)), written to doc/data/shang_shear.csv and doc/img/shang_shear.png.
 
-usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--seed K] [--sweep] [S ...]
+The defaults are the runs of doc/validation.md: 30 strain units, seed 0, Shang's step; the
+sweep at s = 12000, 8000, 6000, 4500, 3000 1/s. --record appends each run, with its
+provenance (scripts/provenance.py), to doc/data/shang_shear_runs.jsonl.
+
+usage: scripts/shang_shear.py [--strain UNITS] [--frac F] [--seed K] [--sweep] [--record] [S ...]
        scripts/shang_shear.py --chart-only     (redraw from doc/data/shang_shear.csv)
 """
 import csv
@@ -19,6 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import lun_shear  # noqa: E402
+import provenance  # noqa: E402
 import run_table  # noqa: E402
 
 SIGMA, RHO, E, NU, GAMMA_SHANG = 2e-5, 2600.0, 6e10, 0.25, 0.2
@@ -56,14 +61,15 @@ def main():
         with open(os.path.join(ROOT, "doc", "data", "shang_shear.csv")) as fh:
             draw([{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)])
         return
-    strain = 40.0
+    strain = 30.0
     strain = lun_shear.option(argv, "--strain", strain)
     global FRAC, SEED
     SEED = lun_shear.option(argv, "--seed", SEED)
     FRAC = lun_shear.option(argv, "--frac", FRAC)
     sweep = "--sweep" in argv
-    argv = [a for a in argv if a != "--sweep"]
-    rates = [float(a) for a in argv] or ([12000, 9000, 7000, 5800, 4500] if sweep else [12000])
+    record = "--record" in argv
+    argv = [a for a in argv if a not in ("--sweep", "--record")]
+    rates = [float(a) for a in argv] or ([12000, 8000, 6000, 4500, 3000] if sweep else [12000])
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "shang_shear")
     os.makedirs(work, exist_ok=True)
@@ -74,11 +80,15 @@ def main():
         r.update({"kt_pxy": kt["pxy"], "kt_pyy": kt["pyy"], "kt_3T": kt["3T"]})
         out.append(r)
         print(json.dumps(r), flush=True)
+        if record:
+            with open(os.path.join(ROOT, "doc", "data", "shang_shear_runs.jsonl"), "a") as fh:
+                fh.write(json.dumps(dict(r, **provenance.stamp(exe))) + "\n")
     if sweep:
         with open(os.path.join(ROOT, "doc", "data", "shang_shear.csv"), "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(out[0].keys()))
             w.writeheader()
             w.writerows(out)
+        provenance.record(os.path.join(ROOT, "doc", "data", "shang_shear.csv"), exe, strain_units=strain, seed=SEED)
         draw(out)
 
 
@@ -86,9 +96,9 @@ def draw(rows):
     """The chart doc/img/shang_shear.png: the stresses against CN_e."""
     run_table.chart(
         os.path.join(ROOT, "doc", "img", "shang_shear.png"),
-        "Cohesive simple shear, φ = 0.45: stresses against CN_e (Shang's range 4–9e-3)",
+        "Shang's cohesive simple shear, φ = 0.45",
         [(lab, [(r["cn_e"], r[k]) for r in rows]) for lab, k in [("P_xy / ρ(σs)²", "pxy"), ("P_yy / ρ(σs)²", "pyy"), ("3T / (σs)²", "3T")]],
-        "energy cohesion number CN_e",
+        "energy cohesion number CN_e (Shang's critical range 4–9e-3)",
         "stress / ρ(σs)²,  3T / (σs)²",
         logx=True,
     )

@@ -16,6 +16,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import provenance  # noqa: E402
 import run_table  # noqa: E402
 from lun_shear import option as arg  # noqa: E402
 
@@ -77,6 +78,7 @@ def main():
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), run_table.trubal_binary())
     peak = max(rows, key=lambda r: r["phi_mobilised_deg"])
     tail = rows[-len(rows) // 5 :]
     crit = sum(r["phi_mobilised_deg"] for r in tail) / len(tail)
@@ -94,6 +96,7 @@ def main():
     print(json.dumps(summary, indent=1))
     with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), run_table.trubal_binary())
     draw(tag)
 
 

@@ -49,7 +49,9 @@
 //! spring row of `SET TANgential MDR` (`mdr`) to the law-specific part of the contact state
 //! (read as none from older files, through `sim::contacts::old`), and may hold the new last
 //! variant `TangentialChoice::Mdr`, which older files never hold; version 10 adds the named
-//! groups (`GROup`, `Scene::groups`, read as none from older files).
+//! groups (`GROup`, `Scene::groups`, read as none from older files) and the dashpot forms of
+//! the material pairs (`SET DASHpot`, `ContactLaws::dashpot`, read as trubal's everywhere from
+//! older files).
 //! Versions 1 to 9
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
@@ -228,7 +230,8 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
         VERSION => decode_all::<Scene, R>(r, version),
-        // Version 9 differs only in having no groups (scene::old_groups).
+        // Version 9 differs in having no groups (scene::old_groups) and no dashpot forms in
+        // the contact laws (scene::old_laws).
         9 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Versions 6 to 8 differ in the ledger (no `unbooked`, scene::old_ledger) and the
         // contact state (no `mdr`, sim::contacts::old).

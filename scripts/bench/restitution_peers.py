@@ -11,7 +11,7 @@ error (e_measured / e - 1) of both codes; writes doc/data/restitution_peers.csv.
 
 LIGGGHTS 3.8 (Debian package `liggghts`) must be on the PATH.
 """
-import argparse, csv, math, os, tempfile
+import argparse, csv, math, os, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -26,6 +26,9 @@ DT_R = math.pi * 0.01 * math.sqrt(2800 / (48e9 / 2.4)) / (0.1631 * 0.2 + 0.8766)
 
 # The impact (two spheres at +-10 m/s) as equal_error.py runs it at any speed.
 from equal_error import liggghts_e, trubal_e
+
+sys.path.insert(0, os.path.dirname(HERE))
+import provenance  # noqa: E402
 
 
 def liggghts(frac, e, tmp):
@@ -51,6 +54,7 @@ def main():
         w.writerow(["fraction", "steps_per_contact", "e_set", "e_trubal", "e_liggghts"])
         for f, e, t, l in rows:
             w.writerow([f, f"{TC / (f * DT_R):.2f}", e, f"{t:.6f}", f"{l:.6f}"])
+    provenance.record(a.csv, a.trubal)
     head = "| FRAction | steps per contact | " + " | ".join(f"e = {e}: trubal / LIGGGHTS" for e in ES) + " |"
     print(head)
     print("|" + "---|" * (2 + len(ES)))

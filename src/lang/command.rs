@@ -181,6 +181,12 @@ pub enum Setting {
         pairs: Pairs,
         mu_r: f64,
     },
+    /// `SET DASHpot TRUBAL|LIGGGHTS|EDEM|LIMITFORCE [m1 [m2]]`: the restitution dashpot's form
+    /// of the material pairs (doc/contact_laws.md).
+    Dashpot {
+        pairs: Pairs,
+        form: crate::sim::model::DashpotForm,
+    },
     /// `SET PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault`: one material pair's own
     /// friction and restitution (both `None`: back to the smaller of the two materials').
     Pair {

@@ -149,6 +149,7 @@ enum SetKw {
     Normal,
     Rolling,
     Pair,
+    Dashpot,
 }
 
 const SET_NAMES: &[Keyword<SetKw>] = &[
@@ -171,6 +172,17 @@ const SET_NAMES: &[Keyword<SetKw>] = &[
     kw("NORmal", SetKw::Normal),
     kw("ROLling", SetKw::Rolling),
     kw("PAIr", SetKw::Pair),
+    kw("DASHpot", SetKw::Dashpot),
+];
+
+const DASHPOTS: &[Keyword<crate::sim::model::DashpotForm>] = &[
+    kw("TRUBAL", crate::sim::model::DashpotForm::Exact),
+    kw("LIGGGHTS", crate::sim::model::DashpotForm::Liggghts),
+    kw("EDEM", crate::sim::model::DashpotForm::Liggghts),
+    kw(
+        "LIMITFORCE",
+        crate::sim::model::DashpotForm::LiggghtsLimited,
+    ),
 ];
 
 const TUNNELS: &[Keyword<crate::sim::scene::TunnelAction>] = &[
@@ -638,11 +650,12 @@ pub const COMMANDS: &[CommandDef] = &[
             "TUNnel",
             "NORmal",
             "ROLling",
-            "PAIr"
+            "PAIr",
+            "DASHpot"
         ],
         false,
         b_set,
-        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON|HM|MDR (WALTON: Walton's incremental Mindlin–Deresiewicz law of Shang 1998; HM: the Hertz–Mindlin tangential law of EDEM and LIGGGHTS, the no-slip spring k_t = 8G*a with a dashpot from the pair's restitution, C_t = zeta (2/3 m* k_t)^(1/2), which the Mindlin springs of MJKR EDEM and NGUYEN pairs take too; MDR: the exact Hertz-Mindlin contact by the method of dimensionality reduction (Popov & Hess 2015), a row of 16 springs per contact that keeps the traction field, exact in small-angle impacts where MD is not; pairs with COHesion or a law of SET NORmal keep MD, doc/contact_laws.md); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path (the directory of PLot's pictures and PLot HIStory's charts; a path with `/` must be quoted, SET OUTdir \"runs/a\", as `/` separates words); VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR [EDEM [ROLLING]] | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap, with EDEM the limit of sliding friction on the repulsive (Hertzian) part of the force, 4E*a^3/(3R*), instead of P + 2Pc (EDEM's Hertz-Mindlin with JKR; Mindlin's no-slip spring whatever SET TANgential says, with its dashpot under HM), with ROLLING the limit of the rolling moment too, instead of P; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1])."
+        "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON|HM|MDR (WALTON: Walton's incremental Mindlin–Deresiewicz law of Shang 1998; HM: the Hertz–Mindlin tangential law of EDEM and LIGGGHTS, the no-slip spring k_t = 8G*a with a dashpot from the pair's restitution, C_t = zeta (2/3 m* k_t)^(1/2), which the Mindlin springs of MJKR EDEM and NGUYEN pairs take too; MDR: the exact Hertz-Mindlin contact by the method of dimensionality reduction (Popov & Hess 2015), a row of 16 springs per contact that keeps the traction field, exact in small-angle impacts where MD is not; pairs with COHesion or a law of SET NORmal keep MD, doc/contact_laws.md); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path (the directory of PLot's pictures and PLot HIStory's charts; a path with `/` must be quoted, SET OUTdir \"runs/a\", as `/` separates words); VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR [EDEM [ROLLING]] | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap, with EDEM the limit of sliding friction on the repulsive (Hertzian) part of the force, 4E*a^3/(3R*), instead of P + 2Pc (EDEM's Hertz-Mindlin with JKR; Mindlin's no-slip spring whatever SET TANgential says, with its dashpot under HM), with ROLLING the limit of the rolling moment too, instead of P; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1]); DASHpot TRUBAL|LIGGGHTS|EDEM|LIMITFORCE [m1 [m2]] (the form of the restitution dashpot of all material pairs, of the pairs with m1, or of the pair m1-m2, doc/contact_laws.md: TRUBAL, the default, calibrated so that a contact rebounds with e exactly and never pulls; LIGGGHTS and EDEM the formula of LIGGGHTS' hertz and EDEM's Hertz-Mindlin, -2 sqrt(5/6) beta sqrt(S_n m*) v_n with beta = ln e / sqrt(ln^2 e + pi^2) and S_n = 2E* sqrt(R* alpha), whose total force may pull at the end of a contact (LIGGGHTS' limitForce off); LIMITFORCE the same dashpot with the total force kept compressive (limitForce on), which rebounds livelier than e)."
     ),
     def!(
         "STArt",
@@ -1575,6 +1588,10 @@ fn b_set(a: &mut Args) -> Result<Command, ParseError> {
             pairs: material_pairs(a)?,
         },
         SetKw::Pair => pair_values(a)?,
+        SetKw::Dashpot => Setting::Dashpot {
+            form: a.keyword(DASHPOTS, "TRUBAL, LIGGGHTS, EDEM or LIMITFORCE")?,
+            pairs: material_pairs(a)?,
+        },
         SetKw::GenOverlap => {
             let t = a.peek();
             let f = a.non_negative("fraction")?;

@@ -612,7 +612,7 @@ fn normal_law_text(l: &NormalLaw) -> String {
     }
 }
 
-/// The rules of `SET NORmal`, `SET ROLling` and `SET PAIr` in force, in the order given (the
+/// The rules of `SET NORmal`, `SET ROLling`, `SET PAIr` and `SET DASHpot` in force, in the order given (the
 /// last that covers a pair decides), as the commands that would make them.
 fn contact_rules(laws: &ContactLaws) -> (String, Vec<String>) {
     let mut rules: Vec<String> = Vec::new();
@@ -635,6 +635,14 @@ fn contact_rules(laws: &ContactLaws) -> (String, Vec<String>) {
             r += &format!(" RESTitution {e}");
         }
         rules.push(r);
+    }
+    for (p, form) in &laws.dashpot {
+        let name = match form {
+            crate::sim::model::DashpotForm::Exact => "TRUBAL",
+            crate::sim::model::DashpotForm::Liggghts => "LIGGGHTS",
+            crate::sim::model::DashpotForm::LiggghtsLimited => "LIMITFORCE",
+        };
+        rules.push(format!("SET DASHpot {name}{}", pairs_text(p)));
     }
     let text = if rules.is_empty() {
         "contact laws: HERTZ (JKR with COHesion) for all pairs, no rolling friction\n".to_string()

@@ -201,9 +201,10 @@ fn viscous_normal<const ADH: bool>(
             fd -= rayleigh * vn;
         }
         // The tension clamp of the restitution model: the dashpot never pulls a
-        // non-adhesive contact (nor a pair that is only approaching).
+        // non-adhesive contact (nor a pair that is only approaching), unless the pair's
+        // dashpot form lets it (SET DASHpot LIGGGHTS, while touching).
         let p = if s.touching { s.normal_force } else { 0.0 };
-        if gamma == 0.0 && p + fd < 0.0 {
+        if gamma == 0.0 && !(pc.pull && s.touching) && p + fd < 0.0 {
             fd = -p;
         }
         fv = 0.0 - bridge_c * vn;
@@ -634,6 +635,7 @@ mod tests {
             zeta: 0.0,
             dash: 0.0,
             law: 0,
+            pull: false,
         }
     }
 

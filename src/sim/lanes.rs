@@ -131,6 +131,7 @@ impl Batch {
             && kin.gap < 0.0
             && pc.zeta > 0.0
             && pc.mu > 0.0
+            && !pc.pull
     }
 
     /// Appends a contact; returns its lane.
@@ -352,6 +353,7 @@ mod tests {
                     zeta: 0.3 * r.uniform() + 1e-3,
                     dash: 0.0,
                     law: 0,
+                    pull: false,
                 };
                 let pc = PairConst {
                     dash: pc.zeta * (4.0 / 3.0 * pc.e_star).sqrt(),

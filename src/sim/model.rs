@@ -181,6 +181,42 @@ impl Pairs {
     }
 }
 
+/// The form of the restitution dashpot of a material pair (`SET DASHpot`,
+/// doc/contact_laws.md). All three are the force `C α^{1/4} α'` of Tsuji et al. (1992) on a
+/// Hertzian contact; they differ in the constant `ζ = C/sqrt(m* K)` a restitution `e` gives
+/// and in whether the total normal force may pull (`physics::restitution`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DashpotForm {
+    /// trubal's: `ζ` calibrated so that the tension-free contact rebounds with `e` exactly
+    /// (`restitution::zeta_for_restitution`); the dashpot never pulls a non-adhesive contact.
+    #[default]
+    Exact,
+    /// LIGGGHTS' `hertz` (and EDEM's Hertz–Mindlin, the same formula in its manual):
+    /// `F = −2 sqrt(5/6) β sqrt(S_n m*) α'`, `β = ln e / sqrt(ln² e + π²)`, `S_n =
+    /// 2E* sqrt(R* α)`, i.e. `ζ = sqrt(5) |β|` (`restitution::tsuji_zeta`), and the total
+    /// force may pull at the end of a contact (LIGGGHTS' default `limitForce off`).
+    Liggghts,
+    /// The same `ζ` with LIGGGHTS' `limitForce on`: the total force never pulls (a
+    /// non-adhesive contact), so the rebound is livelier than `e`
+    /// (`restitution::restitution_of_zeta`).
+    LiggghtsLimited,
+}
+
+impl DashpotForm {
+    /// The dashpot constant `ζ` this form gives the restitution `e`.
+    pub fn zeta(self, e: f64) -> f64 {
+        use crate::physics::restitution;
+        match self {
+            DashpotForm::Exact => restitution::zeta_for_restitution(e),
+            DashpotForm::Liggghts | DashpotForm::LiggghtsLimited => restitution::tsuji_zeta(e),
+        }
+    }
+    /// The total normal force of a non-adhesive contact may be tensile (no clamp).
+    pub fn pulls(self) -> bool {
+        self == DashpotForm::Liggghts
+    }
+}
+
 /// The friction and restitution of one material pair given with `SET PAIr`, instead of
 /// TRUBAL's rule (the smaller of the two materials' values); `None`: the rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -200,6 +236,8 @@ pub struct ContactLaws {
     /// Friction and restitution of single material pairs (`SET PAIr`; always
     /// `Pairs::Pair(m1, m2)` with `m1 ≤ m2`, one entry per pair).
     pub pair_values: Vec<(Pairs, PairValues)>,
+    /// The dashpot's form (`SET DASHpot`; since format 10).
+    pub dashpot: Vec<(Pairs, DashpotForm)>,
 }
 
 impl ContactLaws {
@@ -218,6 +256,20 @@ impl ContactLaws {
             .rev()
             .find(|(p, _)| p.covers(a, b))
             .map_or(0.0, |r| r.1)
+    }
+    /// The dashpot form of a pair of materials (1-based).
+    pub fn dashpot_of(&self, a: usize, b: usize) -> DashpotForm {
+        self.dashpot
+            .iter()
+            .rev()
+            .find(|(p, _)| p.covers(a, b))
+            .map_or(DashpotForm::Exact, |r| r.1)
+    }
+    pub fn set_dashpot(&mut self, pairs: Pairs, form: DashpotForm) {
+        self.dashpot.retain(|(p, _)| !p.within(&pairs));
+        if !(pairs == Pairs::All && form == DashpotForm::Exact) {
+            self.dashpot.push((pairs, form));
+        }
     }
     pub fn set_rolling(&mut self, pairs: Pairs, mu_r: f64) {
         self.rolling.retain(|(p, _)| !p.within(&pairs));

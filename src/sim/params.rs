@@ -2,7 +2,7 @@
 //! loop only looks them up), and the scene checks that must pass before cycling.
 
 use super::scene::Scene;
-use crate::physics::{hertz, restitution};
+use crate::physics::hertz;
 use crate::sim::model::NormalLaw;
 
 /// Constants of a material pair (particle–particle or particle–wall).
@@ -25,6 +25,9 @@ pub struct PairConst {
     /// The pair's normal law of `SET NORmal`: 0 for Hertz/JKR, else 1 + its index in
     /// [`Model::laws`] (`Laws::pair_laws`).
     pub law: u16,
+    /// The dashpot may pull a non-adhesive contact (`SET DASHpot LIGGGHTS`: no tension
+    /// clamp; such contacts take the scalar kernel, not `lanes`).
+    pub pull: bool,
 }
 
 /// A normal law of `SET NORmal` other than Hertz/JKR, as a material pair uses it.
@@ -210,7 +213,8 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
                 (x, y) => x.or(y),
             };
             let e = given.restitution.or(e);
-            let zeta = e.map(restitution::zeta_for_restitution).unwrap_or(0.0);
+            let form = scene.laws.dashpot_of(a + 1, b + 1);
+            let zeta = e.map(|e| form.zeta(e)).unwrap_or(0.0);
             rotation |= mu > 0.0;
             adhesion |= gamma > 0.0 || gamma_base > 0.0;
             let law = scene.laws.normal_of(a + 1, b + 1);
@@ -251,6 +255,7 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
                 zeta,
                 dash: zeta * (4.0 / 3.0 * e_star).sqrt(),
                 law: index as u16,
+                pull: form.pulls(),
             };
         }
     }

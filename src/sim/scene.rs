@@ -647,8 +647,17 @@ struct ContactLawsV5 {
     rolling: Vec<(crate::sim::model::Pairs, f64)>,
 }
 
+/// The contact laws as formats 6 to 9 wrote them (frozen: never change).
+#[derive(Deserialize)]
+struct ContactLawsV9 {
+    normal: Vec<(crate::sim::model::Pairs, crate::sim::model::NormalLaw)>,
+    rolling: Vec<(crate::sim::model::Pairs, f64)>,
+    pair_values: Vec<(crate::sim::model::Pairs, crate::sim::model::PairValues)>,
+}
+
 /// Reads the contact laws in the layout of the checkpoint being decoded: formats 1–4 had
-/// none (the defaults, nothing read), format 5 no pair values.
+/// none (the defaults, nothing read), format 5 no pair values, formats 5–9 no dashpot forms
+/// (trubal's everywhere).
 fn old_laws<'de, D: serde::Deserializer<'de>>(
     de: D,
 ) -> Result<crate::sim::model::ContactLaws, D::Error> {
@@ -658,6 +667,13 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
             normal: o.normal,
             rolling: o.rolling,
             pair_values: Vec::new(),
+            dashpot: Vec::new(),
+        }),
+        6..=9 => ContactLawsV9::deserialize(de).map(|o| crate::sim::model::ContactLaws {
+            normal: o.normal,
+            rolling: o.rolling,
+            pair_values: o.pair_values,
+            dashpot: Vec::new(),
         }),
         _ => crate::sim::model::ContactLaws::deserialize(de),
     }

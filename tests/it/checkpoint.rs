@@ -17,7 +17,8 @@ use trubal::sim::{Scene, Vec3};
 /// a sliding particle pair (tangential history and a bridge) and a particle on the wall;
 /// cycles with Walton's law (its history beside the Mindlin–Deresiewicz one); laws of
 /// `SET NORmal` (a Thornton–Ning and a linear wall contact, a pair with LIGGGHTS' JKR held
-/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`);
+/// across a gap), rolling friction and a pair's own friction and restitution (`SET PAIr`)
+/// and dashpot form (`SET DASHpot`, format 10);
 /// the last cycles with `MDR` (the spring row of the sliding pair, made from the force it
 /// held; the Thornton–Ning wall contact keeps the MD law). (`SET TANgential HM`, the last
 /// setting of the format-8 fixture, is a setting only: that fixture holds it.) A static
@@ -64,6 +65,7 @@ density 2500 4
 cohesion 0.05 4
 set normal nguyen 4
 set pair 1 2 friction 0.35 restitution 0.3
+set dashpot liggghts 1 2
 create 0.001 0.001 0.002 0 0 0 0 0 0 1 4
 create 0.001 0.001 0.00220002 0 0 0 0 0 0 1 4
 group low box 0 0.004 0 0.004 0 0.001
@@ -257,8 +259,10 @@ fn facts(sc: &Scene) -> Value {
             "pending": f(sc.cell().pending),
         },
     });
-    // (Format 10: the named groups.)
+    // (Format 10: the named groups and the dashpot forms; outside the macro, which has
+    // reached its recursion limit.)
     v["groups"] = json!(format!("{:?}", sc.groups()));
+    v["dashpot"] = json!(format!("{:?}", sc.laws().dashpot));
     v
 }
 

@@ -35,6 +35,7 @@ mod readme;
 mod restitution;
 mod slurm;
 mod sweep;
+mod tables;
 mod terminal;
 mod threads;
 mod timestep_study;

@@ -325,14 +325,16 @@ fn edem_option_belongs_to_mjkr_only() {
     }
 }
 
-/// `PRint SETtings` lists the rules of `SET NORmal`, `SET ROLling` and `SET PAIr` as the
+/// `PRint SETtings` lists the rules of `SET NORmal`, `SET ROLling`, `SET PAIr` and `SET
+/// DASHpot` as the
 /// commands that make them: given back to a new scene they give the same list.
 #[test]
 fn print_settings_lists_the_contact_rules_as_commands() {
     let head = "start 1 1 1 10 10 2\nymd 1e9 1\npra 0.3 1\ndensity 1000 1\nymd 1e9 2\npra 0.3 2\n\
                 density 1000 2\n";
     let rules = "set normal mjkr edem rolling 1\nset rolling 0.1 1 1\nset pair 1 2 friction 0.35 \
-                 restitution 0.3\nset normal nguyen 2\nset normal pasha 1500 210 20 4e-6 1 2\n";
+                 restitution 0.3\nset normal nguyen 2\nset normal pasha 1500 210 20 4e-6 1 2\n\
+                 set dashpot liggghts\nset dashpot limitforce 1 2\n";
     let listed = |script: &str| -> Vec<String> {
         let run = trubal_json(&format!("{head}{script}print settings\n"), &[]);
         assert!(run.ok, "{}", run.stderr);
@@ -352,7 +354,9 @@ fn print_settings_lists_the_contact_rules_as_commands() {
             "SET NORmal NGUYEN 2",
             "SET NORmal PASHA 1500 210 20 0.000004 KT 1500 1 2",
             "SET ROLling 0.1 1 1",
-            "SET PAIr 1 2 FRIction 0.35 RESTitution 0.3"
+            "SET PAIr 1 2 FRIction 0.35 RESTitution 0.3",
+            "SET DASHpot LIGGGHTS",
+            "SET DASHpot LIMITFORCE 1 2"
         ]
     );
     assert_eq!(listed(&(first.join("\n") + "\n")), first);

@@ -111,7 +111,10 @@ fn liquid_warnings(
 /// `SET name value`: a setting of the scene (the periodic axes refused while a plane wall
 /// crosses them).
 fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
-    if let Setting::Normal { pairs, .. } | Setting::Rolling { pairs, .. } = s {
+    if let Setting::Normal { pairs, .. }
+    | Setting::Rolling { pairs, .. }
+    | Setting::Dashpot { pairs, .. } = s
+    {
         let mats = match *pairs {
             crate::sim::model::Pairs::All => vec![],
             crate::sim::model::Pairs::With(m) => vec![m],
@@ -123,6 +126,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         scene.edit_laws(|laws| match s {
             Setting::Normal { law, .. } => laws.set_normal(*pairs, *law),
             Setting::Rolling { mu_r, .. } => laws.set_rolling(*pairs, *mu_r),
+            Setting::Dashpot { form, .. } => laws.set_dashpot(*pairs, *form),
             _ => {}
         });
         return Ok(String::new());
@@ -180,7 +184,10 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
-        Setting::Normal { .. } | Setting::Rolling { .. } | Setting::Pair { .. } => {}
+        Setting::Normal { .. }
+        | Setting::Rolling { .. }
+        | Setting::Pair { .. }
+        | Setting::Dashpot { .. } => {}
     });
     Ok(warn)
 }
