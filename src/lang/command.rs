@@ -349,4 +349,7 @@ pub enum Command {
         off: bool,
         prefix: Option<String>,
     },
+    /// The words of the programmable language (`LET`, `IF`, `LOOP`, `DEFine`, ...;
+    /// doc/language.md).
+    Script(super::script::ScriptCmd),
 }

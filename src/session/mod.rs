@@ -7,6 +7,7 @@ mod generation;
 pub mod input;
 pub mod interrupt;
 pub mod progress;
+pub mod script;
 pub mod vars;
 pub mod vtk;
 
@@ -17,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use crate::checkpoint;
 use crate::lang::command::{Command, PlotItem, StressServo};
-use crate::lang::{Parsed, parse_line};
+use crate::lang::{Parsed, parse_line_in};
 use crate::output::print;
 use crate::sim::cell::{Servo, StressTarget};
 use crate::sim::{Scene, cycle, energy};
@@ -61,6 +62,8 @@ pub struct Session {
     pub dir: PathBuf,
     /// `VTk`'s series and schedule.
     vtk: vtk::VtkState,
+    /// Variables, procedures, blocks being read (doc/language.md).
+    pub script: script::Interp,
 }
 
 impl Session {
@@ -75,6 +78,7 @@ impl Session {
             echo: false,
             dir: PathBuf::from("."),
             vtk: vtk::VtkState::default(),
+            script: script::Interp::default(),
         }
     }
 
@@ -119,17 +123,14 @@ impl Session {
     /// Runs one line. Errors are returned located; the state is unchanged by a failing command
     /// (earlier complete commands of the same line stay done).
     pub fn run_line(&mut self, raw: &str) -> Result<Flow, LineError> {
-        let line = if raw.contains('$') {
-            vars::substitute(raw, &self.vars)?
-        } else {
-            raw.to_string()
-        };
+        // `$name`: the --set value, else the variable's (script::Session::substituted).
+        let line = self.substituted(raw)?;
         if self.echo
             && let Some(f) = &mut self.log
         {
             let _ = writeln!(f, "> {line}");
         }
-        let parsed = parse_line(&line).map_err(|e| LineError {
+        let parsed = parse_line_in(&line, &self.names()).map_err(|e| LineError {
             start: e.start,
             end: e.end,
             message: e.message,
@@ -150,6 +151,8 @@ impl Session {
                 let _ = writeln!(f, "> {line}");
             }
             match r {
+                // BREak or RETurn: the rest of the line is not run.
+                Ok(Flow::Continue) if self.line_cut() => break,
                 Ok(Flow::Continue) => {}
                 Ok(flow) => return Ok(flow),
                 Err(message) => {
@@ -185,7 +188,16 @@ impl Session {
     }
 
     fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
+        if self.script.in_hook
+            && matches!(
+                cmd,
+                Command::Cycle { .. } | Command::Relax { .. } | Command::Probe { .. }
+            )
+        {
+            return Err("a procedure called by a Cycle's CALL cannot cycle".into());
+        }
         match cmd {
+            Command::Script(s) => return self.script_command(s),
             Command::Help { topic, item } => {
                 let text = match topic {
                     None => crate::lang::doc::help_index(),
@@ -244,7 +256,11 @@ impl Session {
                     return Err("a problem is already defined: give New first, then RESTart".into());
                 }
                 let name = file.clone().unwrap_or_else(|| "save.old".into());
-                let scene = checkpoint::load(&self.path(&name))?;
+                let (scene, state) = checkpoint::load_with(&self.path(&name))?;
+                // The file's variables and procedures join the session's (a name in both
+                // takes the file's).
+                self.script.state.vars.extend(state.vars);
+                self.script.state.procs.extend(state.procs);
                 self.emit(&format!("restarted from {name} at cycle {}", scene.cycle()));
                 self.scene = Some(scene);
                 return Ok(Flow::Continue);
@@ -273,7 +289,7 @@ impl Session {
         let Some(scene) = self.scene.as_mut() else {
             return Err("no problem is defined yet: give STArt (or RESTart) first".into());
         };
-        let (text, warnings) = scene_command(scene, cmd, json, &dir)?;
+        let (text, warnings) = scene_command(scene, cmd, json, &dir, &self.script.state)?;
         for w in warnings {
             self.emit_err(&format!("warning: {w}"));
         }
@@ -334,7 +350,12 @@ impl Session {
                 (cpu_ns() - c0) * 1e-9
             ));
         }
-        if ran < n {
+        let stopped_by_hooks = self
+            .script
+            .hooks
+            .as_ref()
+            .is_some_and(|h| h.met || h.error.is_some());
+        if ran < n && !stopped_by_hooks {
             interrupt::clear();
             self.emit_err(&format!(
                 "interrupted: Cycle stopped after {ran} of {n} cycles, at cycle {at} (the state a `Cycle {ran}` would have left; `Cycle {}` runs the rest)",
@@ -481,11 +502,17 @@ fn watched(
     scene: &mut Scene,
     n: u64,
     progress: &mut progress::Progress,
+    until: &mut Option<script::Until>,
 ) -> Result<(crate::sim::params::Model, u64), cycle::Blowup> {
-    cycle::run_watched(scene, n, &mut |s, done| {
+    let mut watch = |s: &Scene, done| {
         progress.tick(s.cycle(), s.time(), s.particles().len(), done);
         interrupt::requested()
-    })
+    };
+    match until {
+        // `Cycle ... UNTIL`: the condition is read after every step (session::script).
+        Some(u) => cycle::run_until(scene, n, &mut watch, Some(&mut |s: &Scene| u.reached(s))),
+        None => cycle::run_watched(scene, n, &mut watch),
+    }
 }
 
 /// CPU time of all the process's threads (the rayon workers included), in ns, from Linux's
@@ -554,6 +581,7 @@ fn scene_command(
     cmd: &Command,
     json: bool,
     dir: &Path,
+    script: &script::ScriptState,
 ) -> Result<(String, Vec<String>), String> {
     let mut out = String::new();
     let mut warnings = Vec::new();
@@ -576,7 +604,7 @@ fn scene_command(
                     "SAve refused: {m}; such a state cannot cycle (delete the particle with DELete, or move the wall with AWAll)"
                 ));
             }
-            checkpoint::save(scene, &join(dir, &name))?;
+            checkpoint::save_with(scene, script, &join(dir, &name))?;
             out = format!("saved cycle {} to {name}", scene.cycle());
         }
         Command::Plot { items } => {

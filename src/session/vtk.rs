@@ -115,12 +115,19 @@ impl Session {
             if done >= n {
                 break Ok(done);
             }
+            let now = scene.cycle();
             let m = match self.vtk.every {
-                Some(k) => (k - scene.cycle() % k).min(n - done),
+                Some(k) => (k - now % k).min(n - done),
                 None => n - done,
             };
+            // A Cycle's CALL ends a piece at its multiples too (session::script::cycle).
+            let m = self.hook_piece(now, m);
+            let mut until = self.hook_until();
+            let Some(scene) = self.scene.as_mut() else {
+                break Ok(done);
+            };
             progress.set_offset(base + done);
-            let run = watched(scene, m, progress);
+            let run = watched(scene, m, progress, &mut until);
             notes.append(&mut scene.take_notes());
             let ran = match run {
                 Ok((_, ran)) => ran,
@@ -134,7 +141,8 @@ impl Session {
                 self.vtk.every = None;
                 failed = Some(e);
             }
-            if ran < m {
+            let go = self.after_piece(until, ran == m);
+            if ran < m || !go {
                 break Ok(done);
             }
         };
