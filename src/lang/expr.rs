@@ -680,7 +680,7 @@ mod tests {
         assert_eq!((e.start, e.end), (4, 12));
         assert!(e.message.contains("sqrt of a negative"), "{}", e.message);
         let e = ev("2 * (1 / 0)").unwrap_err();
-        assert_eq!((e.start, e.end), (5, 10));
+        assert_eq!((e.start, e.end), (4, 11));
         let e = ev("1 + ").unwrap_err();
         assert!(e.message.contains("ends too soon"), "{}", e.message);
         let e = ev("(1 + 2").unwrap_err();

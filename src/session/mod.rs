@@ -156,6 +156,9 @@ impl Session {
                 Ok(Flow::Continue) => {}
                 Ok(flow) => return Ok(flow),
                 Err(message) => {
+                    if let Some(e) = self.take_span() {
+                        return Err(e);
+                    }
                     return Err(LineError {
                         start,
                         end,

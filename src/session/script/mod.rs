@@ -66,7 +66,7 @@ pub const MAX_CALLS: usize = 64;
 pub const MAX_INCLUDES: usize = 16;
 
 /// The interpreter's state in a session.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct Interp {
     pub state: ScriptState,
     /// The block being read at the top level: its lines, the opening one first.
@@ -87,6 +87,8 @@ pub struct Interp {
     nested: Option<String>,
     /// The hooks of the Cycle being run.
     pub hooks: Option<Hooks>,
+    /// Where in its line the expression of the failing command failed.
+    span: std::cell::Cell<Option<LineError>>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -258,7 +260,13 @@ impl Session {
         &mut self,
         c: &crate::lang::script::ScriptCmd,
     ) -> Result<Flow, String> {
+        self.script.span.set(None);
         self.script_cmd(c)
+    }
+
+    /// The located error of the script command that just failed, if it was in an expression.
+    pub(super) fn take_span(&self) -> Option<LineError> {
+        self.script.span.take()
     }
 
     /// Whether the rest of the line is to be skipped (BREak or RETurn was given).

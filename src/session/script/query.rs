@@ -105,16 +105,20 @@ impl Names<'_> {
         let mut at = first.to_string();
         for key in parts {
             let next = match &v {
-                Value::Object(m) => m.get(key).cloned().ok_or_else(|| {
-                    let keys: Vec<&String> = m.keys().filter(|k| *k != "print").collect();
-                    format!(
-                        "`{path}`: {at} has no `{key}`; it has {}",
-                        keys.iter()
-                            .map(|k| k.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )
-                })?,
+                Value::Object(m) => m
+                    .iter()
+                    .find(|(k, _)| k.eq_ignore_ascii_case(key))
+                    .map(|(_, x)| x.clone())
+                    .ok_or_else(|| {
+                        let keys: Vec<&String> = m.keys().filter(|k| *k != "print").collect();
+                        format!(
+                            "`{path}`: {at} has no `{key}`; it has {}",
+                            keys.iter()
+                                .map(|k| k.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    })?,
                 Value::Array(a) => {
                     let k: usize = key.parse().map_err(|_| {
                         format!("`{path}`: {at} is a list: index it with 1 to {}", a.len())

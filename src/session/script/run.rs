@@ -200,8 +200,13 @@ impl Session {
 
     /// A command of the language given on a line.
     pub(super) fn script_cmd(&mut self, c: &ScriptCmd) -> Result<Flow, String> {
+        // An expression's error is located in the line (`run_line` takes it from `span`).
         let eval = |s: &Self, e: &Expr| {
-            expr::eval(e, &s.names()).map_err(|e| format!("{} (column {})", e.message, e.start + 1))
+            expr::eval(e, &s.names()).map_err(|e| {
+                let m = e.message.clone();
+                s.script.span.set(Some(located(e)));
+                m
+            })
         };
         match c {
             ScriptCmd::Let { name, value } => {
@@ -261,6 +266,8 @@ impl Session {
                     text.join(" ")
                 };
                 self.emit(&out);
+                // Out now: a loop's lines appear as it runs.
+                self.flush();
             }
             ScriptCmd::Cycle {
                 n,
