@@ -52,6 +52,16 @@ pub enum ScriptCmd {
     Show {
         items: Vec<ShowItem>,
     },
+    /// `HIStory name EVery k expr` (`every` and `expr` given), `HIStory name OFF` (neither).
+    History {
+        name: String,
+        every: Option<u64>,
+        expr: Option<String>,
+    },
+    /// `HIStory WRIte file`.
+    HistoryWrite {
+        file: String,
+    },
     /// `Cycle n [servo] [CALL name EVery k] [UNTIL cond]`.
     Cycle {
         n: u64,
@@ -77,6 +87,7 @@ impl ScriptCmd {
             ScriptCmd::Break => "BREak",
             ScriptCmd::Include { .. } => "INClude",
             ScriptCmd::Show { .. } => "SHow",
+            ScriptCmd::History { .. } | ScriptCmd::HistoryWrite { .. } => "HIStory",
             ScriptCmd::Cycle { .. } => "Cycle",
         }
     }
@@ -225,6 +236,31 @@ pub fn b_show(a: &mut Args) -> Result<Command, ParseError> {
         });
     }
     script(ScriptCmd::Show { items })
+}
+
+pub fn b_history(a: &mut Args) -> Result<Command, ParseError> {
+    const WRITE: &[Keyword<()>] = &[kw("WRIte", ())];
+    const WHAT: &[Keyword<bool>] = &[kw("EVery", true), kw("OFF", false)];
+    if a.try_keyword(WRITE)?.is_some() {
+        let file = a.word("file")?;
+        return script(ScriptCmd::HistoryWrite { file });
+    }
+    let name = new_name(a, "history")?;
+    if !a.keyword(WHAT, "EVery k expr, or OFF")? {
+        return script(ScriptCmd::History {
+            name,
+            every: None,
+            expr: None,
+        });
+    }
+    let every = a.int_in("k", 1, i64::MAX / 2)? as u64;
+    let e = a.rest_expr("the expression")?;
+    let text = a.line[e.start..e.end].to_string();
+    script(ScriptCmd::History {
+        name,
+        every: Some(every),
+        expr: Some(text),
+    })
 }
 
 /// The scripted options of `Cycle`, after its servo keywords: `CALL name EVery k`, `UNTIL

@@ -449,6 +449,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "List the commands, or describe one, or one of its items or keywords (help set outdir). The text is wrapped to the terminal's width (80 columns when not a terminal)."
     ),
     def!(
+        "HIStory",
+        "name EVery k expr | name OFF | WRIte file",
+        &["EVery", "OFF", "WRIte"],
+        false,
+        script::b_history,
+        "Record the value of any expression (the rest of the line; doc/language.md) at every cycle that is a multiple of k during cycling, next to the fixed columns of SET HIStory; a name given again starts it anew, OFF drops it. PRint HIStory prints each history as a table (cycle, time, value; with --json one object per history), PLot HIStory charts them against time (plot_cNNNNNNNN_histories.png in OUTdir), WRIte file writes them all to one CSV file (name, cycle, time, value). An expression that cannot be read at a record (a particle gone) records nothing there, with a warning. Histories and their rows are part of the saved state."
+    ),
+    def!(
         "IF",
         "cond",
         &[],

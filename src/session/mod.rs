@@ -264,6 +264,9 @@ impl Session {
                 // takes the file's).
                 self.script.state.vars.extend(state.vars);
                 self.script.state.procs.extend(state.procs);
+                let hs = &mut self.script.state.histories;
+                hs.retain(|h| state.histories.iter().all(|g| g.name != h.name));
+                hs.extend(state.histories);
                 self.emit(&format!("restarted from {name} at cycle {}", scene.cycle()));
                 self.scene = Some(scene);
                 return Ok(Flow::Continue);
@@ -287,6 +290,21 @@ impl Session {
             } => return self.field(*nodes, *width, *lucy, prefix.as_deref()),
             _ => {}
         }
+        // PLot HIStory: the histories of HIStory too (session::script::history).
+        let plot_rest;
+        let cmd = match cmd {
+            Command::Plot { items } if items.contains(&PlotItem::History) => {
+                match self.plot_histories(items)? {
+                    Some(rest) if rest.is_empty() => return Ok(Flow::Continue),
+                    Some(rest) => {
+                        plot_rest = Command::Plot { items: rest };
+                        &plot_rest
+                    }
+                    None => cmd,
+                }
+            }
+            _ => cmd,
+        };
         let json = self.json;
         let dir = self.dir.clone();
         let Some(scene) = self.scene.as_mut() else {
@@ -297,6 +315,12 @@ impl Session {
             self.emit_err(&format!("warning: {w}"));
         }
         self.emit(&text);
+        if let Command::Print { items } = cmd
+            && items.contains(&crate::lang::command::PrintItem::History)
+        {
+            let h = self.history_print();
+            self.emit(&h);
+        }
         Ok(Flow::Continue)
     }
 }
@@ -531,7 +555,7 @@ fn cpu_ns() -> f64 {
         .sum()
 }
 
-fn join(dir: &Path, name: &str) -> PathBuf {
+pub(crate) fn join(dir: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
     // Relative to the current directory: keep the name as given (messages show it so).
     if p.is_absolute() || dir == Path::new(".") {

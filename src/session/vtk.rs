@@ -122,6 +122,7 @@ impl Session {
             };
             // A Cycle's CALL ends a piece at its multiples too (session::script::cycle).
             let m = self.hook_piece(now, m);
+            let m = self.history_piece(now, m);
             let mut until = self.hook_until();
             let Some(scene) = self.scene.as_mut() else {
                 break Ok(done);
@@ -141,6 +142,7 @@ impl Session {
                 self.vtk.every = None;
                 failed = Some(e);
             }
+            self.history_record();
             let go = self.after_piece(until, ran == m);
             if ran < m || !go {
                 break Ok(done);

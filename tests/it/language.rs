@@ -669,3 +669,95 @@ fn help_knows_the_new_words() {
     assert!(o.stdout.contains("ball_vz"), "{}", o.stdout);
     assert!(o.stdout.contains("Cycle UNTIL"), "{}", o.stdout);
 }
+
+/// `HIStory name EVery k expr`: recorded at the multiples of k across Cycles, the same bits
+/// as the expression read after a plain Cycle to that cycle; printed, written to CSV,
+/// charted, and carried through SAve/RESTart.
+#[test]
+fn histories_of_any_expression() {
+    let dir = dir_with(
+        "hist",
+        &[
+            (
+                "main.tru",
+                &format!(
+                    "{ONE_BALL_FALLING}history zb every 7 ball_z(1) * 1e3\nhistory vz every 10 [ball_vz(1)]\ncycle 25\nsave \"h.sav\"\ncycle 5\nprint history\nhistory write \"h.csv\"\nplot history\n"
+                ),
+            ),
+            ("b.tru", "restart \"h.sav\"\ncycle 5\nprint history\n"),
+            (
+                "c.tru",
+                &format!("{ONE_BALL_FALLING}cycle 28\nshow [ball_z(1) * 1e3]\n"),
+            ),
+        ],
+    );
+    let o = run_in(&dir, &[]);
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    let hist: Vec<Value> = o
+        .stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|v| v["print"] == "history" && v.get("name").is_some())
+        .collect();
+    assert_eq!(hist.len(), 2);
+    let cycles = |h: &Value| -> Vec<u64> {
+        h["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r[0].as_u64().unwrap())
+            .collect()
+    };
+    assert_eq!(cycles(&hist[0]), [7, 14, 21, 28]);
+    assert_eq!(cycles(&hist[1]), [10, 20, 30]);
+    assert!(
+        hist[1]["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|r| r[2] == -1.0)
+    );
+    let c = crate::common::trubal()
+        .current_dir(&dir)
+        .args(["--json", "c.tru"])
+        .output()
+        .unwrap();
+    let z28: Value = serde_json::from_slice(&c.stdout).unwrap();
+    assert_eq!(
+        hist[0]["rows"][3][2], z28["show"][0],
+        "the record at cycle 28"
+    );
+    // The CSV file holds the same rows.
+    let csv = std::fs::read_to_string(dir.join("h.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 4 + 3, "{csv}");
+    assert!(csv.starts_with("name,cycle,time,value\nzb,7,"), "{csv}");
+    let png = std::fs::read(dir.join("plot_c00000030_histories.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // Restarted at cycle 25, the history goes on with the same rows.
+    let b = crate::common::trubal()
+        .current_dir(&dir)
+        .args(["--json", "b.tru"])
+        .output()
+        .unwrap();
+    let hb: Vec<Value> = String::from_utf8_lossy(&b.stdout)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|v| v["print"] == "history" && v.get("name").is_some())
+        .collect();
+    assert_eq!(hb, hist);
+    let _ = std::fs::remove_dir_all(&dir);
+    let o = run("hist_bad", "history h every 0 1\n", &[]);
+    assert!(
+        o.stderr
+            .contains("main.tru:1:17: error: `k` must be at least 1"),
+        "{}",
+        o.stderr
+    );
+    let o = run("hist_bad2", "history h every 3 1 +\n", &[]);
+    assert!(
+        o.stderr
+            .contains("main.tru:1:22: error: the expression ends too soon"),
+        "{}",
+        o.stderr
+    );
+}

@@ -10,6 +10,7 @@
 
 mod block;
 mod cycle;
+pub mod history;
 pub mod query;
 mod run;
 
@@ -56,6 +57,8 @@ pub struct Proc {
 pub struct ScriptState {
     pub vars: BTreeMap<String, f64>,
     pub procs: BTreeMap<String, Proc>,
+    /// `HIStory name EVery k expr`, in the order defined.
+    pub histories: Vec<history::UserHistory>,
 }
 
 /// Most passes of one LOOP or WHILE; more is a runaway loop.

@@ -269,6 +269,10 @@ impl Session {
                 // Out now: a loop's lines appear as it runs.
                 self.flush();
             }
+            ScriptCmd::History { name, every, expr } => {
+                return self.history_define(name, *every, expr.as_deref());
+            }
+            ScriptCmd::HistoryWrite { file } => return self.history_write(file),
             ScriptCmd::Cycle {
                 n,
                 servo,
