@@ -126,7 +126,7 @@ impl<'a> Args<'a> {
             || (w.contains(['+', '-'])
                 && w.contains(|c: char| c.is_ascii_alphabetic() || c == '_'));
         let glued_bracket = self.line[t.end..].starts_with('(');
-        if !known && !operators && !(glued_bracket && expr::is_name(w)) {
+        if !(known || operators || glued_bracket && expr::is_name(w)) {
             return Err(ParseError::at(
                 t,
                 format!("expected a number for `{name}`, found `{}`", t.text),

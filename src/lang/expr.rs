@@ -512,7 +512,7 @@ pub fn eval(e: &Expr, scope: &dyn Scope) -> Result<f64, ParseError> {
                 Op::And | Op::Or => unreachable!("handled above"),
             }
         }
-        Kind::Call(f, args) => call(f, args, scope).map_err(|m| m.unwrap_or_else(|m| at(m)))?,
+        Kind::Call(f, args) => call(f, args, scope).map_err(|m| m.unwrap_or_else(&at))?,
     };
     if v.is_finite() {
         Ok(v)
