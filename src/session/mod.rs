@@ -191,14 +191,7 @@ impl Session {
     }
 
     fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
-        if self.script.in_hook
-            && matches!(
-                cmd,
-                Command::Cycle { .. } | Command::Relax { .. } | Command::Probe { .. }
-            )
-        {
-            return Err("a procedure called by a Cycle's CALL cannot cycle".into());
-        }
+        self.refuse_in_hook(cmd)?;
         match cmd {
             Command::Script(s) => return self.script_command(s),
             Command::Help { topic, item } => {
@@ -291,20 +284,20 @@ impl Session {
             _ => {}
         }
         // PLot HIStory: the histories of HIStory too (session::script::history).
-        let plot_rest;
-        let cmd = match cmd {
-            Command::Plot { items } if items.contains(&PlotItem::History) => {
-                match self.plot_histories(items)? {
-                    Some(rest) if rest.is_empty() => return Ok(Flow::Continue),
-                    Some(rest) => {
-                        plot_rest = Command::Plot { items: rest };
-                        &plot_rest
-                    }
-                    None => cmd,
-                }
+        if let Command::Plot { items } = cmd
+            && items.contains(&PlotItem::History)
+            && let Some(rest) = self.plot_histories(items)?
+        {
+            if rest.is_empty() {
+                return Ok(Flow::Continue);
             }
-            _ => cmd,
-        };
+            return self.scene_part(&Command::Plot { items: rest });
+        }
+        self.scene_part(cmd)
+    }
+
+    /// A command that needs a scene, its output and warnings.
+    fn scene_part(&mut self, cmd: &Command) -> Result<Flow, String> {
         let json = self.json;
         let dir = self.dir.clone();
         let Some(scene) = self.scene.as_mut() else {

@@ -53,6 +53,18 @@ impl Until {
 }
 
 impl Session {
+    /// A procedure called by a Cycle's CALL may not cycle.
+    pub(in crate::session) fn refuse_in_hook(
+        &self,
+        cmd: &crate::lang::Command,
+    ) -> Result<(), String> {
+        use crate::lang::Command::{Cycle, Probe, Relax};
+        if self.script.in_hook && matches!(cmd, Cycle { .. } | Relax { .. } | Probe { .. }) {
+            return Err("a procedure called by a Cycle's CALL cannot cycle".into());
+        }
+        Ok(())
+    }
+
     pub(super) fn cycle_scripted(
         &mut self,
         n: u64,
