@@ -49,9 +49,11 @@
 //! spring row of `SET TANgential MDR` (`mdr`) to the law-specific part of the contact state
 //! (read as none from older files, through `sim::contacts::old`), and may hold the new last
 //! variant `TangentialChoice::Mdr`, which older files never hold; version 10 adds the named
-//! groups (`GROup`, `Scene::groups`, read as none from older files) and the dashpot forms of
+//! groups (`GROup`, `Scene::groups`, read as none from older files), the dashpot forms of
 //! the material pairs (`SET DASHpot`, `ContactLaws::dashpot`, read as trubal's everywhere from
-//! older files).
+//! older files) and, after the scene, the command language's state
+//! (`session::script::ScriptState`: the variables and procedures; read as none from older
+//! files).
 //! Versions 1 to 9
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
@@ -62,6 +64,7 @@ use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
+use crate::session::script::ScriptState;
 use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
@@ -186,10 +189,11 @@ fn header(len: u64, sum: u64) -> [u8; HEADER] {
     h
 }
 
-/// Serialises a scene to bytes.
+/// Serialises a scene to bytes (without variables or procedures).
 pub fn to_bytes(scene: &Scene) -> Result<Vec<u8>, String> {
     let mut out = vec![0u8; HEADER];
-    bincode::serde::encode_into_std_write(scene, &mut out, bincode::config::standard())
+    let state = (scene, &ScriptState::default());
+    bincode::serde::encode_into_std_write(state, &mut out, bincode::config::standard())
         .map_err(|e| format!("cannot encode the state: {e}"))?;
     let payload = &out[HEADER..];
     let h = header(payload.len() as u64, fnv1a(payload));
@@ -200,13 +204,18 @@ pub fn to_bytes(scene: &Scene) -> Result<Vec<u8>, String> {
 /// Reads a scene from bytes, refusing anything that is not a complete checkpoint of a
 /// version this program reads.
 pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
+    from_bytes_with(data).map(|(s, _)| s)
+}
+
+/// [`from_bytes`] with the command language's state.
+pub fn from_bytes_with(data: &[u8]) -> Result<(Scene, ScriptState), String> {
     let (version, _, sum) = read_header(&data[..data.len().min(HEADER)], data.len() as u64)?;
     let payload = &data[HEADER..];
     if fnv1a(payload) != sum {
         return Err("the checkpoint is corrupt (checksum mismatch)".into());
     }
     let mut r = payload;
-    let mut scene = decode_payload(version, &mut r)?;
+    let (mut scene, script) = decode_payload(version, &mut r)?;
     if !r.is_empty() {
         return Err("the checkpoint is corrupt: trailing bytes after the state".into());
     }
@@ -214,15 +223,20 @@ pub fn from_bytes(data: &[u8]) -> Result<Scene, String> {
         .check_consistency()
         .map_err(|e| format!("the checkpoint is inconsistent: {e}"))?;
     scene.resume_audit();
-    Ok(scene)
+    Ok((scene, script))
 }
 
 /// Decodes the payload of a given (readable) format version into the current [`Scene`],
 /// reading no more than the state's bytes from `r`.
-fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
+fn decode_payload<R: Read>(version: u32, r: &mut R) -> Result<(Scene, ScriptState), String> {
     let mut scene = decode_version(version, r)?;
     scene.shrink_to_fit();
-    Ok(scene)
+    let script = if version >= 10 {
+        decode_all::<ScriptState, R>(r, version)?
+    } else {
+        ScriptState::default()
+    };
+    Ok((scene, script))
 }
 
 fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
@@ -275,6 +289,12 @@ fn decode_all<T: serde::de::DeserializeOwned, R: Read>(
 /// once into the file, so that no copy of the file is held in memory (the settled S1 bed of
 /// 50,000 spheres: a 36 MB file).
 pub fn save(scene: &Scene, path: &Path) -> Result<(), String> {
+    save_with(scene, &ScriptState::default(), path)
+}
+
+/// [`save`] with the command language's variables and procedures.
+pub fn save_with(scene: &Scene, script: &ScriptState, path: &Path) -> Result<(), String> {
+    let scene = &(scene, script);
     let cfg = bincode::config::standard();
     let mut probe = Hashing::new(std::io::sink());
     bincode::serde::encode_into_std_write(scene, &mut probe, cfg)
@@ -329,13 +349,19 @@ pub fn save(scene: &Scene, path: &Path) -> Result<(), String> {
 /// `RESTart` peaked at 89 MB against the 61 MB of the run that saved it). The second pass is
 /// checked against the checksum too: a file that changed between the passes is refused.
 pub fn load(path: &Path) -> Result<Scene, String> {
+    load_between(path, || {}).map(|(s, _)| s)
+}
+
+/// [`load`] with the command language's variables and procedures (none from a file of
+/// version 9 or older).
+pub fn load_with(path: &Path) -> Result<(Scene, ScriptState), String> {
     load_between(path, || {})
 }
 
 /// [`load`] with `between` run after the checksum pass and before the decoding pass (for
 /// the test of a file that changes between them).
 #[doc(hidden)]
-pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String> {
+pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<(Scene, ScriptState), String> {
     let at = |e: String| format!("{}: {e}", path.display());
     let cannot = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
     let mut f = File::open(path).map_err(cannot)?;
@@ -344,7 +370,7 @@ pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String
         // A pipe or a device: read it whole.
         let mut data = Vec::new();
         f.read_to_end(&mut data).map_err(cannot)?;
-        return from_bytes(&data).map_err(at);
+        return from_bytes_with(&data).map_err(at);
     }
     let total = meta.len();
     let mut prefix = vec![0u8; total.min(HEADER as u64) as usize];
@@ -362,7 +388,7 @@ pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String
     between();
     f.seek(SeekFrom::Start(HEADER as u64)).map_err(cannot)?;
     let mut r = Hashing::new(BufReader::with_capacity(1 << 16, (&mut f).take(len)));
-    let mut scene = decode_payload(version, &mut r).map_err(at)?;
+    let (mut scene, script) = decode_payload(version, &mut r).map_err(at)?;
     let used = r.count;
     std::io::copy(&mut r, &mut std::io::sink()).map_err(cannot)?;
     if r.count != len || r.hash.0 != sum {
@@ -377,5 +403,5 @@ pub fn load_between(path: &Path, between: impl FnOnce()) -> Result<Scene, String
         .check_consistency()
         .map_err(|e| at(format!("the checkpoint is inconsistent: {e}")))?;
     scene.resume_audit();
-    Ok(scene)
+    Ok((scene, script))
 }

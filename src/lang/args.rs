@@ -1,5 +1,6 @@
 //! A cursor over the tokens of one command, with typed readers that produce located errors.
 
+use super::expr::{self, Expr, Kind, Scope};
 use super::keyword::{Keyword, MatchError, match_keyword};
 use super::lexer::{Token, parse_real};
 
@@ -33,6 +34,10 @@ pub struct Args<'a> {
     pub line_end: usize,
     pub command: &'static str,
     pub syntax: &'static str,
+    /// The line (expressions that run to its end are read from it).
+    pub line: &'a str,
+    /// What the names of an expression in a number's place mean (variables, queries).
+    pub scope: &'a dyn Scope,
 }
 
 impl<'a> Args<'a> {
@@ -42,6 +47,8 @@ impl<'a> Args<'a> {
         line_end: usize,
         command: &'static str,
         syntax: &'static str,
+        line: &'a str,
+        scope: &'a dyn Scope,
     ) -> Self {
         Args {
             toks,
@@ -49,6 +56,8 @@ impl<'a> Args<'a> {
             line_end,
             command,
             syntax,
+            line,
+            scope,
         }
     }
 
@@ -82,15 +91,95 @@ impl<'a> Args<'a> {
         }
     }
 
-    /// A real number parameter.
+    /// A real number parameter: a number, or an expression (doc/language.md).
     pub fn real(&mut self, name: &str) -> Result<f64, ParseError> {
+        let e = self.expr(name)?;
+        expr::eval(&e, self.scope)
+    }
+
+    /// A number's place read as an expression, not evaluated: a number, a word without
+    /// separators (`2*r`, `ball_vz(3)` is not: its brackets separate), or `[...]`.
+    pub fn expr(&mut self, name: &str) -> Result<Expr, ParseError> {
         let t = self.next_tok(&format!("a number `{name}`"))?;
-        parse_real(&t.text).ok_or_else(|| {
-            ParseError::at(
+        if let Some(v) = parse_real(&t.text) {
+            return Ok(Expr {
+                kind: Kind::Num(v),
+                start: t.start,
+                end: t.end,
+            });
+        }
+        if let Some(inner) = t.text.strip_prefix('[') {
+            let Some(inner) = inner.strip_suffix(']') else {
+                return Err(ParseError::at(t, "this `[` is not closed by `]`"));
+            };
+            return expr::parse(inner, t.start + 1);
+        }
+        // A plain word that names nothing (`abc`, `nan`, `1..2`) is a word where a number
+        // should be; a word with operators (`2*r`, `-v`) or a known name is an expression.
+        let w = &t.text;
+        let known = expr::is_name(w)
+            && (self.scope.value(&w.to_ascii_lowercase()).is_some()
+                || expr::CONSTANTS
+                    .iter()
+                    .any(|(c, _)| c.eq_ignore_ascii_case(w)));
+        let operators = w.contains(['*', '^', '%', '<', '>', '=', '!', '[', ']'])
+            || (w.contains(['+', '-'])
+                && w.contains(|c: char| c.is_ascii_alphabetic() || c == '_'));
+        let glued_bracket = self.line[t.end..].starts_with('(');
+        if !(known || operators || glued_bracket && expr::is_name(w)) {
+            return Err(ParseError::at(
                 t,
                 format!("expected a number for `{name}`, found `{}`", t.text),
-            )
-        })
+            ));
+        }
+        // Commas, slashes and round brackets separate words: an expression with them must be
+        // bracketed, or `r/2` would be read as the two numbers `r` and `2`.
+        let before = self.line[..t.start].chars().next_back();
+        let after = self.line[t.end..].chars().next();
+        if before.is_some_and(|c| ",/()".contains(c)) || after.is_some_and(|c| ",/()".contains(c)) {
+            return Err(ParseError::at(
+                t,
+                format!(
+                    "`,`, `/` and round brackets separate words: write an expression that holds them in square brackets, e.g. `[{}]`",
+                    self.glued(t)
+                ),
+            ));
+        }
+        expr::parse(&t.text, t.start)
+    }
+
+    /// The text of a word and the words glued to it by `,`, `/` or brackets.
+    fn glued(&self, t: &'a Token) -> &'a str {
+        let b = self.line.as_bytes();
+        let stop = |c: u8| c.is_ascii_whitespace() || c == b';' || c == b'#';
+        let mut s = t.start;
+        while s > 0 && !stop(b[s - 1]) {
+            s -= 1;
+        }
+        let mut e = t.end;
+        while e < b.len() && !stop(b[e]) {
+            e += 1;
+        }
+        self.line.get(s..e).unwrap_or(&t.text)
+    }
+
+    /// The rest of the line (up to a comment) as one expression (`IF`, `WHILE`, `LET`,
+    /// `UNTIL`); a whole `[...]` is read as its inside.
+    pub fn rest_expr(&mut self, what: &str) -> Result<Expr, ParseError> {
+        let Some(t) = self.peek() else {
+            return Err(self.missing(what));
+        };
+        let start = t.start;
+        let text = &self.line[start..];
+        let text = &text[..text.find([';', '#']).unwrap_or(text.len())];
+        self.pos = self.toks.len();
+        let trimmed = text.trim_end();
+        if let Some(inner) = trimmed.strip_prefix('[').and_then(|s| s.strip_suffix(']'))
+            && !inner.contains(['[', ']'])
+        {
+            return expr::parse(inner, start + 1);
+        }
+        expr::parse(text, start)
     }
 
     /// A positive real (> 0).
@@ -132,12 +221,18 @@ impl<'a> Args<'a> {
 
     /// An integer parameter; fractional input is refused.
     pub fn int(&mut self, name: &str) -> Result<i64, ParseError> {
-        let t = self.next_tok(&format!("an integer `{name}`"))?;
-        let v = parse_real(&t.text).ok_or_else(|| {
-            ParseError::at(
-                t,
-                format!("expected an integer for `{name}`, found `{}`", t.text),
-            )
+        let Some(t) = self.peek() else {
+            return Err(self.missing(&format!("an integer `{name}`")));
+        };
+        let v = self.real(name).map_err(|e| {
+            if e.message.starts_with("expected a number") {
+                ParseError::at(
+                    t,
+                    format!("expected an integer for `{name}`, found `{}`", t.text),
+                )
+            } else {
+                e
+            }
         })?;
         if v.fract() != 0.0 {
             return Err(ParseError::at(
@@ -207,7 +302,16 @@ impl<'a> Args<'a> {
 
     /// The next token if it is a number.
     pub fn peek_is_number(&self) -> bool {
-        self.peek().is_some_and(|t| parse_real(&t.text).is_some())
+        self.peek().is_some_and(|t| {
+            parse_real(&t.text).is_some()
+                || t.text.starts_with('[')
+                || (expr::is_name(&t.text)
+                    && self.scope.value(&t.text.to_ascii_lowercase()).is_some())
+                || (!expr::is_name(&t.text)
+                    && t.text.contains(char::is_alphabetic)
+                    && expr::parse(&t.text, t.start)
+                        .is_ok_and(|e| expr::eval(&e, self.scope).is_ok()))
+        })
     }
 
     /// A keyword from `set`, required.

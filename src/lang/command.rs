@@ -406,4 +406,7 @@ pub enum Command {
         /// `RAW`: uncompressed files.
         raw: bool,
     },
+    /// The words of the programmable language (`LET`, `IF`, `LOOP`, `DEFine`, ...;
+    /// doc/language.md).
+    Script(super::script::ScriptCmd),
 }

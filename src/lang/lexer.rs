@@ -2,7 +2,8 @@
 //!
 //! Lexical rules (doc/commands.md, `doc/spec/commands.md`): separators are runs of
 //! blanks, tabs, commas, slashes and round brackets; `;` or `#` start a comment that runs to the
-//! end of the line. A word in double quotes is taken as it is (`save "runs/a.sav"`). Every
+//! end of the line. A word in double quotes is taken as it is (`save "runs/a.sav"`); an
+//! expression in square brackets is one word with its brackets (`rad [r/2] 1`). Every
 //! token keeps its column span so that errors can point at it.
 
 use nom::{
@@ -56,6 +57,22 @@ pub fn tokenize(line: &str) -> Vec<Token> {
         if input.starts_with(is_comment) {
             let _ = comment(input);
             break;
+        }
+        if input.starts_with('[') {
+            // An expression in square brackets is one word, separators and all
+            // (`rad [r/2] 1`); an unclosed one runs to the end of the line (or its comment).
+            let start = line.len() - input.len();
+            let len = match input.find(']') {
+                Some(k) => k + 1,
+                None => input.find(is_comment).unwrap_or(input.len()),
+            };
+            out.push(Token {
+                text: input[..len].to_string(),
+                start,
+                end: start + len,
+            });
+            input = &input[len..];
+            continue;
         }
         if let Some(rest) = input.strip_prefix('"') {
             // A quoted word: everything up to the closing quote (file names with `/`).
@@ -133,6 +150,12 @@ mod tests {
     fn quoted_words_keep_slashes() {
         assert_eq!(texts("save \"runs/a b.sav\" ; x"), ["save", "runs/a b.sav"]);
         assert_eq!(texts("save \"unclosed/x"), ["save", "unclosed/x"]);
+    }
+
+    #[test]
+    fn bracketed_expressions_are_one_word() {
+        assert_eq!(texts("rad [r / 2, 1] 1"), ["rad", "[r / 2, 1]", "1"]);
+        assert_eq!(texts("rad [r/2 ; x"), ["rad", "[r/2 "]);
     }
 
     #[test]

@@ -16,7 +16,18 @@ pub struct Parsed {
 
 /// Parses a line: zero or more complete commands (`plot save cycle 200 plot bou rdisp`).
 /// Either every command of the line parses or the line is refused with the first error.
+/// Expressions may hold numbers, constants and functions only ([`parse_line_in`] with a
+/// scope knows variables and the scene).
 pub fn parse_line(line: &str) -> Result<Vec<Parsed>, ParseError> {
+    parse_line_in(line, &super::expr::NoScope)
+}
+
+/// [`parse_line`] with the names of `scope`: the expressions in numbers' places are
+/// evaluated as the line is read, before its first command runs.
+pub fn parse_line_in(
+    line: &str,
+    scope: &dyn super::expr::Scope,
+) -> Result<Vec<Parsed>, ParseError> {
     let toks = tokenize(line);
     let keywords = command_keywords();
     let mut out = Vec::new();
@@ -35,7 +46,15 @@ pub fn parse_line(line: &str) -> Result<Vec<Parsed>, ParseError> {
                 return Err(ParseError::at(t, msg));
             }
         };
-        let mut args = Args::new(&toks, pos + 1, line.trim_end().len(), def.name, def.syntax);
+        let mut args = Args::new(
+            &toks,
+            pos + 1,
+            line.trim_end().len(),
+            def.name,
+            def.syntax,
+            line,
+            scope,
+        );
         let command = (def.build)(&mut args)?;
         let end = toks[args.pos - 1].end;
         out.push(Parsed {
@@ -125,5 +144,6 @@ pub fn command_name(c: &Command) -> &'static str {
         Group { .. } => "GROup",
         Property { .. } => "PROPerty",
         DeleteRange { .. } => "DELete",
+        Script(s) => s.name(),
     }
 }

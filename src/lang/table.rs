@@ -5,6 +5,7 @@
 use super::args::{Args, ParseError};
 use super::command::*;
 use super::keyword::{Keyword, kw};
+use super::script::{self, ScriptCmd};
 
 /// Reads the parameters of one command from the cursor.
 pub type Builder = fn(&mut Args) -> Result<Command, ParseError>;
@@ -251,6 +252,22 @@ pub const COMMANDS: &[CommandDef] = &[
         "Alter wall n: geometry (any kind to any other), velocity, material or servo (a V without SE takes a servo off: the wall then moves at V). Refused if the new geometry puts a particle's centre behind the wall's surface (with SET TUNnel STOP, the default)."
     ),
     def!(
+        "BREak",
+        "",
+        &[],
+        false,
+        |a| b(a, ScriptCmd::Break),
+        "Leave the innermost LOOP or WHILE now; the lines after it run (doc/language.md)."
+    ),
+    def!(
+        "CALL",
+        "name [arg ...]",
+        &[],
+        false,
+        script::b_call,
+        "Run the procedure name (DEFine) with the arguments (expressions, given to its parameters in order); RETurn ends it early. A procedure may call others, itself included, up to 64 deep."
+    ),
+    def!(
         "CGRavity",
         "nagg g",
         &[],
@@ -276,11 +293,13 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "Cycle",
-        "n [S0 v] [S1MS2 v] [S11 v] [S22 v] [S33 v] [RING v]",
-        &["S0", "S1MS2", "S11", "S22", "S33", "RING"],
+        "n [S0 v] [S1MS2 v] [S11 v] [S22 v] [S33 v] [RING v] [CALL name EVery k] [UNTIL cond]",
+        &[
+            "S0", "S1MS2", "S11", "S22", "S33", "RING", "CALL", "EVery", "UNTIL"
+        ],
         true,
         b_cycle,
-        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. With stress-servo keywords the periodic cell's strain rates are adjusted every step to hold the named average stress (Pa, compression positive): S0 the mean (σ11+σ22+σ33)/3, S1MS2 the x-y mean, S11/S22/S33 one direction (GAIN and Mode first; doc/cell.md). A mean adjusts the axes whose GRID rate is 0. RING θ holds the angle of the major principal stress in the x-y plane (degrees from x towards y; ring shear) by turning the x-y strain-rate deviator (ed12 and ed11 - ed22)."
+        "Run n time steps. Ctrl-C stops it at the end of the current step (the state is that of a shorter Cycle); on a terminal a run longer than 2 s shows a progress line. With stress-servo keywords the periodic cell's strain rates are adjusted every step to hold the named average stress (Pa, compression positive): S0 the mean (σ11+σ22+σ33)/3, S1MS2 the x-y mean, S11/S22/S33 one direction (GAIN and Mode first; doc/cell.md). A mean adjusts the axes whose GRID rate is 0. RING θ holds the angle of the major principal stress in the x-y plane (degrees from x towards y; ring shear) by turning the x-y strain-rate deviator (ed12 and ed11 - ed22). CALL name EVery k runs the procedure name (DEFine) at every cycle that is a multiple of k (a servo written by the user; it may change walls, velocities and variables, not cycle). UNTIL cond (the rest of the line) stops the Cycle after the first step at which the expression is true, n being the most (doc/language.md)."
     ),
     def!(
         "DAmping",
@@ -299,6 +318,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Mass density (kg/m^3) of material mtyp."
     ),
     def!(
+        "DEFine",
+        "name [param ...]",
+        &[],
+        false,
+        script::b_define,
+        "Define (or redefine) the procedure name: the lines up to the matching END are stored, not run; CALL name args runs them with the parameters set to the arguments (local to the call; every other variable is global). A procedure is part of the saved state (SAve). Example: `define push v` / `awall 1 v 0 0 -v` / `end`."
+    ),
+    def!(
         "DELete",
         "x1 x2 y1 y2 z1 z2 | range",
         RANGE_KWS,
@@ -313,6 +340,22 @@ pub const COMMANDS: &[CommandDef] = &[
         true,
         b_dwall,
         "Define a wall: plane ax+by+cz=d (particles on the side the normal (a,b,c) points to), spherical container SP (centre a,b,c radius d, particles inside), obstacle/indenter OB (particles outside) or cylindrical die CYlinder (axis through (x,y,z) along (ax,ay,az), radius r, particles inside; infinitely long: close it with planes; Hertz R* = R sqrt(r/(r - R)), doc/indentation.md). V: velocity (and radial velocity vr for spheres and cylinders); M: material (default 1); SE: servo to normal/radial force F with max speed vmax and gain g. Refused if it puts a particle's centre behind its surface (outside a die, inside an indenter; with SET TUNnel STOP, the default); a warning names the particles it overlaps."
+    ),
+    def!(
+        "ELSE",
+        "",
+        &[],
+        false,
+        |a| b(a, ScriptCmd::Else),
+        "In an IF block: the lines up to END run when the IF's condition was false."
+    ),
+    def!(
+        "END",
+        "",
+        &[],
+        false,
+        |a| b(a, ScriptCmd::End),
+        "Closes the innermost IF, LOOP, WHILE or DEFine."
     ),
     def!(
         "FIEld",
@@ -437,6 +480,22 @@ pub const COMMANDS: &[CommandDef] = &[
         "List the commands, or describe one, or one of its items or keywords (help set outdir). The text is wrapped to the terminal's width (80 columns when not a terminal)."
     ),
     def!(
+        "HIStory",
+        "name EVery k expr | name OFF | WRIte file",
+        &["EVery", "OFF", "WRIte"],
+        false,
+        script::b_history,
+        "Record the value of any expression (the rest of the line; doc/language.md) at every cycle that is a multiple of k during cycling, next to the fixed columns of SET HIStory; a name given again starts it anew, OFF drops it. PRint HIStory prints each history as a table (cycle, time, value; with --json one object per history), PLot HIStory charts them against time (plot_cNNNNNNNN_histories.png in OUTdir), WRIte file writes them all to one CSV file (name, cycle, time, value). An expression that cannot be read at a record (a particle gone) records nothing there, with a warning. Histories and their rows are part of the saved state."
+    ),
+    def!(
+        "IF",
+        "cond",
+        &[],
+        false,
+        script::b_if,
+        "Run the lines up to ELSE (or END) when the expression cond (the rest of the line) is not 0, else the lines between ELSE and END. Example: `if ball_z(1) < 2*r` ... `else` ... `end`."
+    ),
+    def!(
         "Iset",
         "k iadd",
         &[],
@@ -447,6 +506,22 @@ pub const COMMANDS: &[CommandDef] = &[
             Ok(Command::Iset)
         },
         "Historical: poked raw memory. Use SET instead."
+    ),
+    def!(
+        "INClude",
+        "file",
+        &[],
+        false,
+        script::b_include,
+        "Run the lines of another command file here (a path relative to the working directory; with `/` in quotes). Its blocks must close in it; its errors stop it and name its lines. Included files may include others, 16 deep."
+    ),
+    def!(
+        "LET",
+        "name = expr",
+        &[],
+        false,
+        script::b_let,
+        "Set the variable name to the value of the expression (the rest of the line): numbers, + - * / % ^, comparisons (< <= > >= == !=, true = 1), and, or, not, the functions sqrt exp log log10 sin cos tan asin acos atan atan2 abs floor ceil round min max, the constant pi, and the queries of the scene: time, cycle, dt, nball, nwall; ball_x ball_y ball_z ball_vx ball_vy ball_vz ball_fx ball_fy ball_fz ball_r ball_m (id); wall_x wall_y wall_z (a plane's point nearest the origin, a sphere's or cylinder's centre), wall_d (a plane's d, a sphere's radius), wall_vx wall_vy wall_vz wall_fx wall_fy wall_fz wall_fn (n); sum(q) and avg(q) over all particles of q = x y z vx vy vz fx fy fz r m; and any number PRint shows, by its JSON name: energy.kinetic, info.contacts, stress.mean, stress.stress.3.3, bonds.damage_ratio, clusters.largest, chist.coordination, walls.walls.1.force.3 (the first word abbreviated as PRint's items; indices from 1). A variable holds a number (64-bit float); names are case-insensitive. Where a number goes in any command, a variable or an expression without blanks may stand (`rad 2*r0 1`), or any expression in square brackets (`rad [r0 / 2] 1`). `$name` is text: replaced before the line is read, by the --set value or else the variable's value (for file names: `save \"run_$i.sav\"`)."
     ),
     def!(
         "LIQuid",
@@ -463,6 +538,14 @@ pub const COMMANDS: &[CommandDef] = &[
         true,
         b_log,
         "Echo commands and output to a log file (TRUBAL.OUT unless a file is named)."
+    ),
+    def!(
+        "LOOP",
+        "var from to [step]",
+        &[],
+        false,
+        script::b_loop,
+        "Run the lines up to END with the variable var = from, from + step, ... while not past to (step 1 unless given; not 0). The counter is the loop's own: setting var in the body does not change the count. At most 10^6 passes (a longer loop is refused before it starts)."
     ),
     def!(
         "Mode",
@@ -601,6 +684,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Load a saved state (default save.old). First command, or after New."
     ),
     def!(
+        "RETurn",
+        "[expr]",
+        &[],
+        false,
+        script::b_return,
+        "End the procedure being run; with an expression, its value is stored in the variable named after the procedure (`return h` in `define hard` sets `hard`)."
+    ),
+    def!(
         "RGEnerate",
         "n isize mtyp naggm [WAlls] | Seed n",
         &["Seed", "WAlls"],
@@ -658,6 +749,14 @@ pub const COMMANDS: &[CommandDef] = &[
         "Settings: TOL d | XRES d | SMIN s (DEFault restores the automatic value; with TOL and XRES both automatic, a rebuild of the candidate list uses up to 2 x the automatic TOL when the fastest particle would otherwise force the next rebuild within 50 steps: fewer rebuilds, the same results to the bit; PRint ENTries shows the TOL of the list in use); BRIdge FIT|TOROIDAL|LAPLACE|RABINOVICH (RABINOVICH: Olsson 2017's wet model, Rabinovich force with the harmonic-mean radius capped at 2πRγcosθ in contact, 4πRγcosθ at a wall, Willett rupture distance, Nase viscous forces normal and tangential with S_min = R*/1000 unless SMIN is set; meant for Hertz contacts without COHesion, doc/bridge.md); TANgential MD|NOSLIP|WALTON|HM|MDR (WALTON: Walton's incremental Mindlin–Deresiewicz law of Shang 1998; HM: the Hertz–Mindlin tangential law of EDEM and LIGGGHTS, the no-slip spring k_t = 8G*a with a dashpot from the pair's restitution, C_t = zeta (2/3 m* k_t)^(1/2), which the Mindlin springs of MJKR EDEM and NGUYEN pairs take too; MDR: the exact Hertz-Mindlin contact by the method of dimensionality reduction (Popov & Hess 2015), a row of 16 springs per contact that keeps the traction field, exact in small-angle impacts where MD is not; pairs with COHesion or a law of SET NORmal keep MD, doc/contact_laws.md); LIQuid LIAN|CONSERVE; PERiodic X|Y|Z|ALL; OPEn X|Y|Z|ALL; OUTdir path (the directory of PLot's pictures and PLot HIStory's charts; a path with `/` must be quoted, SET OUTdir \"runs/a\", as `/` separates words); VIEw XZ|YZ|XY; SNApshot n (blow-up snapshot interval); HIStory n (record every n cycles); GENoverlap f (overlap allowed between generated particles, fraction of Ri+Rj; default 1e-9); FRAgment eps (neighbour radius of Olsson's DBSCAN fragments in PRint CLUsters; DEFault 4 x mean radius); GOLdman ON|OFF (tangential viscous force of liquid bridges, Lian (4.76); OFF by default); TUNnel STOP|DELETE (a particle whose centre crossed a wall's surface stops the run with the last good state kept, the default, or is deleted with a warning and its energy booked as leaving); NORmal HERTZ | MJKR [EDEM [ROLLING]] | TNING py | PASHA ke kp kcp f0p [KT kt] | PFULL ke kp [KT kt] | NGUYEN, then [m1 [m2]] (the normal contact law of all material pairs, of the pairs with m1, or of the pair m1-m2; doc/contact_laws.md: HERTZ is Hertz, or JKR with COHesion, the default; MJKR the modified JKR of EDEM, broken at zero overlap, with EDEM the limit of sliding friction on the repulsive (Hertzian) part of the force, 4E*a^3/(3R*), instead of P + 2Pc (EDEM's Hertz-Mindlin with JKR; Mindlin's no-slip spring whatever SET TANgential says, with its dashpot under HM), with ROLLING the limit of the rolling moment too, instead of P; TNING Thornton-Ning's elastic-plastic adhesive law with limiting contact pressure py (Pa); PASHA Pasha's simplified linear elasto-plastic adhesive law with stiffnesses ke, kp (N/m), pull-off locus kcp (N/m) and f0p (N); PFULL his full model; KT the tangential stiffness of the linear laws, default ke; NGUYEN the JKR of Nguyen et al. (2014) as LIGGGHTS computes it, Olsson 2017's dry law: the JKR curve from the separation overlap alpha_s on, approaching as separating (no adhesion hysteresis), at a wall only at a positive overlap, with Mindlin's tangential spring capped at mu times the Hertz force instead of SET TANgential); ROLling mur [m1 [m2]] (rolling friction coefficient of the material pairs: a rolling spring on the relative rotation capped at mur Rr Fn, doc/contact_laws.md; 0 by default); PAIr m1 m2 [FRIction mu] [RESTitution e] | DEFault (the friction coefficient and the restitution of the pair of materials m1-m2, e.g. particles and a wall, instead of the smaller of the two materials' values; a value not given stays; DEFault returns the pair to that rule; e in (0, 1]); DASHpot TRUBAL|LIGGGHTS|EDEM|LIMITFORCE [m1 [m2]] (the form of the restitution dashpot of all material pairs, of the pairs with m1, or of the pair m1-m2, doc/contact_laws.md: TRUBAL, the default, calibrated so that a contact rebounds with e exactly and never pulls; LIGGGHTS and EDEM the formula of LIGGGHTS' hertz and EDEM's Hertz-Mindlin, -2 sqrt(5/6) beta sqrt(S_n m*) v_n with beta = ln e / sqrt(ln^2 e + pi^2) and S_n = 2E* sqrt(R* alpha), whose total force may pull at the end of a contact (LIGGGHTS' limitForce off); LIMITFORCE the same dashpot with the total force kept compressive (limitForce on), which rebounds livelier than e)."
     ),
     def!(
+        "SHow",
+        "item ...",
+        &[],
+        false,
+        script::b_show,
+        "Print values and texts on one line: each item a \"quoted text\" or an expression (bare, or in [ ]). With --json one object {\"show\": [...]} of the values. Example: `show \"H =\" [h/1e6] \"MPa\"`."
+    ),
+    def!(
         "STArt",
         "xmax ymax zmax nbox nball nwall [Log]",
         &["Log"],
@@ -696,6 +795,14 @@ pub const COMMANDS: &[CommandDef] = &[
         false,
         b_vtk,
         "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended, zlib-compressed; RAW: uncompressed, for this command's frames and its schedule's), and a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`). The series goes on across sessions: the first frame of a prefix keeps the frames an existing prefix_particles.pvd in OUTdir lists before the current cycle (after RESTart from a SAve the series continues; frames at later cycles, of a run the restart abandoned, leave the index)."
+    ),
+    def!(
+        "WHILE",
+        "cond",
+        &[],
+        false,
+        script::b_while,
+        "Run the lines up to END again and again while the expression cond (the rest of the line) is not 0, at most 10^6 passes (more is a runaway loop: an error). Ctrl-C stops any loop."
     ),
     def!(
         "Window",
@@ -754,6 +861,11 @@ pub fn command_keywords() -> Vec<Keyword<usize>> {
         .enumerate()
         .map(|(i, d)| kw(d.name, i))
         .collect()
+}
+
+/// A script word without parameters.
+fn b(_: &mut Args, c: ScriptCmd) -> Result<Command, ParseError> {
+    Ok(Command::Script(c))
 }
 
 fn material(a: &mut Args) -> Result<usize, ParseError> {
@@ -909,6 +1021,9 @@ fn b_cycle(a: &mut Args) -> Result<Command, ParseError> {
     let mut servo = Vec::new();
     while let Some(k) = a.try_keyword(STRESS_SERVOS)? {
         servo.push((k, a.real("v")?));
+    }
+    if let Some(c) = super::script::cycle_options(a, n, &servo)? {
+        return Ok(c);
     }
     Ok(Command::Cycle { n, servo })
 }

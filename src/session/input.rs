@@ -7,7 +7,7 @@ use rustyline::completion::{Completer, Pair};
 use rustyline::error::ReadlineError;
 use rustyline::{Context, Helper, highlight::Highlighter, hint::Hinter, validate::Validator};
 
-use super::{Flow, Session, Source, format_error};
+use super::{Flow, Session, Source};
 use crate::lang::table::COMMANDS;
 
 /// The longest command line read (a command file's lines are short; a longer one is a
@@ -38,6 +38,23 @@ impl Runner<'_> {
     /// Runs one line (raw bytes, without its newline; `len` is its length, more than
     /// `raw` holds when a too-long line was not kept); false when the run stops here.
     fn feed(&mut self, raw: &[u8], len: usize) -> bool {
+        let go = self.feed_line(raw, len);
+        if !go {
+            // A block being read is dropped with the rest of the input.
+            self.session.end_of_input();
+        }
+        go
+    }
+
+    /// At the end of the input: a block left open is an error.
+    fn finish(&mut self) {
+        if let Some(msg) = self.session.end_of_input() {
+            self.end.errors += 1;
+            self.session.emit_err(&msg);
+        }
+    }
+
+    fn feed_line(&mut self, raw: &[u8], len: usize) -> bool {
         self.line += 1;
         let mut raw = raw.strip_suffix(b"\r").unwrap_or(raw);
         if self.line == 1 {
@@ -75,9 +92,7 @@ impl Runner<'_> {
             Err(too_long(&src, len, raw))
         } else {
             let line = String::from_utf8_lossy(raw);
-            self.session
-                .run_line(&line)
-                .map_err(|e| format_error(&src, &line, &e))
+            self.session.feed(&src, &line)
         };
         // What this line printed is out before the next one runs.
         self.session.flush();
@@ -152,12 +167,17 @@ pub fn run_reader(session: &mut Session, name: &str, text: &[u8], keep_going: bo
         end: RunEnd::default(),
     };
     let text = text.strip_suffix(b"\n").unwrap_or(text);
+    let mut complete = true;
     if !text.is_empty() {
         for raw in text.split(|&b| b == b'\n') {
             if !r.feed(raw, raw.len()) {
+                complete = false;
                 break;
             }
         }
+    }
+    if complete {
+        r.finish();
     }
     r.session.flush();
     r.end
@@ -218,6 +238,7 @@ pub fn run_stdin(session: &mut Session, keep_going: bool) -> RunEnd {
             break;
         }
     }
+    r.finish();
     r.session.flush();
     r.end
 }
@@ -311,7 +332,13 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
     let _ = rl.load_history(&hist);
     let mut n = 0;
     'session: loop {
-        match rl.readline("trubal> ") {
+        // Inside a block (IF, LOOP, WHILE, DEFine) the prompt says so until its END.
+        let prompt = if session.in_block() {
+            "   ...> "
+        } else {
+            "trubal> "
+        };
+        match rl.readline(prompt) {
             Ok(text) => {
                 // A paste of several lines arrives as one text (bracketed paste).
                 for line in text.split('\n') {
@@ -328,9 +355,7 @@ pub fn run_interactive(session: &mut Session) -> Result<(), String> {
                     let flow = if line.len() > MAX_LINE {
                         Err(too_long(&src, line.len(), line.as_bytes()))
                     } else {
-                        session
-                            .run_line(line)
-                            .map_err(|e| format_error(&src, line, &e))
+                        session.feed(&src, line)
                     };
                     session.flush();
                     // A Ctrl-C answered (or pressed after the command ended) is forgotten

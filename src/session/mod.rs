@@ -8,6 +8,7 @@ mod generation;
 pub mod input;
 pub mod interrupt;
 pub mod progress;
+pub mod script;
 pub mod vars;
 pub mod vtk;
 
@@ -18,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 use crate::checkpoint;
 use crate::lang::command::{Command, PlotItem, StressServo};
-use crate::lang::{Parsed, parse_line};
+use crate::lang::{Parsed, parse_line_in};
 use crate::output::print;
 use crate::sim::cell::{Servo, StressTarget};
 use crate::sim::{Scene, cycle, energy};
@@ -62,6 +63,8 @@ pub struct Session {
     pub dir: PathBuf,
     /// `VTk`'s series and schedule.
     vtk: vtk::VtkState,
+    /// Variables, procedures, blocks being read (doc/language.md).
+    pub script: script::Interp,
 }
 
 impl Session {
@@ -76,6 +79,7 @@ impl Session {
             echo: false,
             dir: PathBuf::from("."),
             vtk: vtk::VtkState::default(),
+            script: script::Interp::default(),
         }
     }
 
@@ -120,17 +124,14 @@ impl Session {
     /// Runs one line. Errors are returned located; the state is unchanged by a failing command
     /// (earlier complete commands of the same line stay done).
     pub fn run_line(&mut self, raw: &str) -> Result<Flow, LineError> {
-        let line = if raw.contains('$') {
-            vars::substitute(raw, &self.vars)?
-        } else {
-            raw.to_string()
-        };
+        // `$name`: the --set value, else the variable's (script::Session::substituted).
+        let line = self.substituted(raw)?;
         if self.echo
             && let Some(f) = &mut self.log
         {
             let _ = writeln!(f, "> {line}");
         }
-        let parsed = parse_line(&line).map_err(|e| LineError {
+        let parsed = parse_line_in(&line, &self.names()).map_err(|e| LineError {
             start: e.start,
             end: e.end,
             message: e.message,
@@ -151,9 +152,14 @@ impl Session {
                 let _ = writeln!(f, "> {line}");
             }
             match r {
+                // BREak or RETurn: the rest of the line is not run.
+                Ok(Flow::Continue) if self.line_cut() => break,
                 Ok(Flow::Continue) => {}
                 Ok(flow) => return Ok(flow),
                 Err(message) => {
+                    if let Some(e) = self.take_span() {
+                        return Err(e);
+                    }
                     return Err(LineError {
                         start,
                         end,
@@ -186,7 +192,9 @@ impl Session {
     }
 
     fn execute_one(&mut self, cmd: &Command) -> Result<Flow, String> {
+        self.refuse_in_hook(cmd)?;
         match cmd {
+            Command::Script(s) => return self.script_command(s),
             Command::Help { topic, item } => {
                 let text = match topic {
                     None => crate::lang::doc::help_index(),
@@ -249,7 +257,14 @@ impl Session {
                     return Err("a problem is already defined: give New first, then RESTart".into());
                 }
                 let name = file.clone().unwrap_or_else(|| "save.old".into());
-                let scene = checkpoint::load(&self.path(&name))?;
+                let (scene, state) = checkpoint::load_with(&self.path(&name))?;
+                // The file's variables and procedures join the session's (a name in both
+                // takes the file's).
+                self.script.state.vars.extend(state.vars);
+                self.script.state.procs.extend(state.procs);
+                let hs = &mut self.script.state.histories;
+                hs.retain(|h| state.histories.iter().all(|g| g.name != h.name));
+                hs.extend(state.histories);
                 self.emit(&format!("restarted from {name} at cycle {}", scene.cycle()));
                 self.scene = Some(scene);
                 // The series goes on from its index on disk (`output::vtk::resume`).
@@ -290,16 +305,40 @@ impl Session {
             }
             _ => {}
         }
+        // PLot HIStory: the histories of HIStory too (session::script::history).
+        if let Command::Plot { items, mark } = cmd
+            && items.contains(&PlotItem::History)
+            && let Some(rest) = self.plot_histories(items)?
+        {
+            if rest.is_empty() {
+                return Ok(Flow::Continue);
+            }
+            return self.scene_part(&Command::Plot {
+                items: rest,
+                mark: mark.clone(),
+            });
+        }
+        self.scene_part(cmd)
+    }
+
+    /// A command that needs a scene, its output and warnings.
+    fn scene_part(&mut self, cmd: &Command) -> Result<Flow, String> {
         let json = self.json;
         let dir = self.dir.clone();
         let Some(scene) = self.scene.as_mut() else {
             return Err("no problem is defined yet: give STArt (or RESTart) first".into());
         };
-        let (text, warnings) = scene_command(scene, cmd, json, &dir)?;
+        let (text, warnings) = scene_command(scene, cmd, json, &dir, &self.script.state)?;
         for w in warnings {
             self.emit_err(&format!("warning: {w}"));
         }
         self.emit(&text);
+        if let Command::Print { items, .. } = cmd
+            && items.contains(&crate::lang::command::PrintItem::History)
+        {
+            let h = self.history_print();
+            self.emit(&h);
+        }
         Ok(Flow::Continue)
     }
 }
@@ -356,7 +395,12 @@ impl Session {
                 (cpu_ns() - c0) * 1e-9
             ));
         }
-        if ran < n {
+        let stopped_by_hooks = self
+            .script
+            .hooks
+            .as_ref()
+            .is_some_and(|h| h.met || h.error.is_some());
+        if ran < n && !stopped_by_hooks {
             interrupt::clear();
             self.emit_err(&format!(
                 "interrupted: Cycle stopped after {ran} of {n} cycles, at cycle {at} (the state a `Cycle {ran}` would have left; `Cycle {}` runs the rest)",
@@ -503,11 +547,17 @@ fn watched(
     scene: &mut Scene,
     n: u64,
     progress: &mut progress::Progress,
+    until: &mut Option<script::Until>,
 ) -> Result<(crate::sim::params::Model, u64), cycle::Blowup> {
-    cycle::run_watched(scene, n, &mut |s, done| {
+    let mut watch = |s: &Scene, done| {
         progress.tick(s.cycle(), s.time(), s.particles().len(), done);
         interrupt::requested()
-    })
+    };
+    match until {
+        // `Cycle ... UNTIL`: the condition is read after every step (session::script).
+        Some(u) => cycle::run_until(scene, n, &mut watch, Some(&mut |s: &Scene| u.reached(s))),
+        None => cycle::run_watched(scene, n, &mut watch),
+    }
 }
 
 /// CPU time of all the process's threads (the rayon workers included), in ns, from Linux's
@@ -523,7 +573,7 @@ fn cpu_ns() -> f64 {
         .sum()
 }
 
-fn join(dir: &Path, name: &str) -> PathBuf {
+pub(crate) fn join(dir: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
     // Relative to the current directory: keep the name as given (messages show it so).
     if p.is_absolute() || dir == Path::new(".") {
@@ -576,6 +626,7 @@ fn scene_command(
     cmd: &Command,
     json: bool,
     dir: &Path,
+    script: &script::ScriptState,
 ) -> Result<(String, Vec<String>), String> {
     let mut out = String::new();
     let mut warnings = Vec::new();
@@ -609,7 +660,7 @@ fn scene_command(
                     "SAve refused: {m}; such a state cannot cycle (delete the particle with DELete, or move the wall with AWAll)"
                 ));
             }
-            checkpoint::save(scene, &join(dir, &name))?;
+            checkpoint::save_with(scene, script, &join(dir, &name))?;
             out = format!("saved cycle {} to {name}", scene.cycle());
         }
         Command::Plot { items, mark } => {

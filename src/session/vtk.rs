@@ -227,15 +227,23 @@ impl Session {
             if done >= n {
                 break Ok(done);
             }
+            let now = scene.cycle();
             let mut m = match self.vtk.every {
-                Some(k) => (k - scene.cycle() % k).min(n - done),
+                Some(k) => (k - now % k).min(n - done),
                 None => n - done,
             };
             if let Some(a) = &self.vtk.average {
-                m = m.min(a.next.saturating_sub(scene.cycle()).max(1));
+                m = m.min(a.next.saturating_sub(now).max(1));
             }
+            // A Cycle's CALL ends a piece at its multiples too (session::script::cycle).
+            let m = self.hook_piece(now, m);
+            let m = self.history_piece(now, m);
+            let mut until = self.hook_until();
+            let Some(scene) = self.scene.as_mut() else {
+                break Ok(done);
+            };
             progress.set_offset(base + done);
-            let run = watched(scene, m, progress);
+            let run = watched(scene, m, progress, &mut until);
             notes.append(&mut scene.take_notes());
             let ran = match run {
                 Ok((_, ran)) => ran,
@@ -250,7 +258,9 @@ impl Session {
                 failed = Some(e);
             }
             self.field_due();
-            if ran < m {
+            self.history_record();
+            let go = self.after_piece(until, ran == m);
+            if ran < m || !go {
                 break Ok(done);
             }
         };

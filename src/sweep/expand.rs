@@ -150,6 +150,25 @@ fn read_rows(t: &Text, errors: &mut Vec<String>) -> (Vec<String>, Vec<(usize, Ve
     (header, rows)
 }
 
+/// The names a command file gives values itself (LET, LOOP, DEFine's parameters,
+/// doc/language.md): its `$name`s of them need no value from the sweep.
+fn own_names(t: &Text) -> HashSet<String> {
+    let keys = crate::lang::table::command_keywords();
+    let mut own = HashSet::new();
+    for line in t.text.lines() {
+        let toks = crate::lang::lexer::tokenize(line);
+        let Some(first) = toks.first() else { continue };
+        let all = match crate::lang::table::find_command(&first.text, &keys) {
+            Ok(i) if matches!(crate::lang::table::COMMANDS[i].name, "LET" | "LOOP") => false,
+            Ok(i) if crate::lang::table::COMMANDS[i].name == "DEFine" => true,
+            _ => continue,
+        };
+        let names = toks.iter().skip(1).take(if all { usize::MAX } else { 1 });
+        own.extend(names.map(|t| t.text.to_ascii_lowercase()));
+    }
+    own
+}
+
 /// Where each name is used in a command file: name → `FILE:LINE:COL`; syntax errors of the
 /// placeholders are added to `errors`.
 fn used_names(t: &Text, errors: &mut Vec<String>) -> Vec<(String, String)> {
@@ -380,8 +399,9 @@ fn check_usage(spec: &Spec, inputs: &Inputs, names: &Names, errors: &mut Vec<Str
             errors.push(format!("{}: --set {n}: {files} `${n}`", s.origin));
         }
     }
+    let own = own_names(&inputs.script);
     for (n, at) in &used {
-        if !names.defined.contains_key(n) {
+        if !names.defined.contains_key(n) && !own.contains(&n.to_ascii_lowercase()) {
             errors.push(format!(
                 "{at}: `${n}` has no value in the sweep: give it with --grid, --rows, --set or --let"
             ));
@@ -549,6 +569,20 @@ mod tests {
             ]
         );
         assert_eq!(p.params, ["v", "eta"]);
+    }
+
+    #[test]
+    fn a_files_own_variables_need_no_value() {
+        let p = expand(
+            &spec("--grid v=1,2"),
+            &inputs(
+                "loop i 1 2\n  save \"run_$i.sav\"\nend\nlet k = 3\nshow $k $v\n",
+                None,
+            ),
+        )
+        .unwrap();
+        assert_eq!(p.runs.len(), 2);
+        assert!(expand(&spec("--grid v=1,2"), &inputs("show $w $v\n", None)).is_err());
     }
 
     #[test]

@@ -471,9 +471,15 @@ fn messages_say_what_is_wrong() {
     // Did-you-mean prefers the item whose name the word starts.
     let err = err_of("start 1 1 1 10 10 1\npr energies\n");
     assert!(err.contains("did you mean ENErgy?"), "{err}");
-    let err = err_of("e\n");
-    assert!(err.contains("unknown command `e`"), "{err}");
+    let err = err_of("j\n");
+    assert!(err.contains("unknown command `j`"), "{err}");
     assert!(!err.contains("did you mean"), "{err}");
+    // A prefix of two commands names both with their shortest forms.
+    let err = err_of("e\n");
+    assert!(
+        err.contains("`e` is too short to choose: ELSE (else) or END (end)?"),
+        "{err}"
+    );
     // PRint Info on an empty scene: what the step waits for, not `inf`.
     let (ok, out, err) = run(
         "start 1 1 1 10 10 1\nprint info\nrad 0.01 1\nrgen 1 1 1 0\nprint info\n",

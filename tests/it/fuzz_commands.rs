@@ -77,7 +77,7 @@ fn command(g: &mut Lcg) -> String {
     let es = |g: &mut Lcg, n: usize| (0..n).map(|_| e(g)).collect::<Vec<_>>().join(" ");
     let ps = |g: &mut Lcg, n: usize| (0..n).map(|_| p(g)).collect::<Vec<_>>().join(" ");
     let mat = |g: &mut Lcg| g.pick(&["1", "2", "0", "9"]).to_string();
-    match g.below(44) {
+    match g.below(46) {
         0 => format!("create {} {} 1 1", ps(g, 3), es(g, 6)),
         1 => format!("rad {} {}", e(g), mat(g)),
         2 => format!(
@@ -304,6 +304,44 @@ fn command(g: &mut Lcg) -> String {
                 "plot ball"
             ]),
             range(g)
+        ),
+        // The programmable language (doc/language.md): expressions of extreme values, blocks
+        // (some left open or closed twice), procedures, hooks and conditions of a Cycle.
+        43 => format!(
+            "let x = {}\n{}",
+            e(g),
+            g.pick(&[
+                "let y = x * 1e300 + x",
+                "show [x / (x - x)] [sqrt(x)] [log(x)] [x^x]",
+                "rad [x] 1",
+                "create [x] 0.005 0.005 0 0 x 0 0 0 1 1",
+                "show [ball_vz(x)] [wall_fz(x)] [energy.kinetic] [sum(vz)] [avg(x, g)] [info.balls.1]",
+                "if x > 1\nshow x\nelse\nshow 0\nend",
+                "loop i 1 3\ncycle 2\nend",
+                "loop i 3 1 x\nend",
+                "while x < 1\nlet x = x + 0.5 + abs(x)\nend",
+                "while 1\nbreak\nend",
+                "end",
+                "else",
+                "break",
+                "return x",
+                "if x\nloop i 1 2",
+                "define p a\nlet q = a * x\nreturn q\nend\ncall p x",
+                "call p",
+                "let = 3",
+                "let x 3",
+                "let time = 1",
+                "show [((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((((1]",
+                "include nothing.tru",
+                "save \"s_$x.sav\"",
+            ])
+        ),
+        44 => format!(
+            "define h\nlet c = c + 1\n{}\nend\nlet c = 0\ncycle {} {} {}",
+            g.pick(&["awall 1 v 0 0 [c*1e-3]", "cycle 1", "stop", "let c = 1 / 0", "show c"]),
+            g.below(60),
+            g.pick(&["call h every", "until", "call h every 7 until", "call nope every"]),
+            g.pick(&["1", "5", "0", "c > 3", "ball_z(1) < 0.005", "energy.kinetic > 1", "x", ""])
         ),
         _ => format!("cycle {}", 1 + g.below(80)),
     }

@@ -18,6 +18,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use trubal::checkpoint::{HEADER, fnv1a, from_bytes};
 use trubal::lang::command::Command;
 use trubal::lang::parse::parse_line;
+use trubal::lang::script::ScriptCmd;
 
 /// xorshift64*: small, seeded, fixed forever.
 struct Rng(u64);
@@ -190,6 +191,31 @@ const WORDS: &[&str] = &[
     "range",
     "property",
     "spin",
+    "let",
+    "x",
+    "=",
+    "if",
+    "else",
+    "end",
+    "loop",
+    "while",
+    "define",
+    "call",
+    "return",
+    "break",
+    "include",
+    "show",
+    "until",
+    "every",
+    "[x*2]",
+    "[1/0",
+    "2*x",
+    "-x",
+    "[ball_vz(1)]",
+    "[energy.kinetic]",
+    "[sqrt(-1)]",
+    "[((((((((1",
+    "$x",
 ];
 
 /// A mutated line or file from `seed`.
@@ -281,6 +307,8 @@ fn mutate_text(r: &mut Rng, seed: &str) -> String {
 fn skipped(c: &Command) -> bool {
     match c {
         Command::Cycle { n, .. } => *n > 200,
+        Command::Script(ScriptCmd::Cycle { n, .. }) => *n > 200,
+        Command::Script(ScriptCmd::Include { .. }) => true,
         Command::Relax { nmax, .. } => *nmax > 200,
         Command::Start { nball, .. } => *nball > 2000,
         Command::Rgenerate { n, .. } => *n > 500,

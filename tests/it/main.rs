@@ -25,6 +25,7 @@ mod hard_cases;
 mod hertz_mindlin;
 mod indentation;
 mod json_output;
+mod language;
 mod liquid;
 mod nguyen_jkr;
 mod oblique_impact;

@@ -82,7 +82,22 @@ pub fn run_watched(
 ) -> Result<(Model, u64), Blowup> {
     // With several threads the pool's other workers poll for the length of the Cycle
     // instead of falling asleep between the step's parallel regions (`awake`).
-    let r = super::parallel::awake::while_running(|pacer| run_steps(scene, n, watch, pacer));
+    run_until(scene, n, watch, None)
+}
+
+/// [`run_watched`] with a condition read after every step (`Cycle n UNTIL cond`): the
+/// first step after which `until` holds is the last. With a condition every step keeps its
+/// forces in the particle arrays, for the condition to read (the same bits: the last step
+/// of every Cycle keeps them).
+pub fn run_until(
+    scene: &mut Scene,
+    n: u64,
+    watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+    until: Option<&mut (dyn FnMut(&Scene) -> bool + Send)>,
+) -> Result<(Model, u64), Blowup> {
+    let r = super::parallel::awake::while_running(|pacer| {
+        run_steps(&mut *scene, n, watch, until, pacer)
+    });
     // (Derived per step; not kept between commands.)
     scene.derived.reach_ext = Vec::new();
     scene.contacts.step.margins = [0.0; 2];
@@ -94,6 +109,7 @@ fn run_steps(
     scene: &mut Scene,
     n: u64,
     watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
+    mut until: Option<&mut (dyn FnMut(&Scene) -> bool + Send)>,
     pacer: &mut super::parallel::awake::Pacer,
 ) -> Result<(Model, u64), Blowup> {
     let mut model = check(scene).map_err(|m| Blowup {
@@ -154,7 +170,8 @@ fn run_steps(
         let recorded = every > 0
             && (scene.cycle + 1).is_multiple_of(every)
             && scene.groups.list.iter().any(|g| g.record);
-        let keep = last || step + 1 == n || snapshot_before(step + 1) || recorded;
+        let keep =
+            last || step + 1 == n || snapshot_before(step + 1) || recorded || until.is_some();
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
@@ -193,6 +210,12 @@ fn run_steps(
             record_history(scene);
         }
         pacer.step_done();
+        if let Some(u) = until.as_mut()
+            && u(scene)
+        {
+            ran = step + 1;
+            break;
+        }
         if last {
             ran = step + 1;
             break;
