@@ -444,3 +444,39 @@ fn plot_highlights_a_group() {
         run.stderr
     );
 }
+
+/// `sum(q, g)` and `avg(q, g)` in an expression (doc/language.md) take a group's members:
+/// the bottom layer of the lattice (25 spheres) set moving at −2 m/s, the rest at rest; the
+/// layer's z are all 1 mm; a group that does not exist is an error naming it.
+#[test]
+fn expressions_sum_and_average_over_a_group() {
+    let run = run_ok(&format!(
+        "{LATTICE}group low box 0 0.01 0 0.01 0 0.002\nvelocity 0 0 -2 group low\n\
+         show [avg(vz, low)] [sum(vz, low)] [avg(vz)] [sum(z, low)] [avg(m, low)]\n"
+    ));
+    let shown: Vec<f64> = run
+        .stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .find_map(|v| v.get("show").and_then(|s| s.as_array().cloned()))
+        .expect("a SHow line")
+        .iter()
+        .map(num)
+        .collect();
+    assert_eq!(shown[0], -2.0);
+    assert_eq!(shown[1], -50.0);
+    assert_eq!(shown[2], -50.0 / 125.0);
+    assert!((shown[3] - 25.0 * 1e-3).abs() < 1e-15, "{}", shown[3]);
+    assert!(
+        (shown[4] / mass(2500.0) - 1.0).abs() < 1e-12,
+        "{}",
+        shown[4]
+    );
+    let bad = trubal_json(&format!("{LATTICE}show [avg(vz, nope)]\n"), &[]);
+    assert!(!bad.ok);
+    assert!(
+        bad.stderr.contains("avg(vz, nope)") && bad.stderr.contains("nope"),
+        "{}",
+        bad.stderr
+    );
+}

@@ -223,17 +223,23 @@ impl Scope for Names<'_> {
                     BALL.join(", ")
                 ));
             }
-            if let Some(g) = range {
-                return Err(format!(
-                    "{word}({field}, {g}): there are no ranges or groups yet; {word}({field}) is over every particle"
-                ));
-            }
             let s = self.scene(word)?;
-            let n = s.particles().len();
-            let total: f64 = (0..n).map(|i| Self::ball(s, i, field)).sum();
+            // Over a group's members (doc/groups.md; a dynamic group evaluated now), in
+            // the order of the particle arrays, or over every particle.
+            let members: Vec<usize> = match range {
+                Some(g) => s
+                    .members(&crate::sim::range::Range::group(g))
+                    .map_err(|e| format!("{word}({field}, {g}): {e}"))?,
+                None => (0..s.particles().len()).collect(),
+            };
+            let n = members.len();
+            let total: f64 = members.iter().map(|&i| Self::ball(s, i, field)).sum();
             match op {
                 Reduce::Sum => Ok(total),
-                Reduce::Avg if n == 0 => Err(format!("{word}({field}): there are no particles")),
+                Reduce::Avg if n == 0 => Err(format!(
+                    "{word}({field}{}): there are no particles",
+                    range.map(|g| format!(", {g}")).unwrap_or_default()
+                )),
                 Reduce::Avg => Ok(total / n as f64),
             }
         })();
