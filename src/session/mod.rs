@@ -270,8 +270,9 @@ impl Session {
                 off,
                 prefix,
                 raw,
+                arrays,
             } => {
-                return self.vtk(*every, *off, prefix.as_deref(), *raw);
+                return self.vtk(*every, *off, prefix.as_deref(), *raw, *arrays);
             }
             Command::Field {
                 nodes,
@@ -280,12 +281,19 @@ impl Session {
                 prefix,
                 csv,
                 average,
+                bin,
+                region,
             } => {
                 let out = vtk::FieldOut {
                     prefix: prefix.clone(),
                     csv: *csv,
                 };
-                return self.field(*nodes, *width, *lucy, out, *average);
+                let kernel = match (*bin, *lucy) {
+                    (true, _) => crate::output::fields::Kernel::Bin,
+                    (_, true) => crate::output::fields::Kernel::Lucy,
+                    _ => crate::output::fields::Kernel::Gauss,
+                };
+                return self.field(*nodes, *width, kernel, *region, out, *average);
             }
             _ => {}
         }

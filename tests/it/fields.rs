@@ -280,3 +280,115 @@ fn field_refuses_bad_averages() {
         assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
     }
 }
+
+/// The box kernel is `Window` + `PRint Stress` on every bin: a bed of 40 spheres in a die
+/// (a cylinder, a floor) pressed by a moving indenter, then `FIEld 3 2 2 BIN IN …` on a box
+/// that holds the floor's contacts and the indenter's, and a `Window` + `PRint Stress` on
+/// each of its 12 cells: the contact stress is the window's to round-off (the same
+/// particles, contacts, contact points, volume: Pasha 2013 (5.1)); the kinetic stress plus
+/// ρVV (the field's is taken about the local mean velocity) is the window's Σ m v v / V;
+/// a cell has mass exactly when its window holds particles.
+#[test]
+fn field_bin_kernel_is_window_and_print_stress_on_each_bin() {
+    let (lo, hi, n) = ([2e-3, 2e-3, 0.0], [8e-3, 8e-3, 3e-3], [3usize, 2, 2]);
+    let mut s = String::from(
+        "start 0.01 0.01 0.01 10 100 4\nset open all\nrad 5e-4 1 table 4e-4 1 6e-4 1\n\
+         ymd 1e8 1\npra 0.25 1\ndensity 2500 1\nymd 2e8 2\npra 0.3 2\ndensity 7800 2\n\
+         damping restitution 0.5 1\ndwall cylinder 5e-3 5e-3 0 0 0 1 3e-3 m 2\n\
+         dwall p 0 0 1 0 m 2\ndwall p 0 0 -1 -0.004 m 2\nrge 40 1 1 0 walls\ngravity 0 0 -9.81\n\
+         cycle 2000\ndwall ob 5e-3 5e-3 3.2e-3 1e-3 v 0 0 -0.05 m 2\ncycle 400\nprint walls\n",
+    );
+    s.push_str(&format!(
+        "field {} {} {} bin in {:?} {:?} {:?} {:?} {:?} {:?}\n",
+        n[0], n[1], n[2], lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+    ));
+    let edge = |k: usize, a: usize| lo[k] + a as f64 * (hi[k] - lo[k]) / n[k] as f64;
+    for c in 0..n[2] {
+        for b in 0..n[1] {
+            for a in 0..n[0] {
+                s.push_str(&format!(
+                    "window {:?} {:?} {:?} {:?} {:?} {:?}\nprint stress\n",
+                    edge(0, a),
+                    edge(0, a + 1),
+                    edge(1, b),
+                    edge(1, b + 1),
+                    edge(2, c),
+                    edge(2, c + 1)
+                ));
+            }
+        }
+    }
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    // The indenter (wall 4) and the floor (wall 2) press on the bed.
+    let walls = &printed(&run, "walls")[0]["walls"];
+    for w in [1, 3] {
+        assert!(f(&walls[w]["normal_force"]).abs() > 0.0, "{}", walls[w]);
+    }
+    let fl = &fields(&run)[0];
+    assert_eq!(fl["kernel"], "bin");
+    let dv: f64 = (0..3).map(|k| (hi[k] - lo[k]) / n[k] as f64).product();
+    let windows = printed(&run, "stress");
+    assert_eq!(windows.len(), 12);
+    let scale = windows
+        .iter()
+        .flat_map(|w| (0..9).map(move |k| f(&w["window"]["contact"][k / 3][k % 3]).abs()))
+        .fold(0.0, f64::max);
+    assert!(scale > 10.0, "{scale}");
+    let mut filled = 0;
+    for (node, w) in windows.iter().enumerate() {
+        let w = &w["window"];
+        filled += (w["particles"].as_u64().unwrap() > 0) as usize;
+        let rho = f(&fl["density"][node]);
+        let v: Vec<f64> = (0..3).map(|k| f(&fl["velocity"][node][k])).collect();
+        for k in 0..9 {
+            let (i, j) = (k / 3, k % 3);
+            let c = f(&fl["stress_contact"][node][k]);
+            let want = f(&w["contact"][i][j]);
+            assert!(
+                (c - want).abs() <= 1e-12 * scale,
+                "node {node} [{i}][{j}]: {c:e} {want:e}"
+            );
+            let kin = f(&fl["stress_kinetic"][node][k]) + rho * v[i] * v[j];
+            let want = f(&w["kinetic"][i][j]);
+            assert!(
+                (kin - want).abs() <= 1e-12 * want.abs().max(1e-300) + 1e-18,
+                "node {node} kinetic [{i}][{j}]: {kin:e} {want:e}"
+            );
+        }
+        // Mass in the cell exactly when the window holds particles.
+        assert_eq!(
+            rho * dv > 0.0,
+            w["particles"].as_u64().unwrap() > 0,
+            "node {node}"
+        );
+    }
+    assert!(filled >= 6, "{filled} bins hold particles");
+}
+
+/// `BIN` and `IN` refused where they do not fit, with their place.
+#[test]
+fn field_refuses_bad_bins() {
+    for (line, want) in [
+        (
+            "field 2 2 2 1e-3 in 0 1e-3 0 1e-3 0 1e-3",
+            "box kernel only",
+        ),
+        ("field 2 2 2 bin lucy", "one of the two"),
+        ("field 2 2 2 bin in 0 1e-3 0 1e-3 0", "needs"),
+        (
+            "field 2 2 2 bin in 0 1e-3 1e-3 0 0 1e-3",
+            "must not be below",
+        ),
+        ("field 2 2 2 bin in 0 0 0 1e-3 0 1e-3", "positive size"),
+        (
+            "field 2 2 2 bin in 0 1 0 1 0 1 in 0 1 0 1 0 1",
+            "given twice",
+        ),
+    ] {
+        let run = trubal_json(&format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\n"), &[]);
+        assert!(!run.ok, "{line}");
+        assert!(run.stderr.contains("<stdin>:2:"), "{line}: {}", run.stderr);
+        assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
+    }
+}
