@@ -419,7 +419,10 @@ fn vtk_arrays_refuses_bad_names() {
         ("vtk arrays r", "too short"),
         ("vtk off arrays id", "stands alone"),
         ("vtk arrays id arrays radius", "given twice"),
-        ("vtk every 5 arrays velocity 3", "unexpected `3`"),
+        (
+            "vtk every 5 arrays velocity 3",
+            "unknown particle array `3`",
+        ),
     ];
     for (line, want) in cases {
         let (ok, err) = run_in(
