@@ -32,6 +32,17 @@ pub enum Kernel {
     Bin,
 }
 
+impl Kernel {
+    /// The kernel of `FIEld`'s words: `BIN`, `LUCy`, else the Gaussian.
+    pub fn of(bin: bool, lucy: bool) -> Kernel {
+        match (bin, lucy) {
+            (true, _) => Kernel::Bin,
+            (_, true) => Kernel::Lucy,
+            _ => Kernel::Gauss,
+        }
+    }
+}
+
 /// The grid and kernel of a `FIEld`; `region`: the box [x1, x2, y1, y2, z1, z2] the grid
 /// covers (`IN`, box kernel only), the work-space when `None`.
 #[derive(Clone, Copy, Debug)]

@@ -288,11 +288,7 @@ impl Session {
                     prefix: prefix.clone(),
                     csv: *csv,
                 };
-                let kernel = match (*bin, *lucy) {
-                    (true, _) => crate::output::fields::Kernel::Bin,
-                    (_, true) => crate::output::fields::Kernel::Lucy,
-                    _ => crate::output::fields::Kernel::Gauss,
-                };
+                let kernel = crate::output::fields::Kernel::of(*bin, *lucy);
                 return self.field(*nodes, *width, kernel, *region, out, *average);
             }
             _ => {}
