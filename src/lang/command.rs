@@ -398,6 +398,10 @@ pub enum Command {
         csv: bool,
         /// `AVerage k m`: the average of m samples, k cycles apart.
         average: Option<(u64, u64)>,
+        /// `BIN`: the box kernel (the cell around each node; `width` unused).
+        bin: bool,
+        /// `IN x1 x2 y1 y2 z1 z2`: the grid over this box instead of the work-space.
+        region: Option<[f64; 6]>,
     },
     Vtk {
         every: Option<u64>,
@@ -405,8 +409,28 @@ pub enum Command {
         prefix: Option<String>,
         /// `RAW`: uncompressed files.
         raw: bool,
+        /// `ARRays …`: the particle arrays written, a bit per entry of
+        /// [`PARTICLE_ARRAYS`] (all when not given).
+        arrays: Option<u16>,
     },
     /// The words of the programmable language (`LET`, `IF`, `LOOP`, `DEFine`, ...;
     /// doc/language.md).
     Script(super::script::ScriptCmd),
 }
+
+/// The particle arrays of a VTK frame (`VTk ARRays`), in the order the file holds them;
+/// the points (the centres) are always written.
+pub const PARTICLE_ARRAYS: [&str; 12] = [
+    "id",
+    "radius",
+    "velocity",
+    "spin",
+    "force",
+    "moment",
+    "material",
+    "size_type",
+    "agglomerate",
+    "coordination",
+    "cluster",
+    "displacement",
+];

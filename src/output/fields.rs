@@ -28,14 +28,39 @@ use crate::sim::walls::wall_gap;
 pub enum Kernel {
     Gauss,
     Lucy,
+    /// The box kernel: 1/ΔV on the cell around a node, Pasha's bins (see [`sample`]).
+    Bin,
 }
 
-/// The grid and kernel of a `FIEld`.
+impl Kernel {
+    /// The kernel of `FIEld`'s words: `BIN`, `LUCy`, else the Gaussian.
+    pub fn of(bin: bool, lucy: bool) -> Kernel {
+        match (bin, lucy) {
+            (true, _) => Kernel::Bin,
+            (_, true) => Kernel::Lucy,
+            _ => Kernel::Gauss,
+        }
+    }
+}
+
+/// The grid and kernel of a `FIEld`; `region`: the box [x1, x2, y1, y2, z1, z2] the grid
+/// covers (`IN`, box kernel only), the work-space when `None`.
 #[derive(Clone, Copy, Debug)]
 pub struct Spec {
     pub nodes: [usize; 3],
     pub width: f64,
     pub kernel: Kernel,
+    pub region: Option<[f64; 6]>,
+}
+
+impl Spec {
+    /// The grid's corner and extent.
+    fn frame(&self, scene: &Scene) -> ([f64; 3], [f64; 3]) {
+        match self.region {
+            Some(b) => ([b[0], b[2], b[4]], [b[1] - b[0], b[3] - b[2], b[5] - b[4]]),
+            None => ([0.0; 3], scene.size()),
+        }
+    }
 }
 
 /// The fields at every node (x fastest, then y, then z); tensors row-major, row i the force
@@ -45,6 +70,8 @@ pub struct Spec {
 pub struct Fields {
     pub nodes: [usize; 3],
     pub spacing: [f64; 3],
+    /// The grid's corner (the first node is at origin + spacing/2).
+    pub origin: [f64; 3],
     /// States averaged (1: the scene as it is).
     pub samples: usize,
     pub density: Vec<f64>,
@@ -76,7 +103,10 @@ pub fn check(scene: &Scene, spec: &Spec) -> Result<(), String> {
             n[0], n[1], n[2]
         ));
     }
-    let size = scene.size();
+    let (_, size) = spec.frame(scene);
+    if spec.kernel == Kernel::Bin {
+        return Ok(());
+    }
     let h = (0..3).map(|k| size[k] / n[k] as f64).fold(0.0, f64::max);
     if !(spec.width >= h && spec.width.is_finite()) {
         return Err(format!(
@@ -84,10 +114,7 @@ pub fn check(scene: &Scene, spec: &Spec) -> Result<(), String> {
             spec.width
         ));
     }
-    let cut = match spec.kernel {
-        Kernel::Gauss => 3.0 * spec.width,
-        Kernel::Lucy => spec.width,
-    };
+    let cut = cut_of(spec);
     let reach: f64 = (0..3)
         .map(|k| (2.0 * cut * n[k] as f64 / size[k] + 1.0).min(n[k] as f64))
         .product();
@@ -100,10 +127,20 @@ pub fn check(scene: &Scene, spec: &Spec) -> Result<(), String> {
     Ok(())
 }
 
+/// Where the kernel is cut.
+fn cut_of(spec: &Spec) -> f64 {
+    match spec.kernel {
+        Kernel::Gauss => 3.0 * spec.width,
+        Kernel::Lucy => spec.width,
+        Kernel::Bin => 0.0,
+    }
+}
+
 /// The grid: node spacing and how a point spreads over the nodes.
 struct Grid {
     n: [usize; 3],
     h: [f64; 3],
+    origin: [f64; 3],
     periodic: [bool; 3],
     cut: f64,
     spec: Spec,
@@ -123,12 +160,36 @@ impl Grid {
                     0.0
                 }
             }
+            Kernel::Bin => 1.0,
         }
+    }
+
+    /// The node whose cell holds `y` (box kernel): a cell holds its lower bounds, the last
+    /// one its upper bounds too (a particle on the box's side is in, as `Window` has it);
+    /// `None` outside the grid.
+    fn cell(&self, y: &Vec3) -> Option<usize> {
+        let mut ix = [0usize; 3];
+        for k in 0..3 {
+            let (n, h) = (self.n[k] as i64, self.h[k]);
+            let t = y[k] - self.origin[k];
+            let mut a = (t / h).floor() as i64;
+            if self.periodic[k] {
+                a = a.rem_euclid(n);
+            } else if a == n && t <= n as f64 * h {
+                a = n - 1;
+            }
+            if !(0..n).contains(&a) {
+                return None;
+            }
+            ix[k] = a as usize;
+        }
+        Some(ix[0] + self.n[0] * (ix[1] + self.n[1] * ix[2]))
     }
 
     /// The nodes within reach of `y` on one axis: (index, distance from y).
     fn axis(&self, k: usize, y: f64) -> Vec<(usize, f64)> {
         let (n, h) = (self.n[k] as i64, self.h[k]);
+        let y = y - self.origin[k];
         let lo = ((y - self.cut) / h - 0.5).ceil() as i64;
         let hi = ((y + self.cut) / h - 0.5).floor() as i64;
         let mut out = Vec::new();
@@ -154,6 +215,12 @@ impl Grid {
     /// Calls `f(node, φ)` for every node within reach of `y`, φ normalised so that
     /// Σ φ ΔV = 1. Nothing when no node is within reach.
     fn spread(&self, y: &Vec3, mut f: impl FnMut(usize, f64)) {
+        if self.spec.kernel == Kernel::Bin {
+            if let Some(node) = self.cell(y) {
+                f(node, 1.0 / self.dv);
+            }
+            return;
+        }
         let ax: Vec<Vec<(usize, f64)>> = (0..3).map(|k| self.axis(k, y[k])).collect();
         let mut w = Vec::with_capacity(ax[0].len() * ax[1].len() * ax[2].len());
         let mut sum = 0.0;
@@ -202,6 +269,7 @@ fn outer(f: &Vec3, l: &Vec3) -> [f64; 9] {
 pub struct Sums {
     pub nodes: [usize; 3],
     pub spacing: [f64; 3],
+    pub origin: [f64; 3],
     pub samples: usize,
     density: Vec<f64>,
     /// Σ m C φ, C the stored (peculiar) velocity.
@@ -242,6 +310,7 @@ impl Sums {
         plus(&mut self.contact, &o.contact);
         plus(&mut self.mean_field, &o.mean_field);
         self.spacing = o.spacing;
+        self.origin = o.origin;
         self.samples += o.samples;
     }
 
@@ -255,6 +324,7 @@ impl Sums {
         let mut f = Fields {
             nodes: self.nodes,
             spacing: self.spacing,
+            origin: self.origin,
             samples: self.samples,
             density: self.density.iter().map(|x| x * s).collect(),
             velocity: vec![[0.0; 3]; total],
@@ -291,18 +361,18 @@ pub fn compute(scene: &Scene, spec: &Spec) -> Fields {
 
 /// The sums of the scene as it is, one sample (`check` first).
 pub fn sample(scene: &Scene, spec: &Spec) -> Sums {
-    let size = scene.size();
+    let (origin, size) = spec.frame(scene);
     let n = spec.nodes;
     let total = n[0] * n[1] * n[2];
     let h = [0, 1, 2].map(|k| size[k] / n[k] as f64);
+    let periodic = scene.settings().periodic;
     let grid = Grid {
         n,
         h,
-        periodic: scene.settings().periodic,
-        cut: match spec.kernel {
-            Kernel::Gauss => 3.0 * spec.width,
-            Kernel::Lucy => spec.width,
-        },
+        origin,
+        // A box of `IN` is not the cell: no images.
+        periodic: periodic.map(|p| p && spec.region.is_none()),
+        cut: cut_of(spec),
         spec: *spec,
         dv: h[0] * h[1] * h[2],
     };
@@ -311,6 +381,7 @@ pub fn sample(scene: &Scene, spec: &Spec) -> Sums {
     let mut f = Sums {
         nodes: n,
         spacing: h,
+        origin,
         samples: 1,
         density: vec![0.0; total],
         momentum: vec![[0.0; 3]; total],
@@ -343,11 +414,32 @@ pub fn sample(scene: &Scene, spec: &Spec) -> Sums {
     let r = scene.cell().rate;
     for (node, u) in f.mean_field.iter_mut().enumerate() {
         let ix = [node % n[0], (node / n[0]) % n[1], node / (n[0] * n[1])];
-        let x = [0, 1, 2].map(|k| (ix[k] as f64 + 0.5) * h[k]);
+        let x = [0, 1, 2].map(|k| origin[k] + (ix[k] as f64 + 0.5) * h[k]);
         *u = [r[0] * x[0] + r[3] * x[1], r[1] * x[1], r[2] * x[2]];
     }
-    contact_stress(scene, &grid, &mut f.contact);
+    if spec.kernel == Kernel::Bin {
+        bin_stress(scene, &grid, &mut f.contact);
+    } else {
+        contact_stress(scene, &grid, &mut f.contact);
+    }
     f
+}
+
+/// The contact stress of the box kernel: each particle's moment (`sim::stress::
+/// particle_moments`: its contacts' forces at their contact points, walls included) in the
+/// cell of its centre, over the cell's volume: `Window` + `PRint Stress` on every cell.
+fn bin_stress(scene: &Scene, grid: &Grid, out: &mut [[f64; 9]]) {
+    let p = scene.particles();
+    let moments = crate::sim::stress::particle_moments(scene);
+    for (i, m) in moments.iter().enumerate() {
+        grid.spread(&p.pos[i], |node, phi| {
+            for a in 0..3 {
+                for b in 0..3 {
+                    out[node][3 * a + b] += m[a][b] * phi;
+                }
+            }
+        });
+    }
 }
 
 /// The contact stress: every particle pair and wall contact's f ⊗ l along its branch.
@@ -419,6 +511,7 @@ pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Va
     let kernel = match spec.kernel {
         Kernel::Gauss => "gauss",
         Kernel::Lucy => "lucy",
+        Kernel::Bin => "bin",
     };
     let avg = if f.samples > 1 {
         format!(" (the average of {} samples)", f.samples)
@@ -426,12 +519,18 @@ pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Va
         String::new()
     };
     let text = format!(
-        "FIEld at cycle {}{avg}: {} x {} x {} nodes, {kernel} kernel of width {:e} m; mass on the grid {grid_mass:.6e} kg (particles {mass:.6e} kg); mean stress of the grid (Pa) xx {:.6e} yy {:.6e} zz {:.6e} xy {:.6e} yz {:.6e} zx {:.6e}\n",
+        "FIEld at cycle {}{avg}: {} x {} x {} nodes, {kernel} kernel{}; mass on the grid {grid_mass:.6e} kg (particles {mass:.6e} kg); mean stress of the grid (Pa) xx {:.6e} yy {:.6e} zz {:.6e} xy {:.6e} yz {:.6e} zx {:.6e}\n",
         scene.cycle(),
         f.nodes[0],
         f.nodes[1],
         f.nodes[2],
-        spec.width,
+        match spec.kernel {
+            Kernel::Bin => format!(
+                " (cells of {:e} x {:e} x {:e} m from ({:e}, {:e}, {:e}))",
+                f.spacing[0], f.spacing[1], f.spacing[2], f.origin[0], f.origin[1], f.origin[2]
+            ),
+            _ => format!(" of width {:e} m", spec.width),
+        },
         mean[0],
         mean[4],
         mean[8],
@@ -439,7 +538,7 @@ pub fn report(scene: &Scene, spec: &Spec, f: &Fields) -> (String, serde_json::Va
         mean[5],
         mean[6]
     );
-    let origin = [0, 1, 2].map(|k| f.spacing[k] / 2.0);
+    let origin = [0, 1, 2].map(|k| f.origin[k] + f.spacing[k] / 2.0);
     let j = serde_json::json!({
         "print": "field", "cycle": scene.cycle(), "time": scene.time(),
         "nodes": f.nodes, "spacing": f.spacing,
@@ -470,7 +569,7 @@ pub fn csv(f: &Fields) -> String {
     for node in 0..f.density.len() {
         let ix = [node % n[0], (node / n[0]) % n[1], node / (n[0] * n[1])];
         let mut row: Vec<f64> = (0..3)
-            .map(|k| (ix[k] as f64 + 0.5) * f.spacing[k])
+            .map(|k| f.origin[k] + (ix[k] as f64 + 0.5) * f.spacing[k])
             .collect();
         row.push(f.density[node]);
         row.extend(f.velocity[node]);
@@ -511,7 +610,7 @@ pub fn vti(scene: &Scene, f: &Fields) -> Vec<u8> {
     ];
     encode_image(
         f.nodes,
-        [0, 1, 2].map(|k| f.spacing[k] / 2.0),
+        [0, 1, 2].map(|k| f.origin[k] + f.spacing[k] / 2.0),
         f.spacing,
         &arrays,
         &super::vtk::frame::time_fields(scene),

@@ -286,8 +286,9 @@ impl Session {
                 off,
                 prefix,
                 raw,
+                arrays,
             } => {
-                return self.vtk(*every, *off, prefix.as_deref(), *raw);
+                return self.vtk(*every, *off, prefix.as_deref(), *raw, *arrays);
             }
             Command::Field {
                 nodes,
@@ -296,12 +297,15 @@ impl Session {
                 prefix,
                 csv,
                 average,
+                bin,
+                region,
             } => {
                 let out = vtk::FieldOut {
                     prefix: prefix.clone(),
                     csv: *csv,
                 };
-                return self.field(*nodes, *width, *lucy, out, *average);
+                let kernel = crate::output::fields::Kernel::of(*bin, *lucy);
+                return self.field(*nodes, *width, kernel, *region, out, *average);
             }
             _ => {}
         }

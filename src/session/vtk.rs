@@ -69,13 +69,15 @@ pub struct VtkState {
 pub const DEFAULT_PREFIX: &str = "trubal";
 
 impl Session {
-    /// `VTk [EVery k] [FILe prefix] [RAW] | OFF`.
+    /// `VTk [EVery k] [FILe prefix] [RAW] [ARRays name ...] | OFF`; `arrays`: the
+    /// particle arrays (a bit per entry of `PARTICLE_ARRAYS`), all when `None`.
     pub(super) fn vtk(
         &mut self,
         every: Option<u64>,
         off: bool,
         prefix: Option<&str>,
         raw: bool,
+        arrays: Option<u16>,
     ) -> Result<Flow, String> {
         if off {
             self.vtk.every = None;
@@ -94,6 +96,7 @@ impl Session {
             (_, p) => Series::new(p.unwrap_or(DEFAULT_PREFIX)),
         };
         series.encoding = if raw { Encoding::Raw } else { Encoding::Zlib };
+        series.arrays = arrays.unwrap_or(crate::output::vtk::frame::ALL_ARRAYS);
         let before = series.frames.iter().filter(|f| f.0 < scene.cycle()).count();
         let files = write_frame(scene, &mut series)?;
         let text = format!(
@@ -118,14 +121,15 @@ impl Session {
         Ok(Flow::Continue)
     }
 
-    /// `FIEld n1 n2 n3 w [LUCy] [FILe prefix] [CSV] [AVerage k m]`: the fields printed and
+    /// `FIEld n1 n2 n3 (w [LUCy] | BIN [IN box]) [FILe prefix] [CSV] [AVerage k m]`: the fields printed and
     /// written; with `AVerage` the first of m samples taken, the output when the last is
     /// (nothing is written and no average starts when the grid is refused).
     pub(super) fn field(
         &mut self,
         nodes: [usize; 3],
         width: f64,
-        lucy: bool,
+        kernel: fields::Kernel,
+        region: Option<[f64; 6]>,
         out: FieldOut,
         average: Option<(u64, u64)>,
     ) -> Result<Flow, String> {
@@ -135,11 +139,8 @@ impl Session {
         let spec = fields::Spec {
             nodes,
             width,
-            kernel: if lucy {
-                fields::Kernel::Lucy
-            } else {
-                fields::Kernel::Gauss
-            },
+            kernel,
+            region,
         };
         fields::check(scene, &spec)?;
         let sums = fields::sample(scene, &spec);

@@ -165,40 +165,25 @@ pub fn in_box(scene: &Scene, b: &[f64; 6]) -> (Stress, usize) {
         if !is_in[i] && !is_in[j] {
             continue;
         }
-        let s = c.s;
-        if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+        let Some((fb, arm_i, arm_j)) = pair_terms(scene, i, j, c.s) else {
             continue;
-        }
-        let l = scene.branch(&p.pos[i], &p.pos[j]);
-        let dist = l.norm();
-        if dist == 0.0 {
-            continue;
-        }
-        let u = l / dist;
-        let fb = pair_force(s, &u);
-        // The middle of the overlap (or of the gap): R − δ/2 from each centre.
-        let half = 0.5 * (p.radius[i] + p.radius[j] - dist);
+        };
         if is_in[i] {
-            add_particle_term(&mut sig, &(-fb), &(u * (p.radius[i] - half)));
+            add_particle_term(&mut sig, &(-fb), &arm_i);
         }
         if is_in[j] {
-            add_particle_term(&mut sig, &fb, &(-u * (p.radius[j] - half)));
+            add_particle_term(&mut sig, &fb, &arm_j);
         }
     }
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     for c in &scene.contacts.wall_pairs {
         let i = c.i as usize;
-        let s = &c.s;
-        if !is_in[i] || (!s.touching && s.damp_force == 0.0 && s.bridge.is_none()) {
+        if !is_in[i] {
             continue;
         }
-        let Some(shape) = shapes.get(c.wall as usize) else {
-            continue;
-        };
-        // n: from the particle towards the wall (the wall is B).
-        let (gap, n) = shape.gap(&p.pos[i], p.radius[i]);
-        let fw = pair_force(s, &n);
-        add_particle_term(&mut sig, &(-fw), &(n * (p.radius[i] + 0.5 * gap)));
+        if let Some((fw, arm)) = wall_term(scene, &shapes, c) {
+            add_particle_term(&mut sig, &(-fw), &arm);
+        }
     }
     for i in (0..p.len()).filter(|&i| is_in[i]) {
         let (m, v) = (p.mass[i], p.vel[i]);
@@ -220,6 +205,70 @@ pub fn in_box(scene: &Scene, b: &[f64; 6]) -> (Stress, usize) {
         },
         count,
     )
+}
+
+/// A pair contact's terms of [`in_box`]: the force on B and the arms from A's and from B's
+/// centre to the contact point (the middle of the overlap, or of the gap: R − δ/2 from each
+/// centre); `None` for a pair that carries no force or whose centres coincide.
+fn pair_terms(
+    scene: &Scene,
+    i: usize,
+    j: usize,
+    s: &super::contacts::ContactState,
+) -> Option<(Vec3, Vec3, Vec3)> {
+    let p = &scene.particles;
+    if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+        return None;
+    }
+    let l = scene.branch(&p.pos[i], &p.pos[j]);
+    let dist = l.norm();
+    if dist == 0.0 {
+        return None;
+    }
+    let u = l / dist;
+    let fb = pair_force(s, &u);
+    let half = 0.5 * (p.radius[i] + p.radius[j] - dist);
+    Some((fb, u * (p.radius[i] - half), -u * (p.radius[j] - half)))
+}
+
+/// A particle–wall contact's terms of [`in_box`]: the force on the wall and the arm from the
+/// particle's centre to the contact point (the middle of the overlap, on the wall's normal).
+fn wall_term(
+    scene: &Scene,
+    shapes: &[WallShape],
+    c: &super::contacts::WallPair,
+) -> Option<(Vec3, Vec3)> {
+    let p = &scene.particles;
+    let i = c.i as usize;
+    let s = &c.s;
+    if !s.touching && s.damp_force == 0.0 && s.bridge.is_none() {
+        return None;
+    }
+    let shape = shapes.get(c.wall as usize)?;
+    // n: from the particle towards the wall (the wall is B).
+    let (gap, n) = shape.gap(&p.pos[i], p.radius[i]);
+    Some((pair_force(s, &n), n * (p.radius[i] + 0.5 * gap)))
+}
+
+/// Each particle's moment `−Σ_{contacts of p} F ⊗ (x_c − x_p)` (Pa m³), the terms [`in_box`]
+/// sums over the particles of a bin (the same contacts, forces and contact points): the
+/// box kernel of `FIEld … BIN` adds them up cell by cell.
+pub fn particle_moments(scene: &Scene) -> Vec<[[f64; 3]; 3]> {
+    let mut m = vec![[[0.0; 3]; 3]; scene.particles.len()];
+    for c in scene.contacts.iter() {
+        let (i, j) = (c.i as usize, c.j as usize);
+        if let Some((fb, arm_i, arm_j)) = pair_terms(scene, i, j, c.s) {
+            add_particle_term(&mut m[i], &(-fb), &arm_i);
+            add_particle_term(&mut m[j], &fb, &arm_j);
+        }
+    }
+    let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
+    for c in &scene.contacts.wall_pairs {
+        if let Some((fw, arm)) = wall_term(scene, &shapes, c) {
+            add_particle_term(&mut m[c.i as usize], &(-fw), &arm);
+        }
+    }
+    m
 }
 
 /// The deviatoric stress of Pasha 2013 (5.3): `((σxx − σyy)² + (σxx − σzz)² + (σyy − σzz)²)/6`

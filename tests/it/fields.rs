@@ -280,3 +280,104 @@ fn field_refuses_bad_averages() {
         assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
     }
 }
+
+/// The box kernel is `Window` + `PRint Stress` on every bin: the packing of [`PACKED`]
+/// (100 spheres compressed to 20 kPa in a periodic cell, contacts across its sides), then
+/// `FIEld 2 3 2 BIN IN …` on a box inside the cell and a `Window` + `PRint Stress` on each
+/// of its 12 cells: the contact stress is the window's to round-off (the same particles,
+/// contacts, contact points, volume: Pasha 2013 (5.1)); the kinetic stress plus ρVV (the
+/// field's is taken about the local mean velocity) is the window's Σ m v v / V; a cell has
+/// mass exactly when its window holds particles.
+#[test]
+fn field_bin_kernel_is_window_and_print_stress_on_each_bin() {
+    let (lo, hi, n) = ([0.0, 1e-4, 0.0], [1e-3, 9e-4, 1e-3], [2usize, 3, 2]);
+    let mut s = String::from(PACKED);
+    s.push_str(&format!(
+        "cycle 50\nfield {} {} {} bin in {:?} {:?} {:?} {:?} {:?} {:?}\n",
+        n[0], n[1], n[2], lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+    ));
+    let edge = |k: usize, a: usize| lo[k] + a as f64 * (hi[k] - lo[k]) / n[k] as f64;
+    for c in 0..n[2] {
+        for b in 0..n[1] {
+            for a in 0..n[0] {
+                s.push_str(&format!(
+                    "window {:?} {:?} {:?} {:?} {:?} {:?}\nprint stress\n",
+                    edge(0, a),
+                    edge(0, a + 1),
+                    edge(1, b),
+                    edge(1, b + 1),
+                    edge(2, c),
+                    edge(2, c + 1)
+                ));
+            }
+        }
+    }
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let fl = &fields(&run)[0];
+    assert_eq!(fl["kernel"], "bin");
+    let dv: f64 = (0..3).map(|k| (hi[k] - lo[k]) / n[k] as f64).product();
+    let windows = printed(&run, "stress");
+    assert_eq!(windows.len(), 12);
+    let scale = windows
+        .iter()
+        .flat_map(|w| (0..9).map(move |k| f(&w["window"]["contact"][k / 3][k % 3]).abs()))
+        .fold(0.0, f64::max);
+    assert!(scale > 10.0, "{scale}");
+    let mut filled = 0;
+    for (node, w) in windows.iter().enumerate() {
+        let w = &w["window"];
+        filled += (w["particles"].as_u64().unwrap() > 0) as usize;
+        let rho = f(&fl["density"][node]);
+        let v: Vec<f64> = (0..3).map(|k| f(&fl["velocity"][node][k])).collect();
+        for k in 0..9 {
+            let (i, j) = (k / 3, k % 3);
+            let c = f(&fl["stress_contact"][node][k]);
+            let want = f(&w["contact"][i][j]);
+            assert!(
+                (c - want).abs() <= 1e-12 * scale,
+                "node {node} [{i}][{j}]: {c:e} {want:e}"
+            );
+            let kin = f(&fl["stress_kinetic"][node][k]) + rho * v[i] * v[j];
+            let want = f(&w["kinetic"][i][j]);
+            assert!(
+                (kin - want).abs() <= 1e-12 * want.abs().max(1e-300) + 1e-18,
+                "node {node} kinetic [{i}][{j}]: {kin:e} {want:e}"
+            );
+        }
+        // Mass in the cell exactly when the window holds particles.
+        assert_eq!(
+            rho * dv > 0.0,
+            w["particles"].as_u64().unwrap() > 0,
+            "node {node}"
+        );
+    }
+    assert!(filled >= 6, "{filled} bins hold particles");
+}
+
+/// `BIN` and `IN` refused where they do not fit, with their place.
+#[test]
+fn field_refuses_bad_bins() {
+    for (line, want) in [
+        (
+            "field 2 2 2 1e-3 in 0 1e-3 0 1e-3 0 1e-3",
+            "box kernel only",
+        ),
+        ("field 2 2 2 bin lucy", "one of the two"),
+        ("field 2 2 2 bin in 0 1e-3 0 1e-3 0", "needs"),
+        (
+            "field 2 2 2 bin in 0 1e-3 1e-3 0 0 1e-3",
+            "must not be below",
+        ),
+        ("field 2 2 2 bin in 0 0 0 1e-3 0 1e-3", "positive size"),
+        (
+            "field 2 2 2 bin in 0 1 0 1 0 1 in 0 1 0 1 0 1",
+            "given twice",
+        ),
+    ] {
+        let run = trubal_json(&format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\n"), &[]);
+        assert!(!run.ok, "{line}");
+        assert!(run.stderr.contains("<stdin>:2:"), "{line}: {}", run.stderr);
+        assert!(run.stderr.contains(want), "{line}: {}", run.stderr);
+    }
+}

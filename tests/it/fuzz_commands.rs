@@ -248,7 +248,14 @@ fn command(g: &mut Lcg) -> String {
                 "every",
                 "raw",
                 "every 5 raw",
-                "off raw"
+                "off raw",
+                "arrays id radius velocity",
+                "every 4 arrays vel",
+                "arrays",
+                "arrays colour",
+                "arrays id id",
+                "off arrays id",
+                "arrays displacement cluster raw"
             ])
         ),
         40 => format!(
@@ -256,7 +263,11 @@ fn command(g: &mut Lcg) -> String {
             g.below(4),
             g.below(4),
             g.below(4),
-            e(g),
+            if g.below(3) == 0 {
+                "bin".to_string()
+            } else {
+                e(g)
+            },
             g.pick(&[
                 "",
                 "lucy",
@@ -265,7 +276,9 @@ fn command(g: &mut Lcg) -> String {
                 "average 3 4",
                 "csv average 1 2",
                 "average 0 1",
-                "average 5"
+                "average 5",
+                "in 0 1e-3 0 1e-3 0 1e-3",
+                "lucy in 0 1 0 1 0 1"
             ])
         ),
         41 => format!(

@@ -45,12 +45,18 @@ fn vtk_python() -> Option<String> {
 }
 
 fn check_with_vtk(dir: &Path, prefix: &str) {
+    check_with_vtk_args(&[dir.as_os_str(), prefix.as_ref()]);
+}
+
+/// `tests/vtk/check.py` with these arguments, which must pass.
+fn check_with_vtk_args(args: &[&std::ffi::OsStr]) {
     let Some(py) = vtk_python() else { return };
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/vtk/check.py");
+    let dir = args.iter().find(|a| Path::new(a).is_dir()).map(Path::new);
+    let dir = dir.unwrap_or(Path::new("."));
     let out = std::process::Command::new(py)
         .arg(script)
-        .arg(dir)
-        .arg(prefix)
+        .args(args)
         .output()
         .unwrap();
     let text = format!(
@@ -342,5 +348,97 @@ fn vtk_series_goes_on_across_sessions() {
     );
     assert!(ok, "{err}");
     assert_eq!(cycles(listed(&pvd)), [10]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The names of the point arrays of a particles file, from its XML header.
+fn point_arrays(file: &Path) -> Vec<String> {
+    let bytes = std::fs::read(file).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    let head = &text[..text.find("<AppendedData").unwrap()];
+    let pd = &head[head.find("<PointData").unwrap()..head.find("</PointData>").unwrap()];
+    pd.split("Name=\"")
+        .skip(1)
+        .map(|r| r[..r.find('"').unwrap()].to_string())
+        .collect()
+}
+
+/// `VTk ARRays`: the frames of the command and of its schedule hold the positions and the
+/// arrays named and no others (read by VTK, checked against `PRint Balls`), smaller than
+/// the whole frame; a later `VTk` without `ARRays` writes every array again.
+#[test]
+fn vtk_arrays_chooses_the_particle_arrays() {
+    let dir = folder("arrays");
+    let base = PERIODIC_BRIDGE.split("set outdir").next().unwrap();
+    let (ok, err) = run_in(
+        &dir,
+        &format!(
+            "{base}set outdir \"out\"\nvtk every 50 file lean arrays vel id radius\ncycle 100\nprint balls\nvtk file full\n"
+        ),
+    );
+    assert!(ok, "{err}");
+    let lean = ["id", "radius", "velocity"];
+    for c in [0, 50, 100] {
+        let f = dir.join(format!("out/lean_particles_c{c:08}.vtp"));
+        assert_eq!(point_arrays(&f), lean, "{}", f.display());
+    }
+    let full = dir.join("out/full_particles_c00000100.vtp");
+    let all = [
+        "id",
+        "radius",
+        "velocity",
+        "spin",
+        "force",
+        "moment",
+        "material",
+        "size_type",
+        "agglomerate",
+        "coordination",
+        "cluster",
+    ];
+    assert_eq!(point_arrays(&full), all);
+    let size = |f: &Path| std::fs::metadata(f).unwrap().len();
+    assert!(size(&dir.join("out/lean_particles_c00000100.vtp")) < size(&full));
+    check_with_vtk_args(&[
+        "--arrays".as_ref(),
+        dir.as_os_str(),
+        "lean".as_ref(),
+        "id,radius,velocity".as_ref(),
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad `ARRays`: a located error, no frame written, no schedule set.
+#[test]
+fn vtk_arrays_refuses_bad_names() {
+    let dir = folder("bad-arrays");
+    let cases = [
+        ("vtk arrays", "name the particle arrays"),
+        ("vtk arrays colour", "unknown particle array `colour`"),
+        ("vtk arrays id radius id", "given twice"),
+        ("vtk arrays r", "too short"),
+        ("vtk off arrays id", "stands alone"),
+        ("vtk arrays id arrays radius", "given twice"),
+        (
+            "vtk every 5 arrays velocity 3",
+            "unknown particle array `3`",
+        ),
+    ];
+    for (line, want) in cases {
+        let (ok, err) = run_in(
+            &dir,
+            &format!("start 1e-3 1e-3 1e-3 10 10 1\n{line}\ncycle 10\n"),
+        );
+        assert!(!ok, "{line}");
+        assert!(err.contains("in.tru:2:"), "{line}: {err}");
+        assert!(err.contains(want), "{line}: {err}");
+        let written: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".vtp") || n.ends_with(".pvd"))
+            .collect();
+        assert!(written.is_empty(), "{line}: {written:?}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

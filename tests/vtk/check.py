@@ -2,6 +2,11 @@
 output of the same state (tests/it/vtk.rs runs it with the Python of .ci/vtk-venv).
 
     python check.py DIR PREFIX
+    python check.py --arrays DIR PREFIX NAME,NAME,...
+
+The second form checks a frame of `VTk ARRays`: each frame of the series holds exactly the
+particle arrays named, in that order, and the last one's points and arrays are the JSON's
+(`PRint Balls` of its state, the last in out.jsonl).
 
 DIR holds out.jsonl (the run's --json output: `PRint Balls` of the reference state first
 when the run took one, then `PRint Balls Contacts Walls Grid Clusters` of the state of the
@@ -211,7 +216,36 @@ def check_field(path, fl):
     same("field stress", a["stress"], np.add(fl["stress_contact"], fl["stress_kinetic"]), f32=False)
 
 
+def check_selection(top, prefix, names):
+    out = os.path.join(top, "out")
+    rows = [json.loads(l) for l in open(os.path.join(top, "out.jsonl")) if l.startswith("{")]
+    state = [r for r in rows if r.get("print") == "balls"][-1]
+    balls = state["balls"]
+    root = ET.parse(os.path.join(out, f"{prefix}_particles.pvd")).getroot()
+    files = [s.get("file") for s in root.find("Collection").findall("DataSet")]
+    for f in files:
+        d = read(os.path.join(out, f))
+        got = [d.GetPointData().GetArrayName(k) for k in range(d.GetPointData().GetNumberOfArrays())]
+        if got != names:
+            fail(f"{f}: point arrays {got}, wanted {names}")
+    d = read(os.path.join(out, files[-1]))
+    if int(arrays(d.GetFieldData())["cycle"][0]) != state["cycle"]:
+        fail(f"the last frame is not of the JSON state's cycle {state['cycle']}")
+    same("particle positions", vtk_to_numpy(d.GetPoints().GetData()), [b["pos"] for b in balls], f32=False)
+    a = arrays(d.GetPointData())
+    keys = {"radius": "radius", "velocity": "vel", "spin": "spin", "force": "force"}
+    for name in names:
+        if name == "id":
+            same("id", a["id"], [b["id"] for b in balls], f32=False)
+        elif name in keys:
+            same(name, a[name], [b[keys[name]] for b in balls])
+    print(f"VTK check passed: {len(files)} frames with the arrays {names}, {len(balls)} particles")
+
+
 def main():
+    if sys.argv[1] == "--arrays":
+        check_selection(sys.argv[2], sys.argv[3], sys.argv[4].split(","))
+        return
     top, prefix = sys.argv[1], sys.argv[2]
     out = os.path.join(top, "out")
     rows = [json.loads(l) for l in open(os.path.join(top, "out.jsonl")) if l.startswith("{")]

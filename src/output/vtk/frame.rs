@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 
 use super::xml::{Array, PolyData, Values};
+use crate::lang::command::PARTICLE_ARRAYS;
 use crate::sim::scene::Vec3;
 use crate::sim::stress::pair_force;
 use crate::sim::walls::wall_gap;
@@ -28,12 +29,17 @@ pub fn coordination(scene: &Scene) -> Vec<i32> {
     scene.coordination().into_iter().map(|k| k as i32).collect()
 }
 
-/// The particles: points at their centres (one vertex cell each) with radius, velocity
+/// Every particle array (`VTk` without `ARRays`).
+pub const ALL_ARRAYS: u16 = (1 << PARTICLE_ARRAYS.len()) - 1;
+
+/// The particles: points at their centres (one vertex cell each) with the arrays of
+/// `arrays` (a bit per entry of [`PARTICLE_ARRAYS`], in that order): id, radius, velocity
 /// (relative to the mean field in a deforming cell, as `PRint Balls`), spin, force, moment,
-/// material, size type, agglomerate, id, coordination number, cluster (the smallest id of
-/// the particle's cluster of bonds, `PRint CLUsters`) and, after `PLot SAve`, the
-/// displacement since that reference (NaN for a particle created since).
-pub fn particles(scene: &Scene) -> PolyData {
+/// material, size type, agglomerate, coordination number, cluster (the smallest id of the
+/// particle's cluster of bonds, `PRint CLUsters`) and, after `PLot SAve`, the displacement
+/// since that reference (NaN for a particle created since). An array not chosen is not
+/// computed.
+pub fn particles(scene: &Scene, arrays: u16) -> PolyData {
     let p = scene.particles();
     let n = p.len();
     let mut d = PolyData {
@@ -45,47 +51,50 @@ pub fn particles(scene: &Scene) -> PolyData {
         d.verts.push(&[k]);
     }
     let ints = |v: Vec<i32>| Values::I32(v);
+    let on = |name: &str| {
+        PARTICLE_ARRAYS
+            .iter()
+            .position(|&a| a == name)
+            .is_some_and(|k| arrays & (1 << k) != 0)
+    };
     let pd = &mut d.point_data;
-    pd.push(Array::new(
-        "id",
-        1,
-        ints(p.id.iter().map(|&x| x as i32).collect()),
-    ));
-    pd.push(Array::scalars("radius", p.radius.iter().copied()));
-    pd.push(Array::vectors("velocity", p.vel.iter().map(a3)));
-    pd.push(Array::vectors("spin", p.spin.iter().map(a3)));
-    pd.push(Array::vectors("force", p.force.iter().map(a3)));
-    pd.push(Array::vectors("moment", p.moment.iter().map(a3)));
-    pd.push(Array::new(
-        "material",
-        1,
-        ints(p.material.iter().map(|&x| x as i32).collect()),
-    ));
-    pd.push(Array::new(
-        "size_type",
-        1,
-        ints(p.size.iter().map(|&x| x as i32).collect()),
-    ));
-    pd.push(Array::new(
-        "agglomerate",
-        1,
-        ints(p.agg.iter().map(|&x| x as i32).collect()),
-    ));
-    pd.push(Array::new("coordination", 1, ints(coordination(scene))));
-    let (bonds, _) = crate::analysis::bonds_now(scene);
-    let labels = crate::analysis::cluster_labels(&p.id, &bonds);
-    pd.push(Array::new(
-        "cluster",
-        1,
-        ints(labels.iter().map(|&l| p.id[l] as i32).collect()),
-    ));
-    if let Some(r) = scene.reference() {
-        let at: HashMap<u32, usize> = r.ids.iter().enumerate().map(|(k, &id)| (id, k)).collect();
-        let disp = (0..n).map(|k| match at.get(&p.id[k]).and_then(|&m| r.pos.get(m)) {
-            Some(x0) => a3(&scene.branch(&Vec3::from(*x0), &p.pos[k])),
-            None => [f64::NAN; 3],
-        });
-        pd.push(Array::vectors("displacement", disp));
+    for name in PARTICLE_ARRAYS.into_iter().filter(|a| on(a)) {
+        let array = match name {
+            "id" => Array::new(name, 1, ints(p.id.iter().map(|&x| x as i32).collect())),
+            "radius" => Array::scalars(name, p.radius.iter().copied()),
+            "velocity" => Array::vectors(name, p.vel.iter().map(a3)),
+            "spin" => Array::vectors(name, p.spin.iter().map(a3)),
+            "force" => Array::vectors(name, p.force.iter().map(a3)),
+            "moment" => Array::vectors(name, p.moment.iter().map(a3)),
+            "material" => Array::new(
+                name,
+                1,
+                ints(p.material.iter().map(|&x| x as i32).collect()),
+            ),
+            "size_type" => Array::new(name, 1, ints(p.size.iter().map(|&x| x as i32).collect())),
+            "agglomerate" => Array::new(name, 1, ints(p.agg.iter().map(|&x| x as i32).collect())),
+            "coordination" => Array::new(name, 1, ints(coordination(scene))),
+            "cluster" => {
+                let (bonds, _) = crate::analysis::bonds_now(scene);
+                let labels = crate::analysis::cluster_labels(&p.id, &bonds);
+                Array::new(
+                    name,
+                    1,
+                    ints(labels.iter().map(|&l| p.id[l] as i32).collect()),
+                )
+            }
+            _ => {
+                let Some(r) = scene.reference() else { continue };
+                let at: HashMap<u32, usize> =
+                    r.ids.iter().enumerate().map(|(k, &id)| (id, k)).collect();
+                let disp = (0..n).map(|k| match at.get(&p.id[k]).and_then(|&m| r.pos.get(m)) {
+                    Some(x0) => a3(&scene.branch(&Vec3::from(*x0), &p.pos[k])),
+                    None => [f64::NAN; 3],
+                });
+                Array::vectors(name, disp)
+            }
+        };
+        pd.push(array);
     }
     d
 }

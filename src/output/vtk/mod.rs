@@ -19,12 +19,14 @@ use crate::sim::Scene;
 /// The kinds of file of a frame.
 pub const KINDS: [&str; 4] = ["particles", "contacts", "walls", "cell"];
 
-/// The frames of one series (one prefix): (cycle, time), and how its files are encoded.
+/// The frames of one series (one prefix): (cycle, time), how its files are encoded, and
+/// the particle arrays its frames hold (a bit per entry of `PARTICLE_ARRAYS`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Series {
     pub prefix: String,
     pub frames: Vec<(u64, f64)>,
     pub encoding: xml::Encoding,
+    pub arrays: u16,
 }
 
 impl Series {
@@ -33,6 +35,7 @@ impl Series {
             prefix: prefix.to_string(),
             frames: Vec::new(),
             encoding: xml::Encoding::default(),
+            arrays: frame::ALL_ARRAYS,
         }
     }
 }
@@ -82,10 +85,11 @@ pub fn file_name(prefix: &str, kind: &str, cycle: u64) -> String {
     format!("{prefix}_{kind}_c{cycle:08}.vtp")
 }
 
-/// The bytes of the file of one kind (`KINDS`) for the scene as it is.
-pub fn encode_kind(scene: &Scene, kind: &str, encoding: xml::Encoding) -> Vec<u8> {
+/// The bytes of the file of one kind (`KINDS`) for the scene as it is; `arrays`: the
+/// particle arrays written (a bit per entry of `PARTICLE_ARRAYS`).
+pub fn encode_kind(scene: &Scene, kind: &str, encoding: xml::Encoding, arrays: u16) -> Vec<u8> {
     let d = match kind {
-        "particles" => frame::particles(scene),
+        "particles" => frame::particles(scene, arrays),
         "contacts" => frame::contacts(scene),
         "walls" => surfaces::walls(scene),
         _ => frame::cell_box(scene),
@@ -157,7 +161,7 @@ pub fn write_frame(scene: &Scene, series: &mut Series) -> Result<Vec<String>, St
         shown.push(write(
             &dir,
             &name,
-            &encode_kind(scene, kind, series.encoding),
+            &encode_kind(scene, kind, series.encoding, series.arrays),
         )?);
     }
     for kind in KINDS {
