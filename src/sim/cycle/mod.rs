@@ -166,12 +166,11 @@ fn run_steps(
         // plots, checkpoints), and those of the step before a snapshot for the snapshot.
         // So are those of a step whose history row records a group (its force sum,
         // `GROup name HIStory`).
-        let every = scene.settings.history_every;
-        let recorded = every > 0
-            && (scene.cycle + 1).is_multiple_of(every)
-            && scene.groups.list.iter().any(|g| g.record);
-        let keep =
-            last || step + 1 == n || snapshot_before(step + 1) || recorded || until.is_some();
+        let keep = last
+            || step + 1 == n
+            || snapshot_before(step + 1)
+            || records_a_group(scene)
+            || until.is_some();
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
@@ -226,6 +225,15 @@ fn run_steps(
         return Err(stop(scene, snapshot, e));
     }
     Ok((model, ran))
+}
+
+/// Whether the next step's history row records a group (`GROup name HIStory`), whose force
+/// sum needs the step's forces kept.
+fn records_a_group(scene: &Scene) -> bool {
+    let every = scene.settings.history_every;
+    every > 0
+        && (scene.cycle + 1).is_multiple_of(every)
+        && scene.groups.list.iter().any(|g| g.record)
 }
 
 /// The start of a Cycle with particles: plane walls open the periodic axes they cross, the
