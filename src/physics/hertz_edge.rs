@@ -51,6 +51,19 @@ impl Edge {
         let excess = force_constant(e_star, r_star) * h * h * h.sqrt() * z;
         Some(Edge { excess, phi, h })
     }
+
+    /// The force that takes the excess off in a step over which the overlap changes by
+    /// `step` (as the leap-frog counts a force's work); none where the step's change is
+    /// below `h/2` (a pair pulled apart so that its approach nearly stops within the step),
+    /// which a gas meets rarely but which would otherwise divide by a change near zero (a
+    /// dense gas ran away at cycle 395,000 before this guard).
+    pub fn correction(&self, step: f64) -> f64 {
+        if step >= 0.5 * self.h {
+            -self.excess / step
+        } else {
+            0.0
+        }
+    }
 }
 
 /// What [`edge_step`] reads of one contact at a step: its overlap now and at the last step,
@@ -109,10 +122,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
                 return (0.0, f64::INFINITY);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
-            (
-                if step > 0.0 { -e.excess / step } else { 0.0 },
-                f64::INFINITY,
-            )
+            (e.correction(step), f64::INFINITY)
         }
         // The first step without overlap: keep the rate (not after a single step).
         (true, false) => (0.0, if pending { f64::INFINITY } else { v_n }),
@@ -124,10 +134,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
                 return (0.0, f64::INFINITY);
             };
             let step = e.h + c * (e.phi - 2.0);
-            (
-                if step > 0.0 { -e.excess / step } else { 0.0 },
-                f64::INFINITY,
-            )
+            (e.correction(step), f64::INFINITY)
         }
         _ => (0.0, f64::INFINITY),
     }
