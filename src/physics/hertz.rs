@@ -58,71 +58,28 @@ pub fn force(e_star: f64, r_star: f64, overlap: f64) -> f64 {
     }
 }
 
-/// The Hurwitz zeta function at −3/2, `ζ(−3/2, a) = Σ_{j≥0} (j + a)^{3/2}` (continued
-/// analytically), for `a > 0`: by the Euler–Maclaurin formula after 10 terms of the sum,
-/// `Σ_{j<10} (j + a)^s − [b^{s+1}/(s+1) − b^s/2 + s/12 b^{s−1} − s(s−1)(s−2)/720 b^{s−3} +
-/// s(s−1)(s−2)(s−3)(s−4)/30240 b^{s−5}]` with `s = 3/2`, `b = a + 10` (better than 1e-10
-/// absolute for `0 < a ≤ 2`; `ζ(−3/2, 1) = ζ(−3/2) = −0.0254852019`).
-pub fn hurwitz_zeta_m32(a: f64) -> f64 {
-    const N: usize = 10;
+/// The Hurwitz zeta function at `−σ` (`σ > 0`), `ζ(−σ, a) = Σ_{j≥0} (j + a)^σ` (continued
+/// analytically), for `a > 0`: by the Euler–Maclaurin formula after 16 terms of the sum,
+/// `Σ_{j<16} (j + a)^σ − [b^{σ+1}/(σ+1) − b^σ/2 + σ/12 b^{σ−1} − σ(σ−1)(σ−2)/720 b^{σ−3} +
+/// σ(σ−1)(σ−2)(σ−3)(σ−4)/30240 b^{σ−5}]`, `b = a + 16` (better than 1e-10 absolute for
+/// `0 < a ≤ 2`, σ ≤ 5/2; `ζ(−3/2) = −0.0254852019`, `ζ(−5/2) = +0.0085169288`).
+pub fn hurwitz_zeta_neg(sigma: f64, a: f64) -> f64 {
+    const N: usize = 16;
     let mut sum = 0.0;
     for j in 0..N {
-        let x = j as f64 + a;
-        sum += x * x.sqrt();
+        sum += (j as f64 + a).powf(sigma);
     }
     let b = a + N as f64;
-    let rb = b.sqrt();
-    let tail = b * b * rb / 2.5 - b * rb / 2.0 + 0.125 * rb + 0.375 / 720.0 / (b * rb)
-        - 1.40625 / 30240.0 / (b * b * b * rb);
+    let s = sigma;
+    let tail = b.powf(s + 1.0) / (s + 1.0) - b.powf(s) / 2.0 + s / 12.0 * b.powf(s - 1.0)
+        - s * (s - 1.0) * (s - 2.0) / 720.0 * b.powf(s - 3.0)
+        + s * (s - 1.0) * (s - 2.0) * (s - 3.0) * (s - 4.0) / 30240.0 * b.powf(s - 5.0);
     sum - tail
 }
 
-/// The corrections of the leap-frog impulses where a Hertz contact starts and ends, so that
-/// an elastic collision gives back the energy it took.
-///
-/// Near first touch the overlap grows by nearly the same `h = |v| Δt` each step, so the
-/// steps sample the overlap at `α_j = (j + φ) h`, `j = 0, 1, …`, `φ ∈ (0, 1]` the phase of
-/// the first overlap. The scheme's work `Σ P(α_j) h` differs from the Hertz strain energy
-/// `∫ P dα` ((3.14)–(3.15)) by a term that depends on the phase (the generalized
-/// Euler–Maclaurin formula for `Σ (j + φ)^{3/2}`): `K h^{5/2} ζ(−3/2, φ)` besides the
-/// midpoint rule's smooth `O(h²)` part, which the scheme's interior gives back (`K = 4/3 E*
-/// √R*`). It is a few 1e-3 of a collision's energy at FRAction 0.2, and its mean over `φ`
-/// is not zero (+1.6e-5 at 13 steps a contact): a gas adds it up, collision after collision.
-/// Taking `K h^{3/2} ζ(−3/2, φ)` off the first impulse cancels it: the first step's force
-/// becomes `P(φ h) − K h^{3/2} ζ(−3/2, φ) = −K h^{3/2} ζ(−3/2, 1 + φ)` (> 0), which
-/// [`onset_force`] returns; the same for the last overlap `φ' h'` before the contact opens,
-/// taken off at the first step without overlap ([`release_force`]).
-///
-/// **Not used by the contact kernels (yet).** For a collision of two particles, or of a
-/// particle and a wall, the corrections take the error from ±2.6e-3 to 2e-5 and its mean
-/// from +1.6e-5 to below 1e-6 (the tests below; through the binary, 900 phases: 1e-6 …
-/// 5e-6 → 2e-7 … 1.6e-6). But where a third body pushes one of the two (a particle already
-/// in a contact), the overlap's steps are not even, `φ = α/h` is not the phase in time, and
-/// the correction leaves a bias of its own, of the other sign, systematic because the push
-/// is mostly towards the new contact: a cradle of three spheres −7.6e-6 (plain +5.2e-6),
-/// and the dense gas of doc/limits.md drifted −4.8e-3 in 10⁶ steps with them (plain +5e-3).
-/// The phase in time needs the pair's relative acceleration at first touch, which the pair
-/// loop does not have (doc/limits.md, "Energy drift of an elastic gas").
-pub fn onset_force(e_star: f64, r_star: f64, overlap: f64, h: f64) -> f64 {
-    let phi = overlap / h;
-    if overlap > 0.0 && h > 0.0 && phi <= 1.0 {
-        -force_constant(e_star, r_star) * h * h.sqrt() * hurwitz_zeta_m32(1.0 + phi)
-    } else {
-        force(e_star, r_star, overlap)
-    }
-}
-
-/// The force of the first step after a Hertz contact opened ([`onset_force`]): `−K h^{3/2}
-/// ζ(−3/2, φ')`, `φ' = α_last/h` the phase of the last overlap `α_last` in a step of the
-/// separation `h = v Δt`; 0 when the phase is not in (0, 1] (the contact did not open as a
-/// steady separation: an overlap that fell by more than a step's travel).
-pub fn release_force(e_star: f64, r_star: f64, last: f64, h: f64) -> f64 {
-    let phi = last / h;
-    if last > 0.0 && h > 0.0 && phi <= 1.0 {
-        -force_constant(e_star, r_star) * h * h.sqrt() * hurwitz_zeta_m32(phi)
-    } else {
-        0.0
-    }
+/// `ζ(−3/2, a)` ([`hurwitz_zeta_neg`]).
+pub fn hurwitz_zeta_m32(a: f64) -> f64 {
+    hurwitz_zeta_neg(1.5, a)
 }
 
 /// Hertz normal stiffness `k_n = dP/dα = 2 E* a = 2 E* sqrt(R* α)`; derivative of Lian 1994
@@ -247,57 +204,21 @@ mod tests {
         for a in [0.01, 0.3, 0.77, 1.0] {
             let d = hurwitz_zeta_m32(a) - a.powf(1.5) - hurwitz_zeta_m32(a + 1.0);
             assert!(d.abs() < 1e-10, "{a}: {d}");
+            let d = hurwitz_zeta_neg(2.5, a) - a.powf(2.5) - hurwitz_zeta_neg(2.5, a + 1.0);
+            assert!(d.abs() < 1e-10, "{a}: {d}");
         }
-    }
-
-    /// One elastic head-on collision on the discrete map of the leap-frog scheme (m* = 1,
-    /// K = 1, approach speed 1), first touch at phase `phase` of a step: the relative change
-    /// of the kinetic energy, with the plain Hertz force or with the corrections of the
-    /// first and the last step.
-    fn collision(steps: f64, phase: f64, corrected: bool) -> f64 {
-        let (e, r) = (0.75, 1.0); // K = 4/3 E* √R* = 1
-        let a_max = 1.25f64.powf(0.4);
-        let dt = HERTZ_DURATION_FACTOR * a_max / steps;
-        let (mut alpha, mut u, mut touching, mut last) = (-(1.0 + phase) * dt, 1.0f64, false, 0.0);
-        for _ in 0..(20.0 * steps) as usize {
-            let h = u.abs() * dt;
-            let f = if !corrected {
-                force(e, r, alpha)
-            } else if alpha > 0.0 && !touching {
-                onset_force(e, r, alpha, h)
-            } else if alpha <= 0.0 && touching {
-                release_force(e, r, last, h)
-            } else {
-                force(e, r, alpha)
-            };
-            touching = alpha > 0.0;
-            last = alpha;
-            u -= f * dt;
-            alpha += u * dt;
-            if u < 0.0 && alpha < -3.0 * h {
-                break;
-            }
+        // ζ(−5/2) and ζ(−5/2, ½) = (2^{−5/2} − 1) ζ(−5/2); the mean over a ∈ (0, 1) is 0.
+        let z = 0.008_516_928_777_850_3;
+        assert!((hurwitz_zeta_neg(2.5, 1.0) - z).abs() < 1e-10);
+        assert!((hurwitz_zeta_neg(2.5, 0.5) - (2f64.powf(-2.5) - 1.0) * z).abs() < 1e-10);
+        for sigma in [1.5, 2.5] {
+            let n = 20000;
+            let mean = (0..n)
+                .map(|k| hurwitz_zeta_neg(sigma, (k as f64 + 0.5) / n as f64))
+                .sum::<f64>()
+                / n as f64;
+            assert!(mean.abs() < 1e-8, "{sigma}: {mean}");
         }
-        u * u - 1.0
-    }
-
-    /// At 13 steps per contact (FRAction 0.2) the plain scheme's error of an elastic
-    /// collision spans ±2.6e-3 with the phase of first touch and averages +1.6e-5; with the
-    /// corrections of onset and release, within 2e-5 and a mean below 1e-6.
-    #[test]
-    fn onset_and_release_corrections_keep_a_collision_elastic() {
-        let n = 400;
-        let stats = |corrected: bool| {
-            let e: Vec<f64> = (0..n)
-                .map(|k| collision(13.0, (k as f64 + 0.5) / n as f64, corrected))
-                .collect();
-            let mean = e.iter().sum::<f64>() / n as f64;
-            (mean, e.iter().fold(0.0f64, |m, x| m.max(x.abs())))
-        };
-        let (mean0, max0) = stats(false);
-        assert!(mean0 > 1e-5 && max0 > 2e-3, "{mean0} {max0}");
-        let (mean, max) = stats(true);
-        assert!(mean.abs() < 1e-6 && max < 2e-5, "{mean} {max}");
     }
 
     const R: f64 = 30e-6;

@@ -3,6 +3,7 @@
 pub mod bridge;
 pub mod dashpot;
 pub mod hertz;
+pub mod hertz_edge;
 pub mod jkr;
 pub mod jkr_nguyen;
 pub mod mdr;

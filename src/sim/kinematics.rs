@@ -61,6 +61,10 @@ pub struct Laws<'a> {
     /// (For particle–wall contacts `params::Model::wall_laws`: the same laws, marked as a
     /// wall's.)
     pub pair_laws: &'a [super::params::PairLaw],
+    /// The Hertz contacts without dissipation take the corrections of their edges
+    /// (`interact::edges`, `physics::hertz_edge`): a step (Δt > 0) of a scene without
+    /// Rayleigh or global damping and without liquid.
+    pub edges: bool,
 }
 
 impl Laws<'static> {
@@ -80,6 +84,7 @@ impl Laws<'static> {
             goldman: false,
             margin: 0.0,
             pair_laws: &[],
+            edges: false,
         }
     }
 }

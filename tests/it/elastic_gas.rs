@@ -4,9 +4,10 @@
 //! distribution of 0.5 m/s per component, at the default FRAction 0.2. Its energy must stay
 //! (kinetic + strain over what the commands put in).
 //!
-//! Not fixed yet (doc/limits.md, "Energy drift of an elastic gas"): the tests are ignored and
-//! fail. `cargo test --profile ci --test it elastic_gas:: -- --ignored --nocapture` prints the
-//! drift every 10⁵ (10⁶) steps.
+//! The energy printed at an instant carries the contacts in flight (up to ±1.3e-3 of the
+//! energy in this gas, doc/limits.md "Energy drift of an elastic gas"), so the test takes the
+//! mean of the prints in each tenth of the run. `cargo test --profile ci --test it
+//! elastic_gas:: -- --ignored --nocapture` prints them.
 
 use crate::common::{printed, trubal_json};
 
@@ -67,25 +68,29 @@ fn drift(steps: u64, prints: u64) -> Vec<f64> {
         .collect()
 }
 
-fn check(steps: u64, prints: u64) {
-    let d = drift(steps, prints);
-    for (k, x) in d.iter().enumerate() {
-        println!("{:>9} steps: {x:+.3e}", k as u64 * steps / prints);
-    }
+/// The mean drift in each tenth of the run (10 prints each) at most 1e-3, and no print
+/// beyond 2e-3 (contacts in flight).
+fn check(steps: u64) {
+    let d = drift(steps, 100);
     let worst = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    assert!(worst <= 1e-3, "energy drift up to {worst:+.3e}");
+    for (k, w) in d[1..].chunks(10).enumerate() {
+        let mean = w.iter().sum::<f64>() / w.len() as f64;
+        println!("{:>9} steps: {mean:+.3e}", (k as u64 + 1) * steps / 10);
+        assert!(mean.abs() <= 1e-3, "energy drift {mean:+.3e} in tenth {k}");
+    }
+    assert!(worst <= 2e-3, "energy off by {worst:+.3e} at a print");
 }
 
-/// 10⁶ steps (~35 s on one core): +5e-3 now (doc/limits.md).
+/// 10⁶ steps (~35 s on one core; the leap-frog alone: +5e-3).
 #[test]
-#[ignore = "issue 49 item 4 is not fixed: the elastic gas drifts (doc/limits.md)"]
 fn elastic_gas_keeps_its_energy_over_a_million_steps() {
-    check(1_000_000, 10);
+    check(1_000_000);
 }
 
-/// 10⁷ steps (~8 min on one core): +5.3e-2 now.
+/// 10⁷ steps (~8 min on one core; the leap-frog alone: +5.3e-2). Not run to its end with
+/// the corrections yet (doc/limits.md).
 #[test]
-#[ignore = "issue 49 item 4 is not fixed: the elastic gas drifts (doc/limits.md)"]
+#[ignore = "10⁷ steps, ~8 min on one core (doc/limits.md)"]
 fn elastic_gas_keeps_its_energy_over_ten_million_steps() {
-    check(10_000_000, 10);
+    check(10_000_000);
 }
