@@ -273,6 +273,7 @@ pub fn field<'py>(
         } else {
             fields::Kernel::Gauss
         },
+        region: None,
     };
     fields::check(s, &spec).map_err(super::CommandError::new_err)?;
     let f = fields::compute(s, &spec);
