@@ -151,6 +151,15 @@ def olsson_liggghts_runs():
     return [dict(r, dashpot="liggghts") for r in olsson_runs()]
 
 
+# The prepared Olsson agglomerates: dry and at three liquid contents (each table that
+# impacts them prepares them alike).
+OLSSON_PREPARE = [
+    ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
+    ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
+    ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
+    ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
+]
+
 TABLES = {
     "lian6": {
         "figure": True,  # shown in doc/validation.md
@@ -233,12 +242,7 @@ TABLES = {
         "figure": True,  # shown in doc/validation.md
         "title": "Olsson: 4000-particle polydisperse agglomerate on a wall",
         "script": "olsson_impact.tru",
-        "prepare": [
-            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
-        ],
+        "prepare": OLSSON_PREPARE,
         "derive": "olsson",
         "runs": olsson_runs(),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
@@ -249,12 +253,7 @@ TABLES = {
         "title": "Olsson's regime map runs (Rabinovich bridges)",
         "script": "olsson_regime.tru",
         "work": "olsson",
-        "prepare": [
-            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
-        ],
+        "prepare": OLSSON_PREPARE,
         "derive": "olsson_regime",
         "runs": olsson_regime_runs(),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
@@ -264,12 +263,7 @@ TABLES = {
         "title": "Olsson, LIGGGHTS' dashpot: 4000-particle agglomerate on a wall",
         "script": "olsson_impact.tru",
         "work": "olsson",
-        "prepare": [
-            ("olsson_prepare_dry.tru", {"state": "olsson_dry.sav"}, "olsson_dry.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.01", "state": "olsson_0.01.sav"}, "olsson_0.01.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "0.1", "state": "olsson_0.1.sav"}, "olsson_0.1.sav"),
-            ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
-        ],
+        "prepare": OLSSON_PREPARE,
         "derive": "olsson",
         "runs": olsson_liggghts_runs(),
         "x": "v", "group": "liquid", "y": "fragmentation_pct", "logx": False,
