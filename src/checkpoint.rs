@@ -48,8 +48,11 @@
 //! the energy audit of every Cycle measures from; read as unknown from older files), the
 //! spring row of `SET TANgential MDR` (`mdr`) to the law-specific part of the contact state
 //! (read as none from older files, through `sim::contacts::old`), and may hold the new last
-//! variant `TangentialChoice::Mdr`, which older files never hold.
-//! Versions 1 to 8
+//! variant `TangentialChoice::Mdr`, which older files never hold; version 10 adds the last
+//! evaluated point of a JKR contact's step path (`end`, `physics::jkr::PathEnd`) to the
+//! law-specific part of the contact state (read as none from older files: the next step
+//! solves (3.29) at the start of its path, as before).
+//! Versions 1 to 9
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -63,7 +66,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 9;
+pub const VERSION: u32 = 10;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -230,6 +233,8 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Versions 6 to 8 differ in the ledger (no `unbooked`, scene::old_ledger) and the
         // contact state (no `mdr`, sim::contacts::old).
         6..=8 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        // Version 9 differs in the contact state (no `end`, sim::contacts::old).
+        9 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Versions 1 to 4 differ in the layout of the contact state (sim::contacts::old; for
         // version 3 the law-specific part had no `walton`, for 4 no `normal`), have no
         // contact laws (scene::old_laws), the walls and settings of 1 and 2
