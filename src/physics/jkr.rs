@@ -1239,7 +1239,7 @@ mod tests {
                         let alpha = alpha_end - h;
                         let got = j.energy_from_end(a_s, &end, lo, alpha);
                         let exact = j.branch_energy(a_s, wp, lo, a).0;
-                        let tol = 1e-10 * p.abs().max(j.pc()) * h + 1e-15 * (wp + exact.abs());
+                        let tol = 1e-10 * p.abs().max(j.pc()) * h + 1e-14 * (wp + exact.abs());
                         let got = got.unwrap_or_else(|| panic!("γ {g} k {k} h {h} f {f}"));
                         assert!(
                             (got - exact).abs() <= tol,
