@@ -1233,10 +1233,12 @@ mod tests {
                     Some(e)
                 );
                 for h in [1e-2 * rho, 1e-5 * rho, 1e-9 * rho] {
+                    // α_n, and the half step as the rounding of α_n leaves it.
+                    let alpha = alpha_end - h;
+                    let h = (alpha - alpha_end).abs();
                     let d_max = (1e-10 * rho * rho * h).cbrt();
                     for f in [0.98, 0.5, -0.5, -0.98] {
                         let lo = alpha_end + f * d_max;
-                        let alpha = alpha_end - h;
                         let got = j.energy_from_end(a_s, &end, lo, alpha);
                         let exact = j.branch_energy(a_s, wp, lo, a).0;
                         let tol = 1e-10 * p.abs().max(j.pc()) * h + 1e-14 * (wp + exact.abs());
@@ -1249,7 +1251,7 @@ mod tests {
                     }
                     // Beyond the bound: solved afresh.
                     let lo = alpha_end + 1.05 * d_max;
-                    assert_eq!(j.energy_from_end(a_s, &end, lo, alpha_end - h), None);
+                    assert_eq!(j.energy_from_end(a_s, &end, lo, alpha), None);
                 }
                 // Another law (a modulus changed between Cycles): solved afresh.
                 let other = Jkr {
