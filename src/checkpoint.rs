@@ -53,8 +53,10 @@
 //! the material pairs (`SET DASHpot`, `ContactLaws::dashpot`, read as trubal's everywhere from
 //! older files) and, after the scene, the command language's state
 //! (`session::script::ScriptState`: the variables and procedures; read as none from older
-//! files).
-//! Versions 1 to 9
+//! files); version 11 adds the last evaluated point of a JKR contact's step path (`end`,
+//! `physics::jkr::PathEnd`) to the law-specific part of the contact state (read as none
+//! from older files: the next step solves (3.29) at the start of its path, as before).
+//! Versions 1 to 10
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -69,7 +71,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 10;
+pub const VERSION: u32 = 11;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -244,9 +246,10 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
         VERSION => decode_all::<Scene, R>(r, version),
-        // Version 9 differs in having no groups (scene::old_groups) and no dashpot forms in
-        // the contact laws (scene::old_laws).
-        9 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        // Version 10 differs in the contact state (no `end`, sim::contacts::old); version 9
+        // also in having no groups (scene::old_groups) and no dashpot forms in the contact
+        // laws (scene::old_laws).
+        9 | 10 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Versions 6 to 8 differ in the ledger (no `unbooked`, scene::old_ledger) and the
         // contact state (no `mdr`, sim::contacts::old).
         6..=8 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),

@@ -29,6 +29,8 @@
 // `!(x > y)` comparisons are deliberate: they also route NaN to the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use serde::{Deserialize, Serialize};
+
 use super::hertz;
 
 /// Floor applied to `|x³ − 1| = |dα/da| · (…)` in [`Jkr::stiffness_of_a`] near the pole at
@@ -61,6 +63,22 @@ pub struct StepPath {
     pub lag: f64,
 }
 
+/// The last point of a JKR contact's step path where its energy was evaluated (the end of
+/// the path, or its middle on a path too short for a chord; [`Jkr::step_force_at`]): the
+/// approach `alpha`, the energy `e` ([`Jkr::branch_energy`]), the force `p = dE/dα` and the
+/// stiffness `k = dp/dα` there (3.41), with the `E*` and `R*` of the law they belong to. The
+/// next step's path starts where the pair went, within the prediction error of the other
+/// forces of this point ([`Jkr::leap_frog_force`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathEnd {
+    pub alpha: f64,
+    pub e: f64,
+    pub p: f64,
+    pub k: f64,
+    pub e_star: f64,
+    pub r_star: f64,
+}
+
 /// Where the path of a JKR contact's step starts ([`Jkr::leap_frog_force`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PathStart {
@@ -90,7 +108,8 @@ impl PathStart {
 /// `t_n`, the start of the path `lo = α_{n−1/2}`, the separation rate `v` at `t_{n−1/2}`
 /// (positive opening), the step, the reduced mass, the contact's force of the last step, the
 /// separation rate of the last step (`v_prev`, not finite if unknown), the dashpot's force
-/// of the last step, the contact radius of the last step and where the path starts.
+/// of the last step, the contact radius of the last step, where the path starts and the
+/// last evaluated point of the last step's path (if known).
 #[derive(Clone, Copy, Debug)]
 pub struct LeapFrog {
     pub alpha: f64,
@@ -103,6 +122,7 @@ pub struct LeapFrog {
     pub f_damp: f64,
     pub a_old: f64,
     pub from: PathStart,
+    pub end: Option<PathEnd>,
 }
 
 impl Jkr {
@@ -223,6 +243,28 @@ impl Jkr {
         k_hertz * (x3 - 3.0) / den
     }
 
+    /// [`Jkr::stiffness_of_a`] with `a_s` (3.117) given by the caller (as
+    /// [`Jkr::solve_a_with`]). Requires `γ > 0` and `a_s = self.a_s() > 0`.
+    pub fn stiffness_with(&self, a_s: f64, a: f64) -> f64 {
+        let a = a.max(0.0);
+        let k_hertz = 2.0 * self.e_star * a;
+        let y = a / a_s;
+        let x3 = y * y.sqrt();
+        if x3 > 4.0 {
+            let ix = 1.0 / x3;
+            return k_hertz * (1.0 - 3.0 * ix) / (1.0 - ix);
+        }
+        let mut den = x3 - 1.0;
+        if den.abs() < STIFFNESS_POLE_FLOOR {
+            den = if den < 0.0 {
+                -STIFFNESS_POLE_FLOOR
+            } else {
+                STIFFNESS_POLE_FLOOR
+            };
+        }
+        k_hertz * (x3 - 3.0) / den
+    }
+
     /// Contact radius on the stable (displacement-control) branch `a ≥ a_s` for the approach
     /// `alpha`, i.e. the root of the corrected Lian 1994 (3.29) `α = a²/R* − sqrt(4πγa/E*)`
     /// (with `a(α) ≥ a_s`). For `alpha ≤ α_s` (3.38) it returns `a_s` (the caller decides that
@@ -233,7 +275,8 @@ impl Jkr {
     /// both `sqrt(D/6)` and `D^{1/4}` are upper bounds of the root, so Newton started from the
     /// smaller of them — or from the warm start `a_guess` when that is a tighter upper bound (a
     /// guess below the root is first turned into an upper bound by one Newton step, which
-    /// overshoots by convexity) — decreases monotonically and quadratically to the root. Because
+    /// overshoots by convexity) — decreases monotonically and quadratically to the root; it
+    /// stops after a step below 1e-8 of `t`, when the next would be below an ulp. Because
     /// `g` has no cancellation the root `t` is found to a few ulps in relative terms even when
     /// `α → α_s` (`dα/da → 0`, `t ≈ sqrt(D/6)`). For astronomically large `D > 1e60` a
     /// fixed-point form `a = sqrt(R*(α + sqrt(4πγa/E*)))` is used (contraction factor
@@ -257,22 +300,7 @@ impl Jkr {
         if !(d <= 1e60) {
             return self.solve_a_huge(alpha);
         }
-        // Upper bounds of the root: g(sqrt(D/6)) = t⁴ + 4t³ ≥ 0, g(D^{1/4}) = 4t³ + 6t² ≥ 0.
-        let mut t = (d / 6.0).sqrt().min(d.sqrt().sqrt());
-        if a_guess.is_finite() && a_guess > a_s {
-            let tg = (a_guess / a_s).sqrt() - 1.0;
-            if tg > 0.0 && tg < t {
-                let g = tg * tg * (6.0 + tg * (4.0 + tg)) - d;
-                if g >= 0.0 {
-                    t = tg;
-                } else {
-                    let tn = tg - newton_step(tg, d);
-                    if tn < t {
-                        t = tn;
-                    }
-                }
-            }
-        }
+        let mut t = start(d, a_guess / a_s);
         for _ in 0..200 {
             let step = newton_step(t, d);
             if !(step > 0.0) {
@@ -283,7 +311,10 @@ impl Jkr {
                 break;
             }
             t = tn;
-            if step <= 2.0 * f64::EPSILON * t {
+            // Quadratic convergence from above: the next step would be at most
+            // 3(t+1)²/(2(t²+3t+3)) (step/t)² t < 1.5e-16 t, below the 2ε t at which it stops
+            // (the root to within an ulp of t).
+            if step <= 1e-8 * t {
                 break;
             }
         }
@@ -395,13 +426,25 @@ impl Jkr {
     /// P_old)/m* + (v − v_prev)`, the last step's change of the separation rate less this
     /// contact's force then standing for the other forces (as `dashpot::drive` takes them),
     /// or `v + Δt(P̄ + F_dashpot)/m*` without the last step's rate. `a` is the contact radius
-    /// at `α_n` ([`Jkr::solve_a_with`]).
-    pub fn leap_frog_force(&self, a_s: f64, a: f64, x: &LeapFrog) -> f64 {
+    /// at `α_n` ([`Jkr::solve_a_with`]). Returns `P̄` and the last evaluated point of the
+    /// path, for the next step's `x.end`.
+    ///
+    /// `E(α_{n−1/2})` is where the last step's path ended up to the prediction error `δ` of
+    /// the other forces: from its last evaluated point `x.end` it is the Taylor polynomial
+    /// `E + Pδ + kδ²/2` ([`Jkr::energy_from_end`]) when that is exact to 1e-10 of the work of
+    /// half a step, else (and without `x.end`) a solution of (3.29) at `α_{n−1/2}`.
+    pub fn leap_frog_force(&self, a_s: f64, a: f64, x: &LeapFrog) -> (f64, Option<PathEnd>) {
         let w_p = self.peel_work_with(a_s);
         let e_lo = match x.from {
             PathStart::Touch => 0.0,
             PathStart::Primed => self.energy_of_a_with(a_s, a) + w_p,
-            PathStart::Path => self.branch_energy(a_s, w_p, x.lo, x.a_old).0,
+            PathStart::Path => match x
+                .end
+                .and_then(|end| self.energy_from_end(a_s, &end, x.lo, x.alpha))
+            {
+                Some(e) => e,
+                None => self.branch_energy(a_s, w_p, x.lo, x.a_old).0,
+            },
         };
         let inv_m = 1.0 / x.m_star;
         let v_ahead = if x.v_prev.is_finite() {
@@ -415,7 +458,39 @@ impl Jkr {
             base: x.alpha - 0.5 * x.dt * v_ahead,
             lag: 0.5 * x.dt * x.dt * inv_m,
         };
-        self.step_force(a_s, &path, self.force_of_a(a), a).0
+        let (p, _, at) = self.step_force_at(a_s, &path, self.force_of_a(a), a);
+        let end = at.map(|(alpha, e, p, a)| PathEnd {
+            alpha,
+            e,
+            p,
+            k: self.stiffness_with(a_s, a),
+            e_star: self.e_star,
+            r_star: self.r_star,
+        });
+        (p, end)
+    }
+
+    /// The energy at `lo` ([`Jkr::branch_energy`]) from a point `end` where it was
+    /// evaluated, by the Taylor polynomial `E + Pδ + kδ²/2`, `δ = lo − α_end`, when `end`
+    /// belongs to this law (`E*`, `R*`) and lies on the branch (`ρ = α_end − α_s > 0`,
+    /// (3.38)), and `|δ|³ ≤ 1e-10 ρ² |α − α_end|` (`alpha` = `α_n`). `E(α)` is analytic
+    /// within `ρ` of `α_end` (its nearest singularity is the fold at `α_s`, where `a − a_s ∝
+    /// (α − α_s)^{1/2}`), and `|E'''| ≲ max(|P|, P_c)/ρ²` (at the fold `P_c t/(3ρ²)`, `t =
+    /// x − 1`; Hertz `3P/(4α²)`), so the remainder `|E'''||δ|³/6` is below 1e-10 of the work
+    /// `max(|P|, P_c)|α − α_end|` of the half step: the tolerance of [`Jkr::step_force`]'s own
+    /// iteration. Else `None` (a solution of (3.29) is needed).
+    pub fn energy_from_end(&self, a_s: f64, end: &PathEnd, lo: f64, alpha: f64) -> Option<f64> {
+        if end.e_star != self.e_star || end.r_star != self.r_star {
+            return None;
+        }
+        let rho = end.alpha + 3.0 * a_s * a_s / self.r_star;
+        let d = lo - end.alpha;
+        let h = (alpha - end.alpha).abs();
+        if rho > 0.0 && d.abs() * d * d <= 1e-10 * rho * rho * h {
+            Some(end.e + d * (end.p + 0.5 * end.k * d))
+        } else {
+            None
+        }
     }
 
     /// The energy of a contact on its (touching) branch at the approach `alpha`, counted from
@@ -458,6 +533,20 @@ impl Jkr {
     /// derivative falls below 1/4; returns `(P̄, α_{n+1/2})`.
     /// On a path shorter than `1e-9` of its scale the mean is the force at its middle.
     pub fn step_force(&self, a_s: f64, path: &StepPath, p_guess: f64, a_guess: f64) -> (f64, f64) {
+        let (p, end, _) = self.step_force_at(a_s, path, p_guess, a_guess);
+        (p, end)
+    }
+
+    /// [`Jkr::step_force`], with the last point of the path where the energy was evaluated:
+    /// `(α, E, P, a)` ([`Jkr::branch_energy`]), `None` if none was.
+    #[allow(clippy::type_complexity)]
+    pub fn step_force_at(
+        &self,
+        a_s: f64,
+        path: &StepPath,
+        p_guess: f64,
+        a_guess: f64,
+    ) -> (f64, f64, Option<(f64, f64, f64, f64)>) {
         let StepPath {
             lo,
             e_lo,
@@ -469,16 +558,19 @@ impl Jkr {
         let mut p = if p_guess.is_finite() { p_guess } else { 0.0 };
         let mut guess = a_guess;
         let mut out = (p, base - lag * p);
+        let mut at = None;
         for _ in 0..8 {
             let hi = base - lag * p;
             let d = hi - lo;
             let scale = lo.abs().max(hi.abs()).max(-alpha_s);
             if !(d.abs() > 1e-9 * scale) {
                 // (Also a NaN path: the force at its middle, which is then NaN too.)
-                let (_, pm, _) = self.branch_energy(a_s, w_p, 0.5 * (lo + hi), guess);
-                return (pm, hi);
+                let mid = 0.5 * (lo + hi);
+                let (em, pm, am) = self.branch_energy(a_s, w_p, mid, guess);
+                return (pm, hi, Some((mid, em, pm, am)));
             }
             let (e, ph, a) = self.branch_energy(a_s, w_p, hi, guess);
+            at = Some((hi, e, ph, a));
             guess = a;
             let chord = (e - e_lo) / d;
             out = (chord, hi);
@@ -504,11 +596,56 @@ impl Jkr {
             // ½ C'' Δh² |α − lo| < 1e-10 of the step's, C the chord as a function of the end).
             let dh = lag * g / slope;
             if dh.abs() <= 1e-5 * d.abs() && (hi - alpha_s) * (hi + dh - alpha_s) > 0.0 {
-                return (p, hi + dh);
+                return (p, hi + dh, at);
             }
         }
-        out
+        (out.0, out.1, at)
     }
+}
+
+/// The start of the Newton iteration of [`Jkr::solve_a_with`] for `g(t) = t⁴ + 4t³ + 6t² − D`
+/// given the warm start `y = a_guess/a_s`: the smallest of the upper bounds `sqrt(D/6)`
+/// (`g = t⁴ + 4t³ ≥ 0` there), `D^{1/4}` (`g = 4t³ + 6t² ≥ 0`) and the warm start `t_g =
+/// sqrt(y) − 1` when it is one (`g(t_g) ≥ 0`), else the Newton iterate from it (above the root
+/// by convexity). A warm start inside the bounds by a margin (`6t² < D` and `t⁴ < D` with
+/// `1e-12` to spare, more than the rounding of the bounds) is taken without computing them:
+/// the same start, three square roots fewer.
+fn start(d: f64, y: f64) -> f64 {
+    let inside = |t: f64| {
+        let t2 = t * t;
+        let lim = d * (1.0 - 1e-12);
+        6.0 * t2 < lim && t2 * t2 < lim
+    };
+    let tg = if y.is_finite() && y > 1.0 {
+        y.sqrt() - 1.0
+    } else {
+        f64::NAN
+    };
+    let mut g = f64::NAN;
+    if tg > 0.0 {
+        g = tg * tg * (6.0 + tg * (4.0 + tg)) - d;
+        if g >= 0.0 && inside(tg) {
+            return tg;
+        }
+        if g < 0.0 {
+            let tn = tg - newton_step(tg, d);
+            if inside(tn) {
+                return tn;
+            }
+        }
+    }
+    let mut t = (d / 6.0).sqrt().min(d.sqrt().sqrt());
+    if tg > 0.0 && tg < t {
+        if g >= 0.0 {
+            t = tg;
+        } else {
+            let tn = tg - newton_step(tg, d);
+            if tn < t {
+                t = tn;
+            }
+        }
+    }
+    t
 }
 
 /// Newton step `g/g'` for `g(t) = t⁴ + 4t³ + 6t² − D`, written without overflow for large `t`.
@@ -1063,6 +1200,81 @@ mod tests {
             assert_eq!(peeling_force(gs, es, -2.0 * pc, pc), 0.0);
             // γ = 0: no peeling stage.
             assert_eq!(peeling_force(gs, es, 1.0, 0.0), 0.0);
+        }
+    }
+
+    /// The start of a step's path from the last evaluated point of the last one
+    /// (`energy_from_end`): wherever it is accepted (`|δ|³ ≤ 1e-10 ρ²h`), the Taylor
+    /// polynomial is the energy solved afresh to 1e-10 of the half step's work
+    /// `max(|P|, P_c) h` (plus the round-off of `E` itself), from just above the fold `α_s`
+    /// to deep compression; it is refused beyond the bound, at or beyond `α_s`, and for
+    /// another law; `δ = 0` gives the stored energy itself.
+    #[test]
+    fn energy_from_end_is_the_branch_energy_within_its_bound() {
+        for &g in &GAMMAS {
+            let j = jkr(g);
+            let (a_s, als) = (j.a_s(), j.alpha_s());
+            let wp = j.peel_work_with(a_s);
+            let mut n = 0;
+            for k in -6..=4 {
+                let alpha_end = als + als.abs() * 10f64.powi(k);
+                let rho = alpha_end - als;
+                let (e, p, a) = j.branch_energy(a_s, wp, alpha_end, 0.0);
+                let end = PathEnd {
+                    alpha: alpha_end,
+                    e,
+                    p,
+                    k: j.stiffness_with(a_s, a),
+                    e_star: j.e_star,
+                    r_star: j.r_star,
+                };
+                assert_eq!(
+                    j.energy_from_end(a_s, &end, alpha_end, alpha_end + rho),
+                    Some(e)
+                );
+                for h in [1e-2 * rho, 1e-5 * rho, 1e-9 * rho] {
+                    // α_n, and the half step as the rounding of α_n leaves it.
+                    let alpha = alpha_end - h;
+                    let h = (alpha - alpha_end).abs();
+                    let d_max = (1e-10 * rho * rho * h).cbrt();
+                    for f in [0.98, 0.5, -0.5, -0.98] {
+                        let lo = alpha_end + f * d_max;
+                        let got = j.energy_from_end(a_s, &end, lo, alpha);
+                        let exact = j.branch_energy(a_s, wp, lo, a).0;
+                        let tol = 1e-10 * p.abs().max(j.pc()) * h + 1e-14 * (wp + exact.abs());
+                        let got = got.unwrap_or_else(|| panic!("γ {g} k {k} h {h} f {f}"));
+                        assert!(
+                            (got - exact).abs() <= tol,
+                            "γ {g} k {k} h {h} f {f}: {got} vs {exact} (tol {tol})"
+                        );
+                        n += 1;
+                    }
+                    // Beyond the bound: solved afresh.
+                    let lo = alpha_end + 1.05 * d_max;
+                    assert_eq!(j.energy_from_end(a_s, &end, lo, alpha), None);
+                }
+                // Another law (a modulus changed between Cycles): solved afresh.
+                let other = Jkr {
+                    e_star: 2.0 * j.e_star,
+                    ..j
+                };
+                assert_eq!(other.energy_from_end(a_s, &end, alpha_end, alpha_end), None);
+            }
+            assert_eq!(n, 11 * 3 * 4);
+            // An end at or beyond the fold (a path that crossed α_s): solved afresh.
+            let (e, p, a) = j.branch_energy(a_s, wp, als, 0.0);
+            let end = PathEnd {
+                alpha: als,
+                e,
+                p,
+                k: j.stiffness_with(a_s, a),
+                e_star: j.e_star,
+                r_star: j.r_star,
+            };
+            assert_eq!(
+                j.energy_from_end(a_s, &end, als, als + 1e-3 * als.abs()),
+                None
+            );
         }
     }
 }

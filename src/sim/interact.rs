@@ -327,6 +327,7 @@ fn normal_law<const ADH: bool>(
             e.gamma = gamma;
             e.a_s = j.a_s();
             e.laws = None;
+            e.end = None;
             if dt == 0.0 {
                 // Snapped in while priming: its force has not acted yet (see below).
                 s.v_prev = f64::NEG_INFINITY;
@@ -364,8 +365,11 @@ fn normal_law<const ADH: bool>(
                         f_damp: s.damp_force,
                         a_old,
                         from,
+                        end: s.ext().end,
                     };
-                    s.normal_force = j.leap_frog_force(a_s, a, &x);
+                    let (p, end) = j.leap_frog_force(a_s, a, &x);
+                    s.normal_force = p;
+                    s.ext_mut().end = end;
                 }
                 if laws.beta > 0.0 {
                     kn = j.stiffness_of_a(a).abs();

@@ -139,6 +139,7 @@ pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
         e.walton = Default::default();
         e.tdelta = 0.0;
         e.mdr = None;
+        e.end = None;
         if let Some(l) = e.laws.as_deref_mut() {
             // The rolling spring's energy is lost with the contact (`sim::rolling`); the
             // history of the laws of `SET NORmal` stays.

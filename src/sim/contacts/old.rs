@@ -6,12 +6,14 @@
 //! did not exist), read as its default; versions 2 to 4 had no `laws` state there (the
 //! laws of `SET NORmal` did not exist), read as none, nor a rolling spring (`roll`, read as
 //! none); versions 5 to 8 had no `mdr` there (the spring row of `SET TANgential MDR`), read
-//! as none.
+//! as none; versions 1 to 10 had no `end` there (the last evaluated point of a JKR contact's
+//! step path), read as none (the next step solves (3.29) at the start of its path).
 use std::cell::Cell;
 
 use serde::{Deserialize, Deserializer};
 
 use super::{BridgeState, ContactExt, LawState, TangentialState, Vec3, WaltonState};
+use crate::physics::mdr::MdrRow;
 
 thread_local! {
     /// The format version being decoded (0: the current one).
@@ -66,6 +68,7 @@ impl From<V1> for super::ContactState {
             walton: WaltonState::default(),
             laws: None,
             mdr: None,
+            end: None,
         };
         super::ContactState {
             touching: o.touching,
@@ -122,6 +125,7 @@ impl From<ExtV3> for ContactExt {
             walton: WaltonState::default(),
             laws: None,
             mdr: None,
+            end: None,
         }
     }
 }
@@ -130,8 +134,8 @@ fn ext_v3(e: Option<Box<ExtV3>>) -> Option<Box<ContactExt>> {
     e.map(|e| Box::new((*e).into()))
 }
 
-/// The contact state as format versions 3 to 8 wrote it, with the law-specific part of
-/// each (`ExtV3`, `ExtV4`, `ExtV8`; frozen: never change).
+/// The contact state as format versions 3 to 10 wrote it, with the law-specific part of
+/// each (`ExtV3`, `ExtV4`, `ExtV8`, `ExtV9`; frozen: never change).
 #[derive(Deserialize)]
 struct V3<E> {
     touching: bool,
@@ -210,6 +214,7 @@ impl From<ExtV4> for ContactExt {
             walton: e.walton,
             laws: None,
             mdr: None,
+            end: None,
         }
     }
 }
@@ -240,6 +245,39 @@ impl From<ExtV8> for ContactExt {
             walton: e.walton,
             laws: e.laws,
             mdr: None,
+            end: None,
+        }
+    }
+}
+
+/// The law-specific part of the contact state as format versions 9 and 10 wrote it (frozen: never
+/// change).
+#[derive(Deserialize)]
+struct ExtV9 {
+    a_s: f64,
+    gamma: f64,
+    delta: Vec3,
+    tdelta: f64,
+    tang: TangentialState,
+    released: [f64; 2],
+    walton: WaltonState,
+    laws: Option<Box<LawState>>,
+    mdr: Option<Box<MdrRow>>,
+}
+
+impl From<ExtV9> for ContactExt {
+    fn from(e: ExtV9) -> Self {
+        ContactExt {
+            a_s: e.a_s,
+            gamma: e.gamma,
+            delta: e.delta,
+            tdelta: e.tdelta,
+            tang: e.tang,
+            released: e.released,
+            walton: e.walton,
+            laws: e.laws,
+            mdr: e.mdr,
+            end: None,
         }
     }
 }
@@ -254,6 +292,7 @@ pub fn deserialize_state<'de, D: Deserializer<'de>>(
         3 => V3::<ExtV3>::deserialize(de).map(Into::into),
         4 => V4::deserialize(de).map(Into::into),
         5..=8 => V3::<ExtV8>::deserialize(de).map(Into::into),
+        9 | 10 => V3::<ExtV9>::deserialize(de).map(Into::into),
         _ => super::ContactState::deserialize(de),
     }
 }

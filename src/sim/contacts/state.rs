@@ -121,6 +121,9 @@ pub struct ContactExt {
     /// a pointer of its own (288 bytes): the contacts of the other laws pay for the pointer
     /// only.
     pub mdr: Option<Box<MdrRow>>,
+    /// JKR: the last evaluated point of the last step's path (`physics::jkr::PathEnd`;
+    /// checkpoint format 11), from which the next step's path starts.
+    pub end: Option<crate::physics::jkr::PathEnd>,
 }
 
 /// The state of the laws of `SET NORmal` and `SET ROLling` in a contact.
