@@ -19,7 +19,8 @@ FRAction x dt_R.
   (`liquid 0.1 0.025 0 0.01`), LIGGGHTS `in.agglomerate_moist.liggghts` (wet = 1,
   `cohesion easo/capillary/viscous`) without its wall; relative speeds 2, 5 and 10 m/s, at
   which the pair escapes the bridge in both codes (at 1 m/s trubal's pair stays bridged,
-  LIGGGHTS' escapes: its viscous cut-off is 0.01 x 2R, trubal's 0.01 R*).
+  LIGGGHTS' escapes: the two bridge laws differ, e.g. trubal's viscous gap cut-off is
+  0.01 R*).
 
 The spheres start 10 nm apart along x at +-v/2; at each FRAction of the ladder the run is
 repeated with the gap grown by k/PHASES of a step's approach (k = 0 .. PHASES - 1), so that
@@ -55,6 +56,7 @@ REF = 0.002
 TOL = 0.01
 # --rebuilds: the scenes for the simulated time of this many steps at FRAction 0.2.
 REBUILD_STEPS = 2000
+REBUILD_FRACTIONS = (1.0, 0.2, 0.05)
 R, RHO, E, NU = 30e-6, 2650.0, 70e9, 0.3
 DT_R = math.pi * R * math.sqrt(RHO / (E / (2 * (1 + NU)))) / (0.1631 * NU + 0.8766)
 GAP0 = 10e-9
@@ -274,12 +276,16 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "data", "bench"))
     ap.add_argument("--phases", type=int, default=4)
     ap.add_argument("--rebuilds", action="store_true",
-                    help="also count the neighbour-list rebuilds of the whole scenes at FRAction 0.2 "
-                         "and at each code's equal-error FRAction (equal_error_rebuilds.csv)")
+                    help="also count the neighbour-list rebuilds of the whole scenes at FRAction 1, "
+                         "0.2 and 0.05 (equal_error_SCENE_rebuilds.csv)")
+    ap.add_argument("--rebuilds-only", action="store_true",
+                    help="only the rebuild counts")
     a = ap.parse_args()
     exe = os.path.abspath(a.trubal)
+    if a.rebuilds_only:
+        rebuilds(a, exe)
+        return
     peers = {"lammps": run_lammps, "liggghts": run_liggghts}
-    bests = {}
     for name in a.scenes:
         variant = "jkr" if name == "s2" else "moist"
         with tempfile.TemporaryDirectory() as tmp:
@@ -287,7 +293,6 @@ def main():
             runners = [("trubal", lambda f, v, g, t: run_trubal(exe, variant, f, v, g, t, tmp)),
                        (peer, lambda f, v, g, t: peers[peer](f, v, g, t, tmp))]
             rows, best = scene_rows(name, runners, a.phases)
-        bests[name] = best
         path = os.path.join(a.out, f"equal_error_{name}.csv")
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
@@ -308,29 +313,31 @@ def main():
                   f"(reference's own error, REF/2 against REF: rebound {best[(code, 'rebound REF/2')]:.1e}, "
                   f"dissipated {best[(code, 'dissipated REF/2')]:.1e})")
     if a.rebuilds:
-        rebuilds(a, exe, bests)
+        rebuilds(a, exe)
 
 
-def rebuilds(a, exe, bests):
-    """Neighbour-list rebuilds per step of the whole scenes, at FRAction 0.2 and at each
-    code's equal-error FRAction (by rebound): whether a step's cost depends on the step."""
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in a.scenes:
+def rebuilds(a, exe):
+    """Neighbour-list rebuilds per step of the whole scenes (the decks run_bench.sh times, one
+    thread) for the same simulated time at FRAction 1, 0.2 and 0.05: whether a step's cost
+    depends on the step. Writes equal_error_SCENE_rebuilds.csv."""
+    for name in a.scenes:
+        rows = []
+        with tempfile.TemporaryDirectory() as tmp:
             for code in ("trubal", SCENES[name]["peer"]):
-                for f in sorted({0.2, bests[name].get((code, "rebound"), 0.2)}):
+                for f in REBUILD_FRACTIONS:
                     steps, n = scene_rebuilds(name, code, f, exe, tmp)
-                    rows.append((name, code, f, steps, n))
+                    rows.append((code, f, steps, n))
                     print(f"  {name} {code} FRAction {f}: {n} rebuilds in {steps} steps "
                           f"({1000 * n / steps:.1f} per 1000 steps)")
-    path = os.path.join(a.out, "equal_error_rebuilds.csv")
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["scene", "code", "fraction", "steps", "rebuilds", "rebuilds_per_1000_steps"])
-        for name, code, f, steps, n in rows:
-            w.writerow([name, code, f, steps, n, f"{1000 * n / steps:.2f}"])
-    provenance.record(path, exe, simulated_time_s=REBUILD_STEPS * 0.2 * DT_R,
-                      note="whole scenes (agg2tru.py; in.agglomerate.lammps, in.agglomerate_moist.liggghts), one thread")
+        path = os.path.join(a.out, f"equal_error_{name}_rebuilds.csv")
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["code", "fraction", "steps", "rebuilds", "rebuilds_per_1000_steps"])
+            for code, f, steps, n in rows:
+                w.writerow([code, f, steps, n, f"{1000 * n / steps:.2f}"])
+        provenance.record(path, exe, simulated_time_s=REBUILD_STEPS * 0.2 * DT_R,
+                          note="whole scene (agg2tru.py; in.agglomerate.lammps or "
+                               "in.agglomerate_moist.liggghts), one thread / one rank")
 
 
 if __name__ == "__main__":
