@@ -39,7 +39,9 @@ within TOL (and, reported beside it, every case's dissipated energy).
 Needs `lmp` (s2) and `liggghts` (moist) on the PATH. Writes doc/data/bench/
 equal_error_s2.csv and equal_error_moist.csv (with .provenance.json) and prints, for each
 code, the largest FRAction with every rebound (and, separately, every dissipated energy)
-within TOL.
+within TOL. `--rebuilds` (or `--rebuilds-only`) also runs the whole scenes for the same
+simulated time at FRAction 1, 0.2 and 0.05 and writes their neighbour-list rebuild counts
+(equal_error_SCENE_rebuilds.csv): whether a step costs the same at any step.
 """
 import argparse, csv, json, math, os, re, subprocess, sys, tempfile
 
