@@ -7,12 +7,11 @@ thread on the same busy machine), the peer's loop time, trubal's speed over the 
 the same step (paired medians over the repetitions) and at equal error: each code at the
 largest step at which its own error on the scene's contact is within 1 %.
 
-At equal error, S1 10k is measured (scripts/bench/equal_error.py: both codes run the same
-simulated time at their own steps, equal_error_speed.tsv); the other scenes are derived: the
-ratio at equal step times the ratio of the steps the two codes need (fraction_trubal /
-fraction_peer), from equal_error.py's accuracy ladder (S1) or equal_error_agg.py's (S2,
-moist; equal_error_agg.json). A derived figure assumes the cost of a step does not depend on
-the step, and says so.
+At equal error every figure is measured: both codes run the same simulated time, each at
+its own step. S1 10k: scripts/bench/equal_error.py (equal_error_speed.tsv; the restitution
+ladder). S2 and moist: scripts/bench/equal_error_agg_speed.py (equal_error_agg_speed.tsv; the
+steps from equal_error_agg.py's binary impacts). S1 50k at equal error is derived: the
+measured 10k figure scaled by the two sizes' ratios at equal step.
 
     python3 scripts/bench/first_table.py RESULTS.tsv [--bench-dir doc/data/bench]
 
@@ -53,16 +52,21 @@ def s1_equal_error(bench):
     return r, frac
 
 
-def accuracy_fractions(bench):
-    """{scene: {code: largest FRAction within 1 %}} for the scenes equal_error_agg.py
-    measured, and S1's from equal_error.csv's ladder (equal_error_speed.tsv's FRActions)."""
-    out = {}
-    path = os.path.join(bench, "equal_error_agg.json")
-    if os.path.exists(path):
-        d = json.load(open(path))
-        for scene, fr in d.get("largest_fraction", {}).items():
-            out[scene] = fr
-    return out
+def agg_equal_error(bench):
+    """{case: (paired median [min, max, n] of peer / trubal loop time, trubal's FRAction, the
+    peer's FRAction)} from equal_error_agg_speed.tsv; {} without the file."""
+    path = os.path.join(bench, "equal_error_agg_speed.tsv")
+    if not os.path.exists(path):
+        return {}
+    t, p, fr = {}, {}, {}
+    for ln in open(path):
+        if ln.startswith("#") or ln.startswith("rep\t"):
+            continue
+        rep, case, ft, _st, tt, _peer, fp, _sp, tp = ln.rstrip("\n").split("\t")
+        t.setdefault(case, {})[rep] = float(tt)
+        p.setdefault(case, {})[rep] = float(tp)
+        fr[case] = (float(ft), float(fp))
+    return {c: (summarize.paired(p[c], t[c]),) + fr[c] for c in t}
 
 
 def main():
@@ -74,9 +78,7 @@ def main():
     med = summarize.summarize(rows)
     reps = summarize.per_rep(rows)
     eq = s1_equal_error(a.bench_dir)
-    fracs = accuracy_fractions(a.bench_dir)
-    if eq:
-        fracs.setdefault("s1", {"trubal": eq[1]["trubal"], "liggghts": eq[1]["liggghts"]})
+    agg = agg_equal_error(a.bench_dir)
 
     def loop(scene, code, n, par, steps):
         v = med.get((scene, code, n, par, steps))
@@ -97,6 +99,7 @@ def main():
     print("|---|---|---|---|---|---|---|")
     keys = sorted({(k[0], k[2], k[4]) for k in med if k[1] == "trubal" and k[0] in PEER},
                   key=lambda k: (["s1", "s2", "moist"].index(k[0]), int(k[1])))
+    s1_10k_step = None
     for scene, n, steps in keys:
         peer = PEER[scene]
         t1 = loop(scene, "trubal", n, "t1", steps)
@@ -106,17 +109,27 @@ def main():
         idle = ratio(scene, n, steps, "trubal", "t2", "trubal", "t1")
         busy = ratio(scene, n, steps, "trubal", "t2busy", "trubal", "t1busy")
         step = ratio(scene, n, steps, "trubal", "t1", peer, "np1")
-        fr = fracs.get(scene)
+        def agg_cell(case, what):
+            r, ft, fp = agg[case]
+            return (f"**{r[0]:.2f} ×** ({r[1]:.2f}–{r[2]:.2f}, n = {r[3]}; {what}: trubal at FRAction "
+                    f"{ft:g}, {PEER_NAME[peer]} at {fp:g})")
         if scene == "s1" and n == "10000" and eq:
             r, f = eq
-            equal = (f"**{r[0]:.1f} ×** ({r[1]:.1f}–{r[2]:.1f}, n = {r[3]}; measured: trubal at "
+            equal = (f"**{r[0]:.1f} ×** ({r[1]:.1f}–{r[2]:.1f}, n = {r[3]}; restitution: trubal at "
                      f"FRAction {f['trubal']:g}, {PEER_NAME[peer]} at {f['liggghts']:g})")
-        elif fr and step and peer in fr and "trubal" in fr:
-            k = fr["trubal"] / fr[peer]
-            equal = (f"≈ {step[0] * k:.1f} × (derived: equal step × {k:.3g}, trubal at FRAction "
-                     f"{fr['trubal']:g}, {PEER_NAME[peer]} at {fr[peer]:g})")
+        elif scene == "s1" and eq and step and s1_10k_step:
+            equal = (f"≈ {eq[0][0] * step[0] / s1_10k_step[0]:.0f} × (derived: the 10k figure × "
+                     f"{step[0]:.2f} / {s1_10k_step[0]:.2f}, the ratios at equal step)")
+        elif scene == "s2" and "s2 rebound" in agg:
+            equal = agg_cell("s2 rebound", "JKR rebound")
+        elif scene == "moist" and "moist energy" in agg:
+            equal = agg_cell("moist energy", "energy dissipated")
+            if "moist rebound" in agg:
+                equal += "; " + agg_cell("moist rebound", "rebound speed")
         else:
             equal = "not measured"
+        if scene == "s1" and n == "10000":
+            s1_10k_step = step
         print(f"| {NAME.get((scene, n), scene + ' ' + n)} | {t1:.2f} s | {fmt(idle)} | {fmt(busy)} | "
               f"{PEER_NAME[peer]} {p:.2f} s | **{fmt(step)}** | {equal} |")
 
