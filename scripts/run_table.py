@@ -674,6 +674,11 @@ def progress(objs, run):
             "largest": c["largest"],
             "present": n,
             "debris_present": c["debris"],
+            "singlets": c["singlets"],
+            "doublets": c["doublets"],
+            "triplets": c["triplets"],
+            "in_clusters_over10": sum(x for x in c["sizes"][1:] if x > 10),
+            "largest_debris_cluster": c["sizes"][1] if len(c["sizes"]) > 1 else 0,
             "ke_left": f"{e['kinetic'] / ke0:.6g}" if ke0 > 0 else "",
             "dissipated": f"{(e['dissipated']['total'] - en[0]['dissipated']['total']) / ke0:.6g}" if ke0 > 0 else "",
         })
@@ -913,8 +918,11 @@ def main():
     steps = []
     for r in runs:
         got = finished(work, t["script"], r)
-        if got and t.get("progress"):
-            steps += progress(got[0], r)
+        if t.get("progress"):
+            # A run still going (or stopped) gives its checks so far, marked unfinished.
+            objs = got[0] if got else json_lines(os.path.join(sweep_dir(work, t["script"]), "runs",
+                                                              run_name(r), "output.jsonl"))
+            steps += [dict(row, finished="yes" if got else "no") for row in progress(objs, r)]
         m = measures(got[0], r) if got else None
         if m is None:
             print(f"  (no result for {run_name(r)})")
@@ -923,6 +931,14 @@ def main():
         row.update(m)
         row["wall_s"] = got[1]
         rows.append(row)
+    if steps:
+        out = os.path.join(DATA, a.table + "_progress.csv")
+        with open(out, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(steps[0]))
+            w.writeheader()
+            w.writerows(steps)
+        provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
+        print("wrote", out)
     if not rows:
         return
     keys = []
@@ -938,14 +954,6 @@ def main():
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
     provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
     print("wrote", out)
-    if steps:
-        out = os.path.join(DATA, a.table + "_progress.csv")
-        with open(out, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(steps[0]))
-            w.writeheader()
-            w.writerows(steps)
-        provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
-        print("wrote", out)
     group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
     series = {}
     for row in rows:

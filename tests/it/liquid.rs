@@ -508,13 +508,21 @@ fn wall_bridges_off_removes_only_the_wall_bridges() {
     let on = run("");
     let off = run("set wallbridges off\n");
     assert_eq!(on.contacts().bridge_counts(), (1, 1), "with wall bridges");
-    assert_eq!(off.contacts().bridge_counts(), (1, 0), "without wall bridges");
+    assert_eq!(
+        off.contacts().bridge_counts(),
+        (1, 0),
+        "without wall bridges"
+    );
     assert!(!off.settings().wall_bridges && on.settings().wall_bridges);
     // The sphere on the wall: held with the bridge (it rises at most ~ its kinetic energy
     // over the pull, 0.04 µm), an elastic rebound without (9 µs after the impact at 10 µs:
     // 0.46 µm up).
     let gap = |sc: &trubal::sim::Scene| sc.particles().pos[0].z - R - 4e-4;
-    assert!(gap(&on) < 0.2e-6, "held by its wall bridge: gap {}", gap(&on));
+    assert!(
+        gap(&on) < 0.2e-6,
+        "held by its wall bridge: gap {}",
+        gap(&on)
+    );
     assert!(gap(&off) > 0.3e-6, "rebounded: gap {}", gap(&off));
     let voff = off.particles().vel[0].z;
     assert!(rel(voff, v) < 1e-3, "elastic rebound: v_z {voff} vs {v}");
@@ -522,8 +530,16 @@ fn wall_bridges_off_removes_only_the_wall_bridges() {
     // The bridged pair far from the wall: the same bits (the same time step, no wall term).
     assert_eq!(on.time(), off.time());
     for i in 1..3 {
-        assert_eq!(on.particles().pos[i], off.particles().pos[i], "particle {i}");
-        assert_eq!(on.particles().vel[i], off.particles().vel[i], "particle {i}");
+        assert_eq!(
+            on.particles().pos[i],
+            off.particles().pos[i],
+            "particle {i}"
+        );
+        assert_eq!(
+            on.particles().vel[i],
+            off.particles().vel[i],
+            "particle {i}"
+        );
     }
     // Off after the fact: the wall bridge goes, the pair's stays; a checkpoint keeps it.
     let mut s = session(&format!("{base}cycle 3000\nset wallb off\n"));

@@ -36,11 +36,6 @@ fn lian7_reduced_collision_within_scatter() {
 }
 
 #[test]
-fn lian7_reduced_oblique_collision_within_scatter() {
-    check("lian7_oblique");
-}
-
-#[test]
 fn olsson_reduced_dry_impact_within_scatter() {
     check("olsson");
 }
@@ -69,7 +64,6 @@ fn the_reference_figures_record_their_provenance() {
     for case in [
         "lian6",
         "lian7",
-        "lian7_oblique",
         "olsson",
         "lun_shear",
         "shang_shear",
