@@ -180,6 +180,19 @@ TABLES = {
         "runs": lian6_runs([("0", ["2"]), ("0.01", ["2", "3"]), ("0.1", ["8"])], "lian_ch6_big.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
+    # Lian's way (issue 53 item 5): a smooth elastic wall without particle-wall bridges,
+    # counted once the impact's kinetic energy is dissipated (the stopping rule in
+    # scripts/lian_ch6_impact_rest.tru); with wall bridges too, to separate the two.
+    "lian6_rest": {
+        "title": "Lian ch. 6, 6.2 mm work-space, counted at rest: damage ratio against velocity",
+        "script": "lian_ch6_impact_rest.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": [{"state": "lian_ch6_big.sav", "v": "2", "eta": "0", "wb": wb, "frac": "0.4", "n": "6250"}
+                 for wb in ("off", "on")],
+        "x": "v", "group": ("eta", "wb"), "y": "damage_ratio", "logx": True,
+        "progress": True,  # also doc/data/lian6_rest_progress.csv: every check in time
+    },
     "lian6_small": {
         "title": "Lian ch. 6, reduced 983-sphere BCC: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
@@ -225,6 +238,16 @@ TABLES = {
         "derive": "approach",
         "runs": lian7_oblique_long_runs(),
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # Table 7.1 from agglomerates prepared as Lian's §7.2.1 (issue 53 item 4): friction and
+    # no damping but the bridges' viscosity, ~340,000 cycles (scripts/lian_ch7_prepare_lian.tru).
+    "lian7_lianprep": {
+        "title": "Lian ch. 7, Lian's preparation: two 1000-sphere agglomerates, normal collision",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "derive": "approach",
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs()],
+        "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
     # with it).
@@ -371,8 +394,9 @@ def run_sweep(exe, work, script, todo, jobs):
         for r, sets in todo:
             vals = [os.path.join(work, sets[k]) if k == "state" else str(sets[k]) for k in keys]
             f.write(",".join([run_name(r)] + vals) + "\n")
+    # One thread per run (the results do not depend on it; the cores go to the runs).
     cmd = [exe, "sweep", os.path.join(SCRIPTS, script), "--rows", rows, "--out", sweep_dir(work, script),
-           "--jobs", str(jobs)]
+           "--jobs", str(jobs), "--threads", "1"]
     print("$ " + " ".join(cmd), flush=True)
     return subprocess.run(cmd).returncode
 
@@ -520,14 +544,15 @@ def derive(kind, exe, work, run, cache):
             cache[key] = wall_height(exe, work, run["state"])
         sets["wall"] = f"{cache[key]:.8e}"
     elif kind == "approach":
-        key = ("approach", "lian_ch7.sav")
+        state = run.get("state", "lian_ch7.sav")
+        key = ("approach", state)
         if key not in cache:
-            cache[key] = approach_shift(exe, work, "lian_ch7.sav")
+            cache[key] = approach_shift(exe, work, state)
         v, th = float(run["v"]), math.radians(float(run["theta"]))
         # Relative velocity v at angle theta to the line of centres, split equally.
         sets.update(
             {
-                "state": "lian_ch7.sav",
+                "state": state,
                 "dx": f"{cache[key]:.8e}",
                 "v1x": f"{0.5 * v * math.cos(th):.10g}",
                 "v1y": f"{0.5 * v * math.sin(th):.10g}",
@@ -629,6 +654,37 @@ def measures(objs, run):
     return row
 
 
+def progress(objs, run):
+    """The rows of one run's printouts in time (tables with `progress`: every PRint BONds /
+    CLUsters / ENErgy after the reference, e.g. the checks of lian_ch6_impact_rest.tru)."""
+    bonds = [o for o in objs if o.get("print") == "bonds"]
+    clus = [o for o in objs if o.get("print") == "clusters"]
+    en = [o for o in objs if o.get("print") == "energy"]
+    rows = []
+    for b, c, e in zip(bonds, clus, en[1:]):
+        ke0 = b["incident_kinetic"]
+        # (The particles removed so far are not known at each printout: `lost` is the run's
+        # final count, and the shares below are of the particles still present.)
+        n = sum(c["sizes"])
+        rows.append({
+            **{k: v for k, v in run.items() if k not in ("state",)},
+            "time_us": f"{1e6 * (e['time'] - en[0]['time']):.6g}",
+            "damage_ratio": f"{b['damage_ratio']:.6g}",
+            "new_ratio": f"{b['new_ratio']:.6g}",
+            "largest": c["largest"],
+            "present": n,
+            "debris_present": c["debris"],
+            "singlets": c["singlets"],
+            "doublets": c["doublets"],
+            "triplets": c["triplets"],
+            "in_clusters_over10": sum(x for x in c["sizes"][1:] if x > 10),
+            "largest_debris_cluster": c["sizes"][1] if len(c["sizes"]) > 1 else 0,
+            "ke_left": f"{e['kinetic'] / ke0:.6g}" if ke0 > 0 else "",
+            "dissipated": f"{(e['dissipated']['total'] - en[0]['dissipated']['total']) / ke0:.6g}" if ke0 > 0 else "",
+        })
+    return rows
+
+
 # ---------------------------------------------------------------------------------------------
 # Charts: the points go to a CSV file, `trubal chart` draws it (doc/plots.md).
 
@@ -718,6 +774,7 @@ REFERENCES = {
     ],
 }
 REFERENCES["lian6_debris"] = REFERENCES["lian6_small"] = REFERENCES["lian6"]
+REFERENCES["lian7_lianprep"] = REFERENCES["lian7"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_regime"] = REFERENCES["olsson_liggghts"] = REFERENCES["olsson"]
 REFERENCES["olsson_long_liggghts"] = REFERENCES["olsson"][:1]
@@ -858,8 +915,14 @@ def main():
                 f.write(line + "\n")
         provenance.record(os.path.join(DATA, a.table + "_states.txt"), exe)
     rows = []
+    steps = []
     for r in runs:
         got = finished(work, t["script"], r)
+        if t.get("progress"):
+            # A run still going (or stopped) gives its checks so far, marked unfinished.
+            objs = got[0] if got else json_lines(os.path.join(sweep_dir(work, t["script"]), "runs",
+                                                              run_name(r), "output.jsonl"))
+            steps += [dict(row, finished="yes" if got else "no") for row in progress(objs, r)]
         m = measures(got[0], r) if got else None
         if m is None:
             print(f"  (no result for {run_name(r)})")
@@ -868,6 +931,14 @@ def main():
         row.update(m)
         row["wall_s"] = got[1]
         rows.append(row)
+    if steps:
+        out = os.path.join(DATA, a.table + "_progress.csv")
+        with open(out, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(steps[0]))
+            w.writeheader()
+            w.writerows(steps)
+        provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
+        print("wrote", out)
     if not rows:
         return
     keys = []

@@ -166,6 +166,8 @@ pub enum Setting {
     GenOverlap(f64),
     /// `SET GOLdman ON|OFF`: tangential viscous force of the bridges (Goldman, Lian (4.76)).
     Goldman(bool),
+    /// `SET WALlbridges ON|OFF`: liquid bridges between particles and walls (on by default).
+    WallBridges(bool),
     /// `SET FRAgment eps`: neighbour radius of Olsson's DBSCAN fragments (DEFault: 4 R_mean).
     Fragment(Option<f64>),
     /// `SET TUNnel STOP|DELETE`: what a particle whose centre crossed a wall does.

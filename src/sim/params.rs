@@ -300,9 +300,9 @@ fn step_limits(
         && !p.is_empty()
     {
         // The strongest dashpot: the largest R*²/S_min, i.e. the largest pair (R*/100
-        // by default, R*/1000 for Olsson's model) or a wall contact (R* = R).
+        // by default, R*/1000 for Olsson's model) or a wall bridge (R* = R).
         let rmax = scene.max_radius();
-        let rstar = if scene.walls.is_empty() {
+        let rstar = if scene.walls.is_empty() || !scene.settings.wall_bridges {
             0.5 * rmax
         } else {
             rmax

@@ -276,6 +276,10 @@ pub struct Settings {
     /// (`sim::contact_time::auto_step`): `Some(the step in use since the last rebuild)`, 0
     /// before the first; `None`: the FRAction step.
     pub auto_step: Option<f64>,
+    /// Liquid bridges between particles and walls (`SET WALlbridges ON|OFF`, on by default):
+    /// off, a wall contact is the dry contact of its law, as Lian 1994's smooth elastic wall
+    /// (§6.1) with bridges only between particles.
+    pub wall_bridges: bool,
 }
 
 /// `SET TUNnel STOP|DELETE`: a particle whose centre crossed a wall's surface (by a fast
@@ -309,8 +313,33 @@ struct SettingsV2 {
     goldman: bool,
 }
 
+/// The settings as checkpoint formats 3 to 11 wrote them (frozen: never change).
+#[derive(Deserialize)]
+struct SettingsV11 {
+    tol: Option<f64>,
+    xres: Option<f64>,
+    smin: Option<f64>,
+    bridge: BridgeChoice,
+    tangential: TangentialChoice,
+    liquid_mode: LiquidMode,
+    periodic: [bool; 3],
+    out_dir: String,
+    view: View,
+    snapshot_every: u64,
+    history_every: u64,
+    two_d: bool,
+    fraction: Option<f64>,
+    window: Option<[f64; 6]>,
+    gen_overlap: f64,
+    fragment_eps: Option<f64>,
+    goldman: bool,
+    tunnel: TunnelAction,
+    auto_step: Option<f64>,
+}
+
 /// Reads the settings in the layout of the checkpoint being decoded
-/// (`sim::contacts::old::version`); formats 1 and 2 had no `tunnel` and `auto_step`.
+/// (`sim::contacts::old::version`); formats 1 and 2 had no `tunnel` and `auto_step`, formats
+/// 1 to 11 no `wall_bridges` (read as on: they always formed).
 fn old_settings<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Settings, D::Error> {
     match super::contacts::old::version() {
         1 | 2 => SettingsV2::deserialize(de).map(|o| Settings {
@@ -333,6 +362,29 @@ fn old_settings<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Settings, D::
             goldman: o.goldman,
             tunnel: TunnelAction::Stop,
             auto_step: None,
+            wall_bridges: true,
+        }),
+        3..=11 => SettingsV11::deserialize(de).map(|o| Settings {
+            tol: o.tol,
+            xres: o.xres,
+            smin: o.smin,
+            bridge: o.bridge,
+            tangential: o.tangential,
+            liquid_mode: o.liquid_mode,
+            periodic: o.periodic,
+            out_dir: o.out_dir,
+            view: o.view,
+            snapshot_every: o.snapshot_every,
+            history_every: o.history_every,
+            two_d: o.two_d,
+            fraction: o.fraction,
+            window: o.window,
+            gen_overlap: o.gen_overlap,
+            fragment_eps: o.fragment_eps,
+            goldman: o.goldman,
+            tunnel: o.tunnel,
+            auto_step: o.auto_step,
+            wall_bridges: true,
         }),
         _ => Settings::deserialize(de),
     }
@@ -360,6 +412,7 @@ impl Default for Settings {
             goldman: false,
             tunnel: TunnelAction::Stop,
             auto_step: None,
+            wall_bridges: true,
         }
     }
 }

@@ -103,6 +103,9 @@ fn fixture_scene() -> Scene {
         half: [[1e-12, 2e-12, 0.0], [0.0, -3e-12, 0.0], [0.0, 0.0, 4e-12]],
         pending: -2e-10,
     };
+    // `SET WALlbridges OFF` (format 12), set directly: the command would also remove the
+    // wall bridges, which the fixture keeps for the layout of their state.
+    sc.unchecked().settings.wall_bridges = false;
     sc
 }
 
@@ -226,6 +229,7 @@ fn facts(sc: &Scene) -> Value {
             "out_dir": st.out_dir, "view": format!("{:?}", st.view),
             "snapshot_every": st.snapshot_every, "history_every": st.history_every,
             "two_d": st.two_d, "fraction": st.fraction.map(f), "window": st.window.map(|w| fs(&w)),
+            "wall_bridges": st.wall_bridges,
         },
         // (Format 5's facts wrote the whole ContactLaws; its fields since are facts of their own.)
         "laws": format!("ContactLaws {{ normal: {:?}, rolling: {:?} }}", sc.laws().normal, sc.laws().rolling),

@@ -134,6 +134,7 @@ fn command(g: &mut Lcg) -> String {
                 "liquid lian",
                 "liquid conserve",
                 "goldman on",
+                "wallbridges off",
                 "open x",
                 "open all",
                 "periodic x",

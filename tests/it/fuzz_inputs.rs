@@ -160,6 +160,7 @@ const WORDS: &[&str] = &[
     "genoverlap",
     "snapshot",
     "goldman",
+    "wallbridges",
     "on",
     "off",
     "grid",

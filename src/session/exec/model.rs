@@ -183,6 +183,7 @@ fn set(scene: &mut Scene, s: &Setting) -> Result<String, String> {
         Setting::GenOverlap(f) => st.gen_overlap = *f,
         Setting::Fragment(e) => st.fragment_eps = *e,
         Setting::Goldman(on) => st.goldman = *on,
+        Setting::WallBridges(on) => st.wall_bridges = *on,
         Setting::Tunnel(t) => st.tunnel = *t,
         Setting::Normal { .. }
         | Setting::Rolling { .. }

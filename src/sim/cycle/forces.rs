@@ -77,9 +77,10 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
 
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     // The same laws for particle–wall contacts; Rayleigh contact damping has its own
-    // particle–wall set.
+    // particle–wall set; without wall bridges (`SET WALlbridges OFF`) no liquid.
     let laws_pw = Laws {
         beta: scene.damping_pw.beta,
+        liquid: liquid.as_ref().filter(|_| scene.settings.wall_bridges),
         pair_laws: &model.wall_laws,
         margin: if laws_pp.margin > 0.0 {
             scene.contacts.step.margins[1]

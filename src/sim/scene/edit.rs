@@ -163,6 +163,18 @@ impl Scene {
                 drop_row(&mut c.s);
             }
         }
+        if !self.settings.wall_bridges {
+            // `SET WALlbridges OFF`: the wall bridges there are go (as `LIQuid 0` removes
+            // all), their liquid back to the particle (conserving mode, once settled).
+            for c in self.contacts.wall_pairs.iter_mut() {
+                if let Some(b) = c.s.bridge.take()
+                    && !b.fresh
+                    && let Some(l) = self.particles.liquid.get_mut(c.i as usize)
+                {
+                    *l += b.share[0];
+                }
+            }
+        }
         self.contacts.mark_stale();
     }
 
