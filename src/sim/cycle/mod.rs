@@ -171,6 +171,8 @@ fn run_steps(
             || snapshot_before(step + 1)
             || records_a_group(scene)
             || until.is_some();
+        // A Fix over a dynamic group stands: its members now are fixed (doc/groups.md).
+        scene.apply_standing_fixes();
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
