@@ -31,19 +31,35 @@ const GROUP_PANELS: &[(&str, &str, &[(&str, Rgb)])] = &[
     (
         "centre of mass",
         "position (m)",
-        &[("x", Rgb(220, 0, 0)), ("y", Rgb(0, 150, 0)), ("z", Rgb(0, 0, 230))],
+        &[
+            ("x", Rgb(220, 0, 0)),
+            ("y", Rgb(0, 150, 0)),
+            ("z", Rgb(0, 0, 230)),
+        ],
     ),
     (
         "velocity of the centre of mass",
         "velocity (m/s)",
-        &[("vx", Rgb(220, 0, 0)), ("vy", Rgb(0, 150, 0)), ("vz", Rgb(0, 0, 230))],
+        &[
+            ("vx", Rgb(220, 0, 0)),
+            ("vy", Rgb(0, 150, 0)),
+            ("vz", Rgb(0, 0, 230)),
+        ],
     ),
     (
         "force sum",
         "force (N)",
-        &[("fx", Rgb(220, 0, 0)), ("fy", Rgb(0, 150, 0)), ("fz", Rgb(0, 0, 230))],
+        &[
+            ("fx", Rgb(220, 0, 0)),
+            ("fy", Rgb(0, 150, 0)),
+            ("fz", Rgb(0, 0, 230)),
+        ],
     ),
-    ("kinetic energy", "energy (J)", &[("kinetic", Rgb(220, 0, 0))]),
+    (
+        "kinetic energy",
+        "energy (J)",
+        &[("kinetic", Rgb(220, 0, 0))],
+    ),
     (
         "particles and coordination",
         "number",

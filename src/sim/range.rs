@@ -183,10 +183,12 @@ impl Range {
     pub fn single_group(&self) -> Option<&str> {
         match self.any.as_slice() {
             [all] => match all.as_slice() {
-                [Term {
-                    not: false,
-                    cond: Condition::Group(n),
-                }] => Some(n),
+                [
+                    Term {
+                        not: false,
+                        cond: Condition::Group(n),
+                    },
+                ] => Some(n),
                 _ => None,
             },
             _ => None,

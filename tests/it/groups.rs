@@ -498,17 +498,17 @@ fn shown(run: &Run) -> Vec<Vec<f64>> {
 /// with the same bits (the standing Fix is in the checkpoint).
 #[test]
 fn a_fix_over_a_dynamic_group_fixes_the_particles_that_enter_it() {
-    let (z0, top, bottom, g) = (0.038, 0.032, 0.028, 9.81);
+    let (z0, top, bottom, g): (f64, f64, f64, f64) = (0.038, 0.032, 0.028, 9.81);
     let base = "start 0.01 0.01 0.04 10 10 1\nrad 2e-4 1\nymd 1e8 1\npra 0.3 1\n\
         density 2500 1\ncreate 0.005 0.005 0.038 0 0 0 0 0 0 1 1\ngravity 0 0 -9.81\n\
         group zone dynamic box 0 0.01 0 0.01 0.028 0.032\nfix 1 1 1 1 1 1 group zone\n\
         let saved = 0\n";
-    let straight = format!(
-        "{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\nend\n"
-    );
+    let straight =
+        format!("{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\nend\n");
     let a = run_ok(&straight);
     assert!(
-        a.stdout.contains("the Fix stands on the dynamic group zone"),
+        a.stdout
+            .contains("the Fix stands on the dynamic group zone"),
         "{}",
         a.stdout
     );
@@ -536,10 +536,16 @@ fn a_fix_over_a_dynamic_group_fixes_the_particles_that_enter_it() {
         } else if r[1] < bottom - 1e-4 {
             after += 1;
             let want = -v - g * (r[0] - t_out);
-            assert!((r[2] - want).abs() < 5e-3 * want.abs(), "after the box {r:?} vs {want}");
+            assert!(
+                (r[2] - want).abs() < 5e-3 * want.abs(),
+                "after the box {r:?} vs {want}"
+            );
         }
     }
-    assert!(before >= 10 && after >= 10, "{before} before, {after} after");
+    assert!(
+        before >= 10 && after >= 10,
+        "{before} before, {after} after"
+    );
     // SAve and RESTart in the box: the same rows to the bit.
     let restarted = format!(
         "{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\n  \
@@ -589,7 +595,12 @@ fn ranges_wrap_across_the_sides_of_a_periodic_cell() {
         let g = printed(&run, "group");
         assert_eq!(g.len(), 4, "{axis}");
         for k in 0..4 {
-            assert_eq!(g[k]["count"].as_u64(), Some(want), "{axis} {}", g[k]["name"]);
+            assert_eq!(
+                g[k]["count"].as_u64(),
+                Some(want),
+                "{axis} {}",
+                g[k]["name"]
+            );
         }
         // Periodic: the centre of mass of the two is the mean of their positions as the
         // scene holds them (inside the cell), 5 mm.

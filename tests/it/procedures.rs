@@ -49,7 +49,12 @@ fn shown(out: &str, label: &str) -> Vec<Vec<f64>> {
     objects(out)
         .filter_map(|v| v.get("show").and_then(|s| s.as_array().cloned()))
         .filter(|row| row.first().and_then(|v| v.as_str()) == Some(label))
-        .map(|row| row[1..].iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect())
+        .map(|row| {
+            row[1..]
+                .iter()
+                .map(|v| v.as_f64().unwrap_or(f64::NAN))
+                .collect()
+        })
         .collect()
 }
 
@@ -154,7 +159,11 @@ fn the_velocity_loop_gives_the_single_impacts_bits() {
         ("n", "2000".into()),
     ];
     let mut sets = common.to_vec();
-    sets.extend([("v1", "0.5".into()), ("v2", "2.5".into()), ("dv", "1".into())]);
+    sets.extend([
+        ("v1", "0.5".into()),
+        ("v2", "2.5".into()),
+        ("dv", "1".into()),
+    ]);
     let out = run_script(&dir, "lian_ch6_velocities.tru", &sets);
     let wall = shown(&out, "wall")[0][0];
     let rows = shown(&out, "impact");
@@ -179,7 +188,11 @@ fn the_velocity_loop_gives_the_single_impacts_bits() {
             last("energy")["kinetic"].as_f64().unwrap(),
         ];
         for (j, w) in want.iter().enumerate() {
-            assert_eq!(row[j + 1].to_bits(), w.to_bits(), "v = {v}, item {j}: {row:?} vs {want:?}");
+            assert_eq!(
+                row[j + 1].to_bits(),
+                w.to_bits(),
+                "v = {v}, item {j}: {row:?} vs {want:?}"
+            );
         }
         // Its history of the damage ratio: every n / 10 cycles, 40 rows in 4 n.
         let csv = std::fs::read_to_string(dir.join(format!("lian_ch6_v{v}.csv"))).unwrap();

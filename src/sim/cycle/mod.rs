@@ -171,8 +171,6 @@ fn run_steps(
             || snapshot_before(step + 1)
             || records_a_group(scene)
             || until.is_some();
-        // A Fix over a dynamic group stands: its members now are fixed (doc/groups.md).
-        scene.apply_standing_fixes();
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
@@ -489,13 +487,15 @@ fn runaway(scene: &Scene, model: &Model, created: f64, scale: f64) -> Blowup {
 
 /// One time step; `keep`: leave the forces and moments in the particle arrays (otherwise the
 /// update clears them as it goes, which saves the next step a pass over them); `first`: the
-/// first step of a Cycle.
+/// first step of a Cycle. A Fix standing on a dynamic group is applied first (its members
+/// now fixed, doc/groups.md).
 pub fn one_step(
     scene: &mut Scene,
     model: &mut Model,
     (tol, xres): (f64, f64),
     (keep, first): (bool, bool),
 ) -> Result<(), Blowup> {
+    scene.apply_standing_fixes();
     let mut dt = model.dt;
     if !set_margins(scene, model, dt) {
         scene.contacts.request_remap();
