@@ -398,6 +398,12 @@ fn fixtures_of_every_version_still_load() {
                         a.truncate(10);
                     }
                 }
+                if v < 12
+                    && let Some(Value::String(g)) = got.get_mut("groups")
+                {
+                    // Groups read from formats 10 and 11 have no standing Fix (format 12).
+                    *g = g.replace(", fix: None", "");
+                }
                 let want = without_dropped(want, v);
                 if let Some(d) = diff_in(&want, &got, "", false) {
                     panic!("{name}: the loaded state differs from the recorded facts at {d}");

@@ -550,7 +550,7 @@ fn a_fix_over_a_dynamic_group_fixes_the_particles_that_enter_it() {
     let restarted = format!(
         "{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\n  \
          if ball_z(1) < 0.031 and saved == 0\n    let saved = 1\n    save \"mid.sav\"\n    \
-         restart \"mid.sav\"\n  end\nend\n"
+         new\n    restart \"mid.sav\"\n  end\nend\n"
     );
     let b = run_ok(&restarted);
     let rows_b = shown(&b);
