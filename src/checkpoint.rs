@@ -57,7 +57,9 @@
 //! `physics::jkr::PathEnd`) to the law-specific part of the contact state (read as none
 //! from older files: the next step solves (3.29) at the start of its path, as before);
 //! version 12 adds the setting `wall_bridges` (`SET WALlbridges`, read as on from older
-//! files, which always made particle–wall bridges). Versions 1 to 11
+//! files, which always made particle–wall bridges); version 13 adds a group's standing Fix
+//! (`Fix ... GROup name` over a dynamic group, `sim::range::StandingFix`; read as none from
+//! formats 10 to 12, through `scene::old_groups`). Versions 1 to 12
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -72,7 +74,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 12;
+pub const VERSION: u32 = 13;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -247,8 +249,9 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
         VERSION => decode_all::<Scene, R>(r, version),
-        // Version 11 differs in the settings (no `wall_bridges`, scene::old_settings).
-        11 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        // Version 12 differs in the groups (no standing Fix, scene::old_groups), 11 also in
+        // the settings (no `wall_bridges`, scene::old_settings).
+        11 | 12 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
         // Version 10 differs in the contact state (no `end`, sim::contacts::old); version 9
         // also in having no groups (scene::old_groups) and no dashpot forms in the contact
         // laws (scene::old_laws).

@@ -169,7 +169,14 @@ impl<'a> Args<'a> {
         let Some(t) = self.peek() else {
             return Err(self.missing(what));
         };
-        let start = t.start;
+        // From the first character after the word before: an opening `(` separates words,
+        // so the next token starts after it (`let x = (a + b) / 2`).
+        let from = match self.pos {
+            0 => 0,
+            k => self.toks[k - 1].end,
+        };
+        let rest = self.line.get(from..).unwrap_or("");
+        let start = (from + rest.len() - rest.trim_start().len()).min(t.start);
         let text = &self.line[start..];
         let text = &text[..text.find([';', '#']).unwrap_or(text.len())];
         self.pos = self.toks.len();

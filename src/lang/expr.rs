@@ -24,10 +24,8 @@
 
 use nom::{
     IResult, Parser,
-    branch::alt,
-    bytes::complete::{tag, take_while, take_while1},
-    character::complete::{digit0, digit1, one_of},
-    combinator::{opt, recognize},
+    bytes::complete::{take_while, take_while1},
+    combinator::recognize,
     sequence::pair,
 };
 
@@ -142,13 +140,33 @@ enum Tok {
     Sym(&'static str),
 }
 
-fn number(i: &str) -> IResult<&str, &str> {
-    let mantissa = alt((
-        recognize((digit1, opt(pair(tag("."), digit0)))),
-        recognize(pair(tag("."), digit1)),
-    ));
-    let exponent = recognize((one_of("eEdD"), opt(one_of("+-")), digit1));
-    recognize(pair(mantissa, opt(exponent))).parse(i)
+/// A number at the start of `i`: digits with an optional fraction (`12`, `12.`, `12.75`,
+/// `.5`), then an optional exponent (`e`, `E`, `d` or `D`, a sign, digits); the rest and the
+/// number's text. Written by hand: nom 8's `recognize` of the same sequence gave `12.` for
+/// `12.75` at the end of the input (the fraction's digits lost).
+fn number(i: &str) -> Option<(&str, &str)> {
+    let b = i.as_bytes();
+    let digits = |k: usize| b[k..].iter().take_while(|c| c.is_ascii_digit()).count();
+    let whole = digits(0);
+    let mut k = whole;
+    let mut frac = 0;
+    if b.get(k) == Some(&b'.') {
+        frac = digits(k + 1);
+        k += 1 + frac;
+    }
+    if whole == 0 && frac == 0 {
+        return None;
+    }
+    if let Some(c) = b.get(k)
+        && matches!(c, b'e' | b'E' | b'd' | b'D')
+    {
+        let sign = usize::from(matches!(b.get(k + 1), Some(b'+' | b'-')));
+        let e = digits(k + 1 + sign);
+        if e > 0 {
+            k += 1 + sign + e;
+        }
+    }
+    Some((&i[k..], &i[..k]))
 }
 
 fn name(i: &str) -> IResult<&str, &str> {
@@ -173,7 +191,7 @@ fn tokens(text: &str, base: usize) -> Result<Vec<(Tok, usize, usize)>, ParseErro
             return Ok(out);
         }
         let at = base + text.len() - rest.len();
-        if let Ok((after, n)) = number(rest) {
+        if let Some((after, n)) = number(rest) {
             let v = parse_real(n)
                 .ok_or_else(|| err(at, at + n.len(), format!("`{n}` is not a finite number")))?;
             if after.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {

@@ -376,7 +376,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_fix,
-        "Hold velocity components constant (1 = fixed, 0 = free) for particle iadd, All, or the particles in a range now (e.g. GROup base; doc/groups.md). Does not zero them (see Zero)."
+        "Hold velocity components constant (1 = fixed, 0 = free) for particle iadd, All, or the particles in a range now (e.g. GROup base; doc/groups.md). Does not zero them (see Zero). Over a dynamic group (GROup name alone) the Fix stands: before every step of a Cycle the particles then in the group are fixed and those that have left it are freed; all zeros ends it."
     ),
     def!(
         "FMM",
@@ -472,7 +472,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         false,
         b_group,
-        "Name a range as a group (doc/groups.md). The range: conditions BOX x1 x2 y1 y2 z1 z2 (centre in the box), SPHere xc yc zc r, CYLinder x y z ax ay az r (centre within r of the axis; infinitely long), ID i [TO j] ..., MATerial m ..., SIZe s ..., GROup name; all must hold; NOT before a condition negates it; OR starts another set of conditions. A group is static: the particles in the range when GROup runs, by id (later moves do not change it; deleted particles leave it). DYNamic keeps the range instead: it is evaluated on the particles as they are whenever the group is used (a PRint, a Fix, each history record). A group may be redefined; FORget removes it (refused while a dynamic group names it). HIStory: with every history record (SET HIStory n) the group's quantities (count, mass, x y z of the centre of mass, its velocity vx vy vz, kinetic, fx fy fz of the force sum, coordination; a dynamic group evaluated then) are recorded as columns NAME.QUANTITY of PRint HIStory; HIStory OFF stops that. Names: a letter then letters, digits, _ - . (at most 32, case-insensitive). Groups are saved with SAve. Usable by Fix, DELete, VELocity, PROPerty, PRint GROup and PLot."
+        "Name a range as a group (doc/groups.md). The range: conditions BOX x1 x2 y1 y2 z1 z2 (centre in the box), SPHere xc yc zc r, CYLinder x y z ax ay az r (centre within r of the axis; infinitely long), ID i [TO j] ..., MATerial m ..., SIZe s ..., GROup name; all must hold; NOT before a condition negates it; OR starts another set of conditions. A group is static: the particles in the range when GROup runs, by id (later moves do not change it; deleted particles leave it). DYNamic keeps the range instead: it is evaluated on the particles as they are whenever the group is used (a PRint, each history record, and before every step for a Fix standing on it). A group may be redefined; FORget removes it (refused while a dynamic group names it). HIStory: with every history record (SET HIStory n) the group's quantities (count, mass, x y z of the centre of mass, its velocity vx vy vz, kinetic, fx fy fz of the force sum, coordination; a dynamic group evaluated then) are recorded as columns NAME.QUANTITY of PRint HIStory; HIStory OFF stops that. Names: a letter then letters, digits, _ - . (at most 32, case-insensitive). In a periodic cell a BOX, SPHere or CYLinder wraps across the periodic sides (a centre is in it when one of its images in the neighbouring cells is). Groups are saved with SAve. Usable by Fix, DELete, VELocity, PROPerty, PRint GROup and PLot."
     ),
     def!(
         "HELP",
@@ -589,7 +589,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_plot,
-        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded. A range after the items (e.g. PLot BALl GROup top) draws the particles in it now in the highlight colour (with BALl, DISks, CLUster or LCLuster; the file name ends in _NAME, or _range; doc/groups.md)."
+        "Write one PNG picture of the items (overlaid) to OUTdir as plot_cNNNNNNNN_items.png (doc/plots.md); the view is SET VIEw. SAVe stores the reference state for RDIsp, ROTation, CND/LCNd and the bond measures. HIStory (alone) charts what SET HIStory n recorded, with the columns of the groups recorded in it (GROup name HIStory: five panels a group). A range after the items (e.g. PLot BALl GROup top) draws the particles in it now in the highlight colour (with BALl, DISks, CLUster or LCLuster; the file name ends in _NAME, or _range; doc/groups.md)."
     ),
     def!(
         "PRA",

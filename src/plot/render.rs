@@ -435,7 +435,11 @@ fn draw_disc<DB: DrawingBackend>(
 /// Renders a history chart; returns (width, height, RGB bytes).
 pub fn chart_pixels(chart: &Chart) -> Result<(u32, u32, Vec<u8>), String> {
     font()?;
-    let (w, h) = CHART_SIZE;
+    // Taller with the panels of recorded groups: at least 250 pixels a panel.
+    let (w, h) = (
+        CHART_SIZE.0,
+        CHART_SIZE.1.max(250 * chart.panels.len() as u32),
+    );
     let mut buf = vec![255u8; (w as usize) * (h as usize) * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();

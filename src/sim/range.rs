@@ -53,12 +53,66 @@ pub struct Candidate {
     pub pos: [f64; 3],
     pub material: u16,
     pub size: u16,
+    /// The periodic cell the centre's images are in (none: the centre alone is tested).
+    pub periods: Periods,
+}
+
+/// The periodic axes of the work-space, for the images of a centre: a box, sphere or
+/// cylinder holds a particle when its centre or one of the centre's images in the
+/// neighbouring cells lies in it (doc/groups.md, "Periodic cells"). `shift` is the
+/// Lees–Edwards offset of a sheared cell: the image one cell up in y is `shift` further
+/// along x (`sim::cell::nearest_image`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Periods {
+    pub size: [f64; 3],
+    pub periodic: [bool; 3],
+    pub shift: f64,
+}
+
+impl Periods {
+    /// The centre `x` and its images in the neighbouring cells (along x two cells each way
+    /// when the cell is sheared: the shift moves the images above and below by up to one
+    /// cell).
+    fn images(&self, x: [f64; 3]) -> impl Iterator<Item = [f64; 3]> + '_ {
+        let reach = |k: usize| -> i32 {
+            match (self.periodic[k], k == 0 && self.shift != 0.0) {
+                (false, _) => 0,
+                (true, false) => 1,
+                (true, true) => 2,
+            }
+        };
+        let (rx, ry, rz) = (reach(0), reach(1), reach(2));
+        (-rz..=rz).flat_map(move |nz| {
+            (-ry..=ry).flat_map(move |ny| {
+                (-rx..=rx).map(move |nx| {
+                    let (nx, ny, nz) = (f64::from(nx), f64::from(ny), f64::from(nz));
+                    [
+                        x[0] + nx * self.size[0] + ny * self.shift,
+                        x[1] + ny * self.size[1],
+                        x[2] + nz * self.size[2],
+                    ]
+                })
+            })
+        })
+    }
 }
 
 impl Condition {
     /// Whether the particle meets the condition, `in_group` deciding `GROup` conditions.
     pub fn holds(&self, p: &Candidate, in_group: &mut dyn FnMut(&str) -> bool) -> bool {
-        let x = p.pos;
+        match self {
+            Condition::Box(_) | Condition::Sphere { .. } | Condition::Cylinder { .. } => {
+                p.periods.images(p.pos).any(|x| self.contains_point(x))
+            }
+            Condition::Ids(spans) => spans.iter().any(|&(a, b)| p.id >= a && p.id <= b),
+            Condition::Material(ms) => ms.contains(&p.material),
+            Condition::Size(ss) => ss.contains(&p.size),
+            Condition::Group(name) => in_group(name),
+        }
+    }
+
+    /// Whether the point `x` lies in a geometric condition (false for the others).
+    fn contains_point(&self, x: [f64; 3]) -> bool {
         match self {
             Condition::Box(b) => (0..3).all(|k| x[k] >= b[2 * k] && x[k] <= b[2 * k + 1]),
             Condition::Sphere { centre, radius } => {
@@ -76,10 +130,7 @@ impl Condition {
                 let d2: f64 = d.iter().map(|v| v * v).sum::<f64>() - along * along / n2;
                 d2 <= radius * radius
             }
-            Condition::Ids(spans) => spans.iter().any(|&(a, b)| p.id >= a && p.id <= b),
-            Condition::Material(ms) => ms.contains(&p.material),
-            Condition::Size(ss) => ss.contains(&p.size),
-            Condition::Group(name) => in_group(name),
+            _ => false,
         }
     }
 
@@ -128,6 +179,22 @@ impl Condition {
 }
 
 impl Range {
+    /// The group's name when the range is exactly `GROup name`.
+    pub fn single_group(&self) -> Option<&str> {
+        match self.any.as_slice() {
+            [all] => match all.as_slice() {
+                [
+                    Term {
+                        not: false,
+                        cond: Condition::Group(n),
+                    },
+                ] => Some(n),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
     /// The range of one group's members.
     pub fn group(name: &str) -> Range {
         Range {
@@ -188,6 +255,20 @@ pub struct Group {
     pub record: bool,
     /// The recorded rows: the cycle, then the quantities of `sim::aggregate::QUANTITIES`.
     pub rows: Vec<Vec<f64>>,
+    /// `Fix ... GROup name` over this dynamic group: re-applied before every step of a
+    /// Cycle (doc/groups.md, "A Fix over a dynamic group"). None for a static group.
+    pub fix: Option<StandingFix>,
+}
+
+/// A `Fix` given over a dynamic group, which stands: before every step of a Cycle the
+/// particles in the group then get its degrees of freedom, and those that have left the
+/// group since the last application are freed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StandingFix {
+    /// The fixed degrees of freedom (bit k for x y z rx ry rz), as `Fix` gives them.
+    pub bits: u8,
+    /// The ids of the particles it fixed at its last application (sorted, each once).
+    pub ids: Vec<u32>,
 }
 
 /// The scene's groups, in the order they were first defined (a redefinition keeps its place).
@@ -264,12 +345,16 @@ impl Groups {
     }
 
     /// Defines or redefines a group (a redefinition keeps its place in the list, and its
-    /// recording and rows: the history's columns continue with the new definition).
+    /// recording and rows: the history's columns continue with the new definition; a
+    /// dynamic group keeps its standing Fix, which then follows the new range).
     pub fn put(&mut self, mut g: Group) {
         match self.list.iter_mut().find(|x| x.name == g.name) {
             Some(x) => {
                 g.record = x.record;
                 g.rows = std::mem::take(&mut x.rows);
+                if g.ids.is_none() {
+                    g.fix = x.fix.take();
+                }
                 *x = g;
             }
             None => self.list.push(g),

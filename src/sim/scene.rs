@@ -732,13 +732,44 @@ fn old_laws<'de, D: serde::Deserializer<'de>>(
     }
 }
 
+/// A group as formats 10 to 12 wrote it (frozen: never change): without a standing Fix.
+#[derive(Deserialize)]
+struct GroupV11 {
+    name: String,
+    range: crate::sim::range::Range,
+    ids: Option<Vec<u32>>,
+    record: bool,
+    rows: Vec<Vec<f64>>,
+}
+
+/// The groups as formats 10 to 12 wrote them (frozen: never change).
+#[derive(Deserialize)]
+struct GroupsV11 {
+    list: Vec<GroupV11>,
+}
+
 /// Reads the groups in the layout of the checkpoint being decoded: formats 1–9 had none
-/// (nothing read).
+/// (nothing read), formats 10 to 12 no standing Fix (read as none: a Fix over a dynamic
+/// group acted once).
 fn old_groups<'de, D: serde::Deserializer<'de>>(
     de: D,
 ) -> Result<crate::sim::range::Groups, D::Error> {
     match super::contacts::old::version() {
         1..=9 => Ok(Default::default()),
+        10..=12 => GroupsV11::deserialize(de).map(|o| crate::sim::range::Groups {
+            list: o
+                .list
+                .into_iter()
+                .map(|g| crate::sim::range::Group {
+                    name: g.name,
+                    range: g.range,
+                    ids: g.ids,
+                    record: g.record,
+                    rows: g.rows,
+                    fix: None,
+                })
+                .collect(),
+        }),
         _ => crate::sim::range::Groups::deserialize(de),
     }
 }

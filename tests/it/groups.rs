@@ -480,3 +480,172 @@ fn expressions_sum_and_average_over_a_group() {
         bad.stderr
     );
 }
+
+/// The values of every `SHow` line, in order.
+fn shown(run: &Run) -> Vec<Vec<f64>> {
+    run.stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter_map(|v| v.get("show").and_then(|s| s.as_array().cloned()))
+        .map(|row| row.iter().filter_map(|v| v.as_f64()).collect())
+        .collect()
+}
+
+/// A Fix over a dynamic group stands: a sphere falling from rest under g into a dynamic box
+/// fixed before it arrives keeps the velocity it entered with, −√(2 g Δz), while its centre
+/// is in the box, then falls freely again, its velocity changing by −g t from the exit
+/// (t_exit = t_entry + height / speed); a SAve and RESTart while it is in the box continues
+/// with the same bits (the standing Fix is in the checkpoint).
+#[test]
+fn a_fix_over_a_dynamic_group_fixes_the_particles_that_enter_it() {
+    let (z0, top, bottom, g): (f64, f64, f64, f64) = (0.038, 0.032, 0.028, 9.81);
+    let base = "start 0.01 0.01 0.04 10 10 1\nrad 2e-4 1\nymd 1e8 1\npra 0.3 1\n\
+        density 2500 1\ncreate 0.005 0.005 0.038 0 0 0 0 0 0 1 1\ngravity 0 0 -9.81\n\
+        group zone dynamic box 0 0.01 0 0.01 0.028 0.032\nfix 1 1 1 1 1 1 group zone\n\
+        let saved = 0\n";
+    let straight =
+        format!("{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\nend\n");
+    let a = run_ok(&straight);
+    assert!(
+        a.stdout
+            .contains("the Fix stands on the dynamic group zone"),
+        "{}",
+        a.stdout
+    );
+    let rows = shown(&a);
+    assert_eq!(rows.len(), 120);
+    let t_in = (2.0 * (z0 - top) / g).sqrt();
+    let v_in = g * t_in;
+    let inside: Vec<&Vec<f64>> = rows
+        .iter()
+        .filter(|r| r[1] < top - 1e-4 && r[1] > bottom + 1e-4)
+        .collect();
+    assert!(inside.len() >= 10, "{} records in the box", inside.len());
+    for r in &inside {
+        assert_eq!(r[2].to_bits(), inside[0][2].to_bits(), "fixed: {r:?}");
+    }
+    let v = -inside[0][2];
+    assert!((v - v_in).abs() < 5e-3 * v_in, "entry speed {v} vs {v_in}");
+    let t_out = t_in + (top - bottom) / v;
+    let mut before = 0;
+    let mut after = 0;
+    for r in &rows {
+        if r[1] > top + 1e-4 {
+            before += 1;
+            assert!((r[2] + g * r[0]).abs() < 5e-3 * g * r[0], "free fall {r:?}");
+        } else if r[1] < bottom - 1e-4 {
+            after += 1;
+            let want = -v - g * (r[0] - t_out);
+            assert!(
+                (r[2] - want).abs() < 5e-3 * want.abs(),
+                "after the box {r:?} vs {want}"
+            );
+        }
+    }
+    assert!(
+        before >= 10 && after >= 10,
+        "{before} before, {after} after"
+    );
+    // SAve and RESTart in the box: the same rows to the bit.
+    let restarted = format!(
+        "{base}loop k 1 120\n  cycle 500\n  show [time] [ball_z(1)] [ball_vz(1)]\n  \
+         if ball_z(1) < 0.031 and saved == 0\n    let saved = 1\n    save \"mid.sav\"\n    \
+         new\n    restart \"mid.sav\"\n  end\nend\n"
+    );
+    let b = run_ok(&restarted);
+    let rows_b = shown(&b);
+    assert_eq!(rows_b.len(), rows.len());
+    for (x, y) in rows.iter().zip(&rows_b) {
+        let bits = |r: &Vec<f64>| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(x), bits(y));
+    }
+    // All zeros ends the standing Fix.
+    let freed = run_ok(&format!(
+        "{base}fix 0 0 0 0 0 0 group zone\ncycle 40000\nshow [ball_vz(1)] [time]\n"
+    ));
+    let r = &shown(&freed)[0];
+    assert!((r[0] + g * r[1]).abs() < 5e-3 * g * r[1], "{r:?}");
+}
+
+/// In a periodic cell a range wraps across the sides: a sphere, box or cylinder on the side
+/// x = 0 of a cell periodic in x selects the particles near x = 0 and those near x = L (their
+/// images are near 0); with x open it selects only those inside the cell's side.
+#[test]
+fn ranges_wrap_across_the_sides_of_a_periodic_cell() {
+    let scene = |axis: &str| {
+        format!(
+            "start 0.01 0.01 0.01 10 20 2\nset {axis} x\nrad 2e-4 1\nymd 1e8 1\npra 0.3 1\n\
+             density 2500 1\ncreate 0.0005 0.005 0.005 0 0 0 0 0 0 1 1\n\
+             create 0.0095 0.005 0.005 0 0 0 0 0 0 1 1\n\
+             create 0.005 0.005 0.005 0 0 0 0 0 0 1 1\n\
+             create 0.0085 0.005 0.005 0 0 0 0 0 0 1 1\n\
+             group s sphere 0 0.005 0.005 0.001\n\
+             group b box -0.001 0.001 0 0.01 0 0.01\n\
+             group c cylinder 0 0.005 0 0 0 1 0.001\n\
+             group d dynamic sphere 0.01 0.005 0.005 0.001\n\
+             print group s group b group c group d\n"
+        )
+    };
+    // The distance of each centre's nearest image from the side x = 0 (or L).
+    let xs = [0.0005f64, 0.0095, 0.005, 0.0085];
+    let near = |l: f64| xs.iter().filter(|&&x| x.min(l - x) <= 0.001).count() as u64;
+    assert_eq!(near(0.01), 2);
+    for (axis, want) in [("periodic", near(0.01)), ("open", 1)] {
+        let run = run_ok(&scene(axis));
+        let g = printed(&run, "group");
+        assert_eq!(g.len(), 4, "{axis}");
+        for k in 0..4 {
+            assert_eq!(
+                g[k]["count"].as_u64(),
+                Some(want),
+                "{axis} {}",
+                g[k]["name"]
+            );
+        }
+        // Periodic: the centre of mass of the two is the mean of their positions as the
+        // scene holds them (inside the cell), 5 mm.
+        if axis == "periodic" {
+            assert!((num(&g[0]["centre"][0]) - 0.005).abs() < 1e-15);
+        }
+    }
+}
+
+/// `PLot HIStory` charts the columns of the groups recorded in the history: for a lattice
+/// falling freely, the panels of group `top` carry its recorded rows, whose velocity of the
+/// centre of mass is −g t and whose last row is `PRint GROup`'s aggregate of the end.
+#[test]
+fn plot_history_charts_the_group_columns() {
+    let s = session(&format!(
+        "{LATTICE}gravity 0 0 -9.81\nset history 10\ngroup top box 0 0.01 0 0.01 0.006 0.01\n\
+         group top history\ncycle 100\n"
+    ));
+    let sc = s.scene.as_ref().unwrap();
+    let chart = trubal::plot::chart::history_chart(sc).unwrap();
+    let titles: Vec<&str> = chart.panels.iter().map(|p| p.title.as_str()).collect();
+    assert_eq!(titles.len(), 2 + 5, "{titles:?}");
+    assert!(titles.contains(&"group top: velocity of the centre of mass"));
+    let series = |name: &str| {
+        chart
+            .panels
+            .iter()
+            .flat_map(|p| p.series.iter())
+            .find(|s| s.name == name)
+            .unwrap_or_else(|| panic!("no series {name}"))
+            .points
+            .clone()
+    };
+    let vz = series("top.vz");
+    assert_eq!(vz.len(), 10);
+    let dt = sc.time() / 100.0;
+    for &(cycle, v) in &vz {
+        let t = cycle * dt;
+        assert!((v + 9.81 * t).abs() < 0.02 * 9.81 * t, "{cycle}: {v}");
+    }
+    let now = trubal::sim::aggregate::of_group(sc, "top").unwrap();
+    assert_eq!(series("top.z").last().unwrap().1, now.value("z").unwrap());
+    assert_eq!(series("top.count").last().unwrap().1, 50.0);
+    // The picture: at least 250 pixels a panel.
+    let png = trubal::plot::png_bytes(sc, &[trubal::lang::command::PlotItem::History]).unwrap();
+    let h = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+    assert!(h >= 7 * 250, "{h}");
+}

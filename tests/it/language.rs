@@ -761,3 +761,29 @@ fn histories_of_any_expression() {
         o.stderr
     );
 }
+
+/// An expression that runs to the end of the line may open with a bracket (the `(` that
+/// separates TRUBAL's words is the expression's).
+#[test]
+fn an_expression_may_open_with_a_bracket() {
+    let o = run(
+        "paren",
+        "let a = (1 + 2) / 3\nlet b = ((a + 1) * 2)\nif (b - 4) == 0\n  show a b\nend\n",
+        &[],
+    );
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    assert_eq!(nums(&o), [[1.0, 4.0]]);
+}
+
+/// A number with a fraction keeps it wherever it ends the expression (the lexer once gave
+/// `12.` for `12.75` at the end of the text).
+#[test]
+fn a_decimal_number_at_the_end_of_an_expression_keeps_its_fraction() {
+    let o = run(
+        "decimal",
+        "let a = 12.75\nlet b = 0.5\nlet c = 1*2.75\nlet d = .5\nshow a b c d [0.5] [1.d-3] [2.5e1]\n",
+        &[],
+    );
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    assert_eq!(nums(&o), [[12.75, 0.5, 2.75, 0.5, 0.5, 1e-3, 25.0]]);
+}

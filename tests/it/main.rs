@@ -32,6 +32,7 @@ mod oblique_impact;
 mod pair_values;
 mod pasha_laws;
 mod plot;
+mod procedures;
 mod readme;
 mod restitution;
 mod slurm;

@@ -10,6 +10,12 @@ pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> 
                 .enumerate()
                 .fold(0u8, |b, (k, &f)| if f { b | (1 << k) } else { b });
             if let FixTarget::Range(r) = target {
+                // Over a dynamic group the Fix stands (doc/groups.md).
+                if let Some(name) = r.single_group()
+                    && scene.groups().get(name).is_some_and(|g| g.ids.is_none())
+                {
+                    return scene.fix_dynamic_group(name, bits);
+                }
                 let m = super::groups_cmd::members_nonempty(scene, r)?;
                 scene.fix_members(bits, &m);
                 return Ok(format!("fixed {} particles", m.len()));

@@ -487,13 +487,15 @@ fn runaway(scene: &Scene, model: &Model, created: f64, scale: f64) -> Blowup {
 
 /// One time step; `keep`: leave the forces and moments in the particle arrays (otherwise the
 /// update clears them as it goes, which saves the next step a pass over them); `first`: the
-/// first step of a Cycle.
+/// first step of a Cycle. A Fix standing on a dynamic group is applied first (its members
+/// now fixed, doc/groups.md).
 pub fn one_step(
     scene: &mut Scene,
     model: &mut Model,
     (tol, xres): (f64, f64),
     (keep, first): (bool, bool),
 ) -> Result<(), Blowup> {
+    scene.apply_standing_fixes();
     let mut dt = model.dt;
     if !set_margins(scene, model, dt) {
         scene.contacts.request_remap();

@@ -2,7 +2,7 @@
 //! definitions kept in the scene (and so in its checkpoint).
 
 use super::*;
-use crate::sim::range::{Candidate, Group, Groups, MAX_GROUPS, Range};
+use crate::sim::range::{Candidate, Group, Groups, MAX_GROUPS, Range, StandingFix};
 
 /// How deep groups may name groups when a range is evaluated (a circle is refused when a
 /// group is defined and when a checkpoint is read; this bounds a damaged one too).
@@ -51,6 +51,11 @@ impl Scene {
             pos: [x.x, x.y, x.z],
             material: p.material[i],
             size: p.size[i],
+            periods: crate::sim::range::Periods {
+                size: self.size,
+                periodic: self.settings.periodic,
+                shift: self.cell.shift,
+            },
         }
     }
 
@@ -110,11 +115,78 @@ impl Scene {
             ids,
             record: false,
             rows: Vec::new(),
+            fix: None,
         });
         Ok(format!(
             "group {name}: {} particles now ({kind})",
             members.len()
         ))
+    }
+
+    /// `Fix ix iy iz irx iry irz GROup name` over a dynamic group: its members now get the
+    /// degrees of freedom (bit k for x y z rx ry rz), and the Fix stands: it is applied
+    /// again before every step of a Cycle ([`Scene::apply_standing_fixes`]). All zeros frees
+    /// the members and ends it. The group may be empty now: particles may enter it later.
+    pub fn fix_dynamic_group(&mut self, name: &str, bits: u8) -> Result<String, String> {
+        let m = self.members(&Range::group(name))?;
+        let Some(k) = self.groups.list.iter().position(|g| g.name == name) else {
+            return Err(format!("group `{name}` is not defined"));
+        };
+        // (The particles a Fix standing before fixed and that have left are freed too.)
+        let ids = self.groups.list[k]
+            .fix
+            .take()
+            .map(|f| f.ids)
+            .unwrap_or_default();
+        self.groups.list[k].fix = Some(StandingFix { bits, ids });
+        self.apply_standing_fix(k);
+        if bits == 0 {
+            self.groups.list[k].fix = None;
+            return Ok(format!(
+                "freed {} particles (no Fix stands on group {name})",
+                m.len()
+            ));
+        }
+        Ok(format!(
+            "fixed {} particles; the Fix stands on the dynamic group {name}: applied again before every step",
+            m.len()
+        ))
+    }
+
+    /// Before each step of a Cycle: every standing Fix of a dynamic group applied again.
+    pub(in crate::sim) fn apply_standing_fixes(&mut self) {
+        for k in 0..self.groups.list.len() {
+            if self.groups.list[k].fix.is_some() {
+                self.apply_standing_fix(k);
+            }
+        }
+    }
+
+    /// The standing Fix of group `k`: its members now get its degrees of freedom, the
+    /// particles it fixed that are no longer members are freed.
+    fn apply_standing_fix(&mut self, k: usize) {
+        let Some(fix) = self.groups.list[k].fix.take() else {
+            return;
+        };
+        let name = self.groups.list[k].name.clone();
+        // (An undefined group inside the range was refused when it was defined.)
+        let members = self.members(&Range::group(&name)).unwrap_or_default();
+        let mut ids: Vec<u32> = members.iter().map(|&i| self.particles.id[i]).collect();
+        ids.sort_unstable();
+        let p = &mut self.particles;
+        for i in 0..p.id.len() {
+            let id = p.id[i];
+            if fix.ids.binary_search(&id).is_ok() && ids.binary_search(&id).is_err() {
+                p.fixed[i] = 0;
+            }
+        }
+        for &i in &members {
+            p.fixed[i] = fix.bits;
+        }
+        self.groups.list[k].fix = Some(StandingFix {
+            bits: fix.bits,
+            ids,
+        });
     }
 
     /// `GROup name FORget`: removes a group no dynamic group names.
@@ -171,6 +243,14 @@ impl Scene {
                 && ids.windows(2).any(|w| w[0] >= w[1])
             {
                 return Err(format!("group `{}` has unsorted ids", g.name));
+            }
+            if let Some(f) = &g.fix
+                && (g.ids.is_some() || f.ids.windows(2).any(|w| w[0] >= w[1]))
+            {
+                return Err(format!(
+                    "group `{}` has a malformed standing Fix (on a static group, or unsorted ids)",
+                    g.name
+                ));
             }
             if g.ids.is_none() {
                 if let Some(n) = g
