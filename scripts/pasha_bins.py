@@ -3,25 +3,35 @@
 doc/indentation.md, "Stresses under the indenter").
 
 Reads the states that `scripts/pasha_indent.py --saves K --tag TAG` saved while indenting
-(target/pasha_indent/indentTAG_NN.sav) and, in each, prints `PRint Stress` with a `Window` per
-bin (Pasha (5.1): the particles whose centre is in the bin, all their contacts, walls included):
+(target/pasha_indent/indentTAG_NN.sav) and, in each, takes the stress in bins with Pasha's
+definition (5.1) (the particles whose centre is in the bin, all their contacts, walls
+included; doc/output.md, "Bins"):
 
 - Pasha's fixed bins: 5 columns x rows of 5.2 x 5.2 x 4.2 mean particle diameters (his 5.2 x
   5.2 x 4.2 mm for d_p = 1 mm) in the x-z plane through the die's axis, column 3 under the
   indenter, row 1 on the floor, as many rows as the unloaded bed holds; named
-  <column><row> as his 11 ... 53. A bin the indenter cuts is skipped (as Pasha does);
-- his dynamic bin: the same size, centred on the axis, its top at the indenter's lowest point;
+  <column><row> as his 11 ... 53: all of them from one command, `FIEld 5 1 R BIN IN box`
+  (its nodes are the bins, x fastest). A bin the indenter cuts is skipped (as Pasha does);
+- his dynamic bin: the same size, centred on the axis, its top at the indenter's lowest point
+  (`Window` + `PRint Stress`: one box, which moves with the indenter);
 - a check of the measure: the slab of the whole die between 2 d_p above the floor and the
-  dynamic bin's bottom. The die and the floor have no friction and the bed moves slowly, so
+  dynamic bin's bottom (`Window` + `PRint Stress`). The die and the floor have no friction and the bed moves slowly, so
   the vertical force across any horizontal section is the indenter's force plus the weight of
   the particles above it: the slab's mean sigma_zz should be (F + W_above(z)) / (pi R_die^2)
   averaged over the slab's height (the window is the square around the die: its sigma times
   its volume is the sum, divided here by the slab's volume).
 
+The bins' stress is FIEld's contact and kinetic stress plus rho V V (FIEld takes the kinetic
+stress about the bin's mean velocity, `PRint Stress`'s window about zero): `Window` + `PRint
+Stress`'s stress of the same box. With --check-window K, state K's fixed bins are also
+taken box by box with `Window` + `PRint Stress` and compared (every component, to 1e-12 of
+the largest): the result goes to the summary JSON (`window_check`).
+
 Writes doc/data/pasha_binsTAG.csv and doc/img/pasha_binsTAG.png (vertical stress against h/d),
 and prints a JSON summary.
 
-usage: scripts/pasha_bins.py TAG [--chart-only]   (--chart-only: the chart again from doc/data)
+usage: scripts/pasha_bins.py TAG [--chart-only] [--check-window K]
+       (--chart-only: the chart again from doc/data)
 """
 import csv
 import glob
@@ -35,7 +45,22 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import provenance  # noqa: E402
 import run_table  # noqa: E402
-from pasha_indent import G, Trubal, sizes  # noqa: E402
+import trubal_session  # noqa: E402
+from pasha_indent import G, sizes  # noqa: E402
+
+
+def bin_stress(fl, node):
+    """The stress (3x3, row-major lists) of FIEld node `node` as `Window` + `PRint Stress`
+    gives it for the same box: contact + kinetic + rho V V."""
+    rho, v = fl["density"][node], fl["velocity"][node]
+    t = [fl["stress_contact"][node][k] + fl["stress_kinetic"][node][k] + rho * v[k // 3] * v[k % 3]
+         for k in range(9)]
+    return [t[0:3], t[3:6], t[6:9]]
+
+
+def field_in(tr, n, box):
+    """`FIEld n1 n2 n3 BIN IN box`: its JSON object."""
+    return tr.ask(f"field {n[0]} {n[1]} {n[2]} bin in " + " ".join(repr(x) for x in box), "field")
 
 
 def draw(tag, rows, o, d_mean, nrow):
@@ -79,7 +104,10 @@ def main():
     bx, bz = 5.2 * d_mean, 4.2 * d_mean
     nrow = int(o["unloaded_height"] // bz)
     log = open(os.path.join(work, f"bins{tag}.log"), "w")
-    tr = Trubal({}, log, work)
+    binary = None if trubal_session.trubal else run_table.trubal_binary()
+    tr = trubal_session.Session({}, log, work, binary=binary)
+    check_at = int(sys.argv[sys.argv.index("--check-window") + 1]) if "--check-window" in sys.argv else None
+    window_check = None
     rows = []
     z_first = None
     for k, path in enumerate(saves):
@@ -104,16 +132,35 @@ def main():
             tr.send("window " + " ".join(repr(x) for x in b))
             return tr.print("stress")["window"]
 
-        # Pasha's fixed bins (skipped where the indenter's sphere cuts them).
+        # Pasha's fixed bins, all in one FIEld (node (col-1, 0, r-1) is bin <col><r>);
+        # skipped where the indenter's sphere cuts them.
+        x0 = c - 2.5 * bx
+        grid = [x0, x0 + 5 * bx, c - bx / 2, c + bx / 2, 0.0, nrow * bz]
+        fl = field_in(tr, [5, 1, nrow], grid)
+        diff, top = 0.0, 0.0
         for col in range(1, 6):
-            x0 = c + (col - 3.5) * bx
             for r in range(1, nrow + 1):
-                z0 = (r - 1) * bz
-                b = [x0, x0 + bx, c - bx / 2, c + bx / 2, z0, z0 + bz]
+                b = [x0 + (col - 1) * bx, x0 + col * bx, grid[2], grid[3], (r - 1) * bz, r * bz]
+                node = (col - 1) + 5 * (r - 1)
+                sigma = bin_stress(fl, node)
+                if k == check_at:
+                    w = stress(b)["stress"]
+                    for i in range(3):
+                        for j in range(3):
+                            diff = max(diff, abs(sigma[i][j] - w[i][j]))
+                            top = max(top, abs(w[i][j]))
                 # The box's nearest point to the indenter's centre.
                 q = [min(max(c, b[0]), b[1]), min(max(c, b[2]), b[3]), min(max(zc, b[4]), b[5])]
                 cut = math.dist(q, [c, c, zc]) < rad
-                row[f"szz_{col}{r}"] = "" if cut else stress(b)["stress"][2][2]
+                row[f"szz_{col}{r}"] = "" if cut else sigma[2][2]
+        if k == check_at:
+            window_check = {"state": k, "h_over_d": h / d_ind, "bins": 5 * nrow,
+                            "largest_stress_pa": top, "largest_difference_pa": diff,
+                            "relative": diff / top if top > 0 else 0.0}
+            print(f"state {k}: FIEld BIN against Window + PRint Stress on {5 * nrow} bins: "
+                  f"largest difference {diff:.3e} Pa of {top:.4g} Pa", file=sys.stderr, flush=True)
+            if diff > 1e-12 * top:
+                sys.exit("FIEld BIN differs from Window + PRint Stress")
         # The dynamic bin under the indenter.
         ztop = zc - rad
         w = stress([c - bx / 2, c + bx / 2, c - bx / 2, c + bx / 2, ztop - bz, ztop])
@@ -156,7 +203,10 @@ def main():
         "dyn_szz_kpa_h_d_from_0.1": sum(r["dyn_szz"] for r in late) / max(1, len(late)) / 1e3,
         "dyn_over_hardness": sum(r["dyn_szz"] / r["hardness"] for r in late if r["hardness"] > 0) / max(1, len(late)),
         "slab_over_expected": [round(r["slab_szz"] / r["slab_expected"], 4) for r in rows],
+        "fixed_bins": f"FIEld 5 1 {nrow} BIN IN (the five columns through the axis); the dynamic bin and the slab: Window + PRint Stress",
     }
+    if window_check is not None:
+        summary["window_check"] = window_check
     with open(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
     provenance.record(os.path.join(ROOT, "doc", "data", f"pasha_bins{tag}.json"), run_table.trubal_binary())

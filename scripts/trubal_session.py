@@ -3,8 +3,8 @@ binary's own session in-process, arrays without text, an error raised at its lin
 is installed (`pip install .`), else the binary on a pipe (`trubal - --json`), the way the
 drivers talked to it before the module.
 
-Both give the same four calls: `send(text)` (commands), `print(item)` (a PRint item's JSON
-object), `balls()` (positions and radii: numpy arrays from the module, lists from the pipe),
+Both give the same calls: `send(text)` (commands), `print(item)` (a PRint item's JSON
+object), `ask(text, kind)` (the JSON object of kind `kind` a command prints), `balls()` (positions and radii: numpy arrays from the module, lists from the pipe),
 `cycle(n)`, and `close()`; `module` says which one runs.
 """
 
@@ -49,21 +49,26 @@ class Session:
 
     def print(self, item):
         """PRint item: its JSON object (other lines are skipped)."""
+        return self.ask(f"print {item}", item)
+
+    def ask(self, text, kind):
+        """The command `text`: the JSON object it prints with `print: kind` (`FIEld`'s is
+        "field"); other lines are skipped."""
         if self.module:
-            for line in self.s.run(f"print {item}").splitlines():
+            for line in self.s.run(text).splitlines():
                 if line.startswith("{"):
                     o = json.loads(line)
-                    if o.get("print") == item:
+                    if o.get("print") == kind:
                         return o
-            raise RuntimeError(f"`print {item}` printed no {item}")
-        self.send(f"print {item}")
+            raise RuntimeError(f"`{text}` printed no {kind}")
+        self.send(text)
         while True:
             line = self.p.stdout.readline()
             if not line:
-                raise RuntimeError(f"trubal ended before `print {item}` answered (see the log)")
+                raise RuntimeError(f"trubal ended before `{text}` answered (see the log)")
             if line.startswith("{"):
                 o = json.loads(line)
-                if o.get("print") == item:
+                if o.get("print") == kind:
                     return o
 
     def balls(self):

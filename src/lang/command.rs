@@ -409,16 +409,45 @@ pub enum Command {
         every: Option<u64>,
         off: bool,
         prefix: Option<String>,
-        /// `RAW`: uncompressed files.
-        raw: bool,
-        /// `ARRays …`: the particle arrays written, a bit per entry of
-        /// [`PARTICLE_ARRAYS`] (all when not given).
-        arrays: Option<u16>,
+        layout: VtkLayout,
     },
     /// The words of the programmable language (`LET`, `IF`, `LOOP`, `DEFine`, ...;
     /// doc/language.md).
     Script(super::script::ScriptCmd),
 }
+
+/// What the files of a VTK frame hold and how they are stored (`VTk`'s `RAW`, `SINgle`,
+/// `ARRays`, `CONtacts`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VtkLayout {
+    /// `RAW`: uncompressed files.
+    pub raw: bool,
+    /// `SINgle`: the points in single precision (the arrays are single precision anyway).
+    pub single: bool,
+    /// `ARRays …`: the particle arrays written, a bit per entry of [`PARTICLE_ARRAYS`]
+    /// (all when not given).
+    pub arrays: Option<u16>,
+    /// `CONtacts …`: the contact arrays written, a bit per entry of [`CONTACT_ARRAYS`]
+    /// (all when not given).
+    pub contacts: Option<u16>,
+}
+
+/// The contact arrays of a VTK frame (`VTk CONtacts`), in the order the file holds them;
+/// the lines (and their end points) are always written.
+pub const CONTACT_ARRAYS: [&str; 12] = [
+    "a",
+    "b",
+    "wall",
+    "force",
+    "normal_force_vector",
+    "tangential_force_vector",
+    "normal_force",
+    "tangential_force",
+    "overlap",
+    "contact_radius",
+    "bridge_volume",
+    "bridge",
+];
 
 /// The particle arrays of a VTK frame (`VTk ARRays`), in the order the file holds them;
 /// the points (the centres) are always written.

@@ -794,11 +794,13 @@ pub const COMMANDS: &[CommandDef] = &[
     ),
     def!(
         "VTk",
-        "[EVery k] [FILe prefix] [RAW] [ARRays name ...] | OFF",
-        &["EVery", "FILe", "RAW", "ARRays", "OFF"],
+        "[EVery k] [FILe prefix] [RAW] [SINgle] [ARRays name ...] [CONtacts name ...] | OFF",
+        &[
+            "EVery", "FILe", "RAW", "SINgle", "ARRays", "CONtacts", "OFF"
+        ],
         false,
         b_vtk,
-        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended, zlib-compressed; RAW: uncompressed, for this command's frames and its schedule's). ARRays names the particle arrays written, as LIGGGHTS' dump custom picks columns (id radius velocity spin force moment material size_type agglomerate coordination cluster displacement; the positions always; all without ARRays), for this command's frames and its schedule's: ARRays id radius velocity makes the particles file about half the size (38.5 bytes a particle against 72.7 on the settled S1 bed, doc/output.md). Also a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`). The series goes on across sessions: the first frame of a prefix keeps the frames an existing prefix_particles.pvd in OUTdir lists before the current cycle (after RESTart from a SAve the series continues; frames at later cycles, of a run the restart abandoned, leave the index)."
+        "Write a VTK frame for ParaView now: four XML PolyData files in OUTdir, prefix_particles_cNNNNNNNN.vtp (points with id, radius, velocity, spin, force, moment, material, size type, agglomerate, coordination, cluster, and displacement since PLot SAve), prefix_contacts_... (lines between centres with the forces, overlap and bridge), prefix_walls_... (surfaces with their forces), prefix_cell_... (the work-space box), binary (appended, zlib-compressed; RAW: uncompressed, for this command's frames and its schedule's). ARRays names the particle arrays written, as LIGGGHTS' dump custom picks columns (id radius velocity spin force moment material size_type agglomerate coordination cluster displacement; the positions always; all without ARRays), for this command's frames and its schedule's: ARRays id radius velocity makes the particles file about half the size (38.2 bytes a particle against 72.4 on the settled S1 bed, doc/output.md). CONtacts names the contact file's arrays the same way (a b wall force normal_force_vector tangential_force_vector normal_force tangential_force overlap contact_radius bridge_volume bridge; the lines always; all without CONtacts): CONtacts normal_force makes it 44.0 bytes a particle against 156.8. SINgle writes the points (centres, line ends, wall vertices) in single precision, as the arrays are: a relative precision of 6e-8 of the coordinate, below a micrometre in a metre-sized work-space, enough to look at but not to recompute overlaps from; with ARRays id radius velocity CONtacts normal_force the frame is 57 bytes a particle (82 without SINgle). Also a series index prefix_KIND.pvd for each kind that ParaView opens as a time series (doc/output.md). EVery k: also every k cycles during Cycle and RELax (at the cycles that are multiples of k); OFF stops that. The prefix is trubal unless FILe names one (letters, digits, `_`, `-`, `.`). The series goes on across sessions: the first frame of a prefix keeps the frames an existing prefix_particles.pvd in OUTdir lists before the current cycle (after RESTart from a SAve the series continues; frames at later cycles, of a run the restart abandoned, leave the index)."
     ),
     def!(
         "WHILE",
@@ -1286,6 +1288,8 @@ const VTK_WORDS: &[Keyword<u8>] = &[
     kw("OFF", 2),
     kw("RAW", 3),
     kw("ARRays", 4),
+    kw("CONtacts", 5),
+    kw("SINgle", 6),
 ];
 
 /// The names `VTk ARRays` takes, index into [`PARTICLE_ARRAYS`].
@@ -1304,19 +1308,50 @@ const ARRAY_WORDS: &[Keyword<u8>] = &[
     kw("DISplacement", 11),
 ];
 
-/// The array names after `ARRays`, up to the next `VTk` keyword or the end (at least one;
-/// each once): a bit per entry of [`PARTICLE_ARRAYS`].
-fn vtk_arrays(a: &mut Args, after: &Token) -> Result<u16, ParseError> {
+/// The names `VTk CONtacts` takes, index into [`CONTACT_ARRAYS`].
+const CONTACT_WORDS: &[Keyword<u8>] = &[
+    kw("A", 0),
+    kw("B", 1),
+    kw("WALl", 2),
+    kw("FORce", 3),
+    kw("NORMAL_FORCE_Vector", 4),
+    kw("TANGENTIAL_FORCE_Vector", 5),
+    kw("NORmal_force", 6),
+    kw("TANgential_force", 7),
+    kw("OVErlap", 8),
+    kw("CONTACT_Radius", 9),
+    kw("BRIDGE_Volume", 10),
+    kw("BRIdge", 11),
+];
+
+/// The array names after `ARRays` (`CONtacts`), up to the next `VTk` keyword or the end
+/// (at least one; each once): a bit per entry of `all` ([`PARTICLE_ARRAYS`] or
+/// [`CONTACT_ARRAYS`]), whose words are `words`.
+fn vtk_arrays(
+    a: &mut Args,
+    after: &Token,
+    words: &[Keyword<u8>],
+    all: &[&str],
+) -> Result<u16, ParseError> {
+    let (word, what, always) = if all == PARTICLE_ARRAYS {
+        (
+            "ARRays",
+            "particle array",
+            "the positions are always written",
+        )
+    } else {
+        ("CONtacts", "contact array", "the lines are always written")
+    };
     let mut set = 0u16;
     while let Some(t) = a.peek() {
         if super::keyword::match_keyword(&t.text, VTK_WORDS).is_ok() {
             break;
         }
-        let k = a.keyword(ARRAY_WORDS, "particle array")?;
+        let k = a.keyword(words, what)?;
         if set & (1 << k) != 0 {
             return Err(ParseError::at(
                 t,
-                format!("VTk ARRays: `{}` given twice", t.text),
+                format!("VTk {word}: `{}` given twice", t.text),
             ));
         }
         set |= 1 << k;
@@ -1325,8 +1360,8 @@ fn vtk_arrays(a: &mut Args, after: &Token) -> Result<u16, ParseError> {
         return Err(ParseError::at(
             after,
             format!(
-                "VTk ARRays: name the particle arrays to write ({}; the positions are always written)",
-                PARTICLE_ARRAYS.join(", ")
+                "VTk {word}: name the {what}s to write ({}; {always})",
+                all.join(", ")
             ),
         ));
     }
@@ -1334,8 +1369,8 @@ fn vtk_arrays(a: &mut Args, after: &Token) -> Result<u16, ParseError> {
 }
 
 fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
-    let (mut every, mut off, mut prefix, mut raw) = (None, false, None, false);
-    let mut arrays = None;
+    let (mut every, mut off, mut prefix) = (None, false, None);
+    let mut layout = VtkLayout::default();
     while let Some(t) = a.peek() {
         let Some(k) = a.try_keyword(VTK_WORDS)? else {
             break;
@@ -1346,14 +1381,22 @@ fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
                 .is_some(),
             1 => prefix.replace(vtk_prefix(a)?).is_some(),
             2 => std::mem::replace(&mut off, true),
-            3 => std::mem::replace(&mut raw, true),
-            _ => arrays.replace(vtk_arrays(a, t)?).is_some(),
+            3 => std::mem::replace(&mut layout.raw, true),
+            4 => layout
+                .arrays
+                .replace(vtk_arrays(a, t, ARRAY_WORDS, &PARTICLE_ARRAYS)?)
+                .is_some(),
+            5 => layout
+                .contacts
+                .replace(vtk_arrays(a, t, CONTACT_WORDS, &CONTACT_ARRAYS)?)
+                .is_some(),
+            _ => std::mem::replace(&mut layout.single, true),
         };
         if again {
             return Err(ParseError::at(t, format!("VTk: `{}` given twice", t.text)));
         }
     }
-    if off && (every.is_some() || prefix.is_some() || raw || arrays.is_some()) {
+    if off && (every.is_some() || prefix.is_some() || layout != VtkLayout::default()) {
         return Err(ParseError {
             start: a.line_end,
             end: a.line_end + 1,
@@ -1364,8 +1407,7 @@ fn b_vtk(a: &mut Args) -> Result<Command, ParseError> {
         every,
         off,
         prefix,
-        raw,
-        arrays,
+        layout,
     })
 }
 

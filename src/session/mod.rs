@@ -242,10 +242,9 @@ impl Session {
                 every,
                 off,
                 prefix,
-                raw,
-                arrays,
+                layout,
             } => {
-                return self.vtk(*every, *off, prefix.as_deref(), *raw, *arrays);
+                return self.vtk(*every, *off, prefix.as_deref(), *layout);
             }
             Command::Field {
                 nodes,

@@ -7,8 +7,9 @@
 //! one: ARCHITECTURE.md, "Determinism").
 
 use super::{Flow, Session, progress::Progress, watched};
+use crate::lang::command::VtkLayout;
 use crate::output::fields;
-use crate::output::vtk::{Series, resume, write_frame, xml::Encoding};
+use crate::output::vtk::{Series, frame, resume, write_frame, xml::Encoding};
 use crate::sim::Scene;
 use crate::sim::cycle::Blowup;
 
@@ -69,15 +70,14 @@ pub struct VtkState {
 pub const DEFAULT_PREFIX: &str = "trubal";
 
 impl Session {
-    /// `VTk [EVery k] [FILe prefix] [RAW] [ARRays name ...] | OFF`; `arrays`: the
-    /// particle arrays (a bit per entry of `PARTICLE_ARRAYS`), all when `None`.
+    /// `VTk [EVery k] [FILe prefix] [RAW] [SINgle] [ARRays name ...] [CONtacts name ...]
+    /// | OFF`; `layout`: the arrays and encoding of this frame and the schedule's.
     pub(super) fn vtk(
         &mut self,
         every: Option<u64>,
         off: bool,
         prefix: Option<&str>,
-        raw: bool,
-        arrays: Option<u16>,
+        layout: VtkLayout,
     ) -> Result<Flow, String> {
         if off {
             self.vtk.every = None;
@@ -95,8 +95,14 @@ impl Session {
             (_, p) if self.vtk.resume => resume(scene, p.unwrap_or(DEFAULT_PREFIX)),
             (_, p) => Series::new(p.unwrap_or(DEFAULT_PREFIX)),
         };
-        series.encoding = if raw { Encoding::Raw } else { Encoding::Zlib };
-        series.arrays = arrays.unwrap_or(crate::output::vtk::frame::ALL_ARRAYS);
+        series.encoding = if layout.raw {
+            Encoding::Raw
+        } else {
+            Encoding::Zlib
+        };
+        series.arrays = layout.arrays.unwrap_or(frame::ALL_ARRAYS);
+        series.contacts = layout.contacts.unwrap_or(frame::ALL_CONTACT_ARRAYS);
+        series.single = layout.single;
         let before = series.frames.iter().filter(|f| f.0 < scene.cycle()).count();
         let files = write_frame(scene, &mut series)?;
         let text = format!(

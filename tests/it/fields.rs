@@ -1,7 +1,9 @@
 //! `FIEld`: the coarse-grained fields' checks of issue 55, as doc/output.md,
 //! "Coarse-grained fields" states them: the mass integrates to the particles' mass to round-off; over a homogeneous
 //! periodic cell the grid's mean stress is `PRint Stress` within 1 %; in a settled column
-//! σ_zz is the weight above within 2 %; the `.vti` file reads in VTK with the same values.
+//! σ_zz is the weight above within 2 %, with the smooth kernels and in bins whose bottom one
+//! holds the floor's contacts; the box kernel is `Window` + `PRint Stress` bin by bin; the
+//! `.vti` file reads in VTK with the same values.
 
 use crate::common::{printed, trubal_json};
 
@@ -49,11 +51,9 @@ fn field_mass_is_exact_and_the_mean_stress_of_a_periodic_cell_is_print_stress() 
     }
 }
 
-/// A simple-cubic column of 10 layers of 2 x 2 spheres (periodic in x and y) settled on a
-/// floor under gravity: σ_zz at the nodes between layers is the weight above per area.
-#[test]
-fn field_stress_of_a_settled_column_is_the_weight_above() {
-    let (r, rho, g) = (1e-3, 2500.0, 9.81);
+/// A simple-cubic column of 10 layers of 2 x 2 spheres of radius 1 mm (periodic in x and
+/// y, 4 x 4 mm) on a floor (wall 1) under gravity, 20,000 cycles to settle.
+fn settled_column() -> String {
     let mut s = String::from(
         "start 4e-3 4e-3 20e-3 10 100 1\nset open z\nrad 1e-3 1\ndensity 2500 1\nymd 1e8 1\n\
          pra 0.3 1\nfriction 0.3 1\ndamping restitution 0.1\ngravity 0 0 -9.81\n\
@@ -64,16 +64,26 @@ fn field_stress_of_a_settled_column_is_the_weight_above() {
             for y in [1e-3, 3e-3] {
                 s.push_str(&format!(
                     "create {x} {y} {} 0 0 0 0 0 0 1 1\n",
-                    (2 * k + 1) as f64 * r
+                    (2 * k + 1) as f64 * 1e-3
                 ));
             }
         }
     }
-    s.push_str("cycle 20000\nfield 1 1 5 4e-3 lucy\n");
+    s.push_str("cycle 20000\n");
+    s
+}
+
+/// One sphere's mass in [`settled_column`].
+const COLUMN_MASS: f64 = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-9;
+
+/// [`settled_column`]: σ_zz at the nodes between layers is the weight above per area.
+#[test]
+fn field_stress_of_a_settled_column_is_the_weight_above() {
+    let s = settled_column() + "field 1 1 5 4e-3 lucy\n";
     let run = trubal_json(&s, &[]);
     assert!(run.ok, "{}", run.stderr);
     let fl = &fields(&run)[0];
-    let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    let (m, g) = (COLUMN_MASS, 9.81);
     // Nodes at z = 2, 6, 10, 14, 18 mm: between layers.
     for (node, z) in [2.0, 6.0, 10.0, 14.0, 18.0].into_iter().enumerate() {
         let above = (0..10).filter(|&k| (2 * k + 1) as f64 > z).count() as f64 * 4.0;
@@ -84,6 +94,77 @@ fn field_stress_of_a_settled_column_is_the_weight_above() {
             "z = {z} mm: sigma_zz {got:e}, weight above {want:e}"
         );
     }
+}
+
+/// Bins with wall contacts: [`settled_column`] in 10 bins, one layer each (`FIEld 1 1 10
+/// BIN`). A bin's σ_zz is, by its definition (doc/output.md, "Bins": each particle with all
+/// its contacts, walls included, at the contact points), (F_above + F_below) (R − δ/2) / V
+/// for the layer's contacts above and below, V = 2R A: the weight above the bin's mid-plane
+/// over the area, (10 − k + ½) 4 m g / A for bin k, within 2 %. In the bottom bin the
+/// floor's contacts carry the whole weight: their share, Σ N (R − δ/2) / V from `PRint
+/// Contacts`' wall contacts, is half the weight over the area, and the bin without it
+/// would hold only the particle pairs' 9 layers: 18 m g / A against 38 m g / A. Each bin's
+/// contact stress is also `Window` + `PRint Stress`'s on its box, to 1e-12 (the bottom one
+/// with the floor's contacts).
+#[test]
+fn field_bins_with_wall_contacts_hold_the_weight_above() {
+    let mut s = settled_column() + "field 1 1 10 bin\nprint contacts\n";
+    for k in 0..10 {
+        s.push_str(&format!(
+            "window 0 4e-3 0 4e-3 {:?} {:?}\nprint stress\n",
+            2.0 * k as f64 * 1e-3,
+            2.0 * (k + 1) as f64 * 1e-3
+        ));
+    }
+    let run = trubal_json(&s, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let fl = &fields(&run)[0];
+    let windows = printed(&run, "stress");
+    assert_eq!(windows.len(), 10);
+    let scale = f(&windows[0]["window"]["contact"][2][2]);
+    for (k, w) in windows.iter().enumerate() {
+        assert_eq!(w["window"]["particles"], 4, "bin {}", k + 1);
+        for m in 0..9 {
+            let (got, want) = (
+                f(&fl["stress_contact"][k][m]),
+                f(&w["window"]["contact"][m / 3][m % 3]),
+            );
+            assert!(
+                (got - want).abs() <= 1e-12 * scale,
+                "bin {} [{m}]: {got:e} {want:e}",
+                k + 1
+            );
+        }
+    }
+    let (m, g, r, area) = (COLUMN_MASS, 9.81, 1e-3, 4e-3 * 4e-3);
+    let szz = |k: usize| f(&fl["stress_contact"][k][8]) + f(&fl["stress_kinetic"][k][8]);
+    for k in 0..10 {
+        let want = (10.0 - (k + 1) as f64 + 0.5) * 4.0 * m * g / area;
+        assert!(
+            (szz(k) - want).abs() <= 0.02 * want,
+            "bin {}: sigma_zz {:e}, weight above its mid-plane {want:e}",
+            k + 1,
+            szz(k)
+        );
+    }
+    let contacts = &printed(&run, "contacts")[0]["contacts"];
+    let walls: Vec<&serde_json::Value> = contacts
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c.get("wall").is_some())
+        .collect();
+    assert_eq!(walls.len(), 4);
+    let v = 2.0 * r * area;
+    let share: f64 = walls
+        .iter()
+        .map(|c| f(&c["normal_force"]) * (r - 0.5 * f(&c["overlap"])) / v)
+        .sum();
+    let half = 40.0 * m * g / (2.0 * area);
+    assert!((share - half).abs() <= 0.02 * half, "{share:e} {half:e}");
+    let pairs = szz(0) - share;
+    let want = 36.0 * m * g / (2.0 * area);
+    assert!((pairs - want).abs() <= 0.02 * want, "{pairs:e} {want:e}");
 }
 
 /// Bad grids are refused with their place, and nothing is written.

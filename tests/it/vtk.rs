@@ -363,49 +363,72 @@ fn point_arrays(file: &Path) -> Vec<String> {
         .collect()
 }
 
-/// `VTk ARRays`: the frames of the command and of its schedule hold the positions and the
-/// arrays named and no others (read by VTK, checked against `PRint Balls`), smaller than
-/// the whole frame; a later `VTk` without `ARRays` writes every array again.
+/// `VTk ARRays` (`CONtacts`, `SINgle`): the frames of the command and of its schedule hold
+/// the positions and the arrays named and no others (read by VTK, checked against `PRint
+/// Balls Contacts Grid`; single-precision points equal to the JSON's rounded to single
+/// precision), smaller than the whole frame; a later `VTk` without them writes every array
+/// in double precision again.
 #[test]
 fn vtk_arrays_chooses_the_particle_arrays() {
-    let dir = folder("arrays");
     let base = PERIODIC_BRIDGE.split("set outdir").next().unwrap();
-    let (ok, err) = run_in(
-        &dir,
-        &format!(
-            "{base}set outdir \"out\"\nvtk every 50 file lean arrays vel id radius\ncycle 100\nprint balls\nvtk file full\n"
+    for (lean_words, contacts, single) in [
+        ("arrays vel id radius", None, false),
+        (
+            "single contacts nor bridge a arrays vel id radius",
+            Some("a,normal_force,bridge"),
+            true,
         ),
-    );
-    assert!(ok, "{err}");
-    let lean = ["id", "radius", "velocity"];
-    for c in [0, 50, 100] {
-        let f = dir.join(format!("out/lean_particles_c{c:08}.vtp"));
-        assert_eq!(point_arrays(&f), lean, "{}", f.display());
+    ] {
+        let dir = folder("arrays");
+        let (ok, err) = run_in(
+            &dir,
+            &format!(
+                "{base}set outdir \"out\"\nvtk every 50 file lean {lean_words}\ncycle 100\nprint balls contacts grid\nvtk file full\n"
+            ),
+        );
+        assert!(ok, "{err}");
+        let lean = ["id", "radius", "velocity"];
+        for c in [0, 50, 100] {
+            let f = dir.join(format!("out/lean_particles_c{c:08}.vtp"));
+            assert_eq!(point_arrays(&f), lean, "{}", f.display());
+        }
+        let full = dir.join("out/full_particles_c00000100.vtp");
+        let all = [
+            "id",
+            "radius",
+            "velocity",
+            "spin",
+            "force",
+            "moment",
+            "material",
+            "size_type",
+            "agglomerate",
+            "coordination",
+            "cluster",
+        ];
+        assert_eq!(point_arrays(&full), all);
+        let size = |f: &Path| std::fs::metadata(f).unwrap().len();
+        for kind in ["particles", "contacts"] {
+            let lean = size(&dir.join(format!("out/lean_{kind}_c00000100.vtp")));
+            let full = size(&dir.join(format!("out/full_{kind}_c00000100.vtp")));
+            assert!(lean < full || kind == "contacts" && contacts.is_none());
+        }
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "--arrays".as_ref(),
+            dir.as_os_str(),
+            "lean".as_ref(),
+            "id,radius,velocity".as_ref(),
+        ];
+        if let Some(c) = contacts {
+            args.push("--contacts".as_ref());
+            args.push(c.as_ref());
+        }
+        if single {
+            args.push("--single".as_ref());
+        }
+        check_with_vtk_args(&args);
+        let _ = std::fs::remove_dir_all(&dir);
     }
-    let full = dir.join("out/full_particles_c00000100.vtp");
-    let all = [
-        "id",
-        "radius",
-        "velocity",
-        "spin",
-        "force",
-        "moment",
-        "material",
-        "size_type",
-        "agglomerate",
-        "coordination",
-        "cluster",
-    ];
-    assert_eq!(point_arrays(&full), all);
-    let size = |f: &Path| std::fs::metadata(f).unwrap().len();
-    assert!(size(&dir.join("out/lean_particles_c00000100.vtp")) < size(&full));
-    check_with_vtk_args(&[
-        "--arrays".as_ref(),
-        dir.as_os_str(),
-        "lean".as_ref(),
-        "id,radius,velocity".as_ref(),
-    ]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Bad `ARRays`: a located error, no frame written, no schedule set.
@@ -423,6 +446,13 @@ fn vtk_arrays_refuses_bad_names() {
             "vtk every 5 arrays velocity 3",
             "unknown particle array `3`",
         ),
+        ("vtk contacts", "name the contact arrays"),
+        ("vtk contacts colour", "unknown contact array `colour`"),
+        ("vtk contacts nor normal_force", "given twice"),
+        ("vtk contacts t", "too short"),
+        ("vtk single raw single", "given twice"),
+        ("vtk off single", "stands alone"),
+        ("vtk off contacts a", "stands alone"),
     ];
     for (line, want) in cases {
         let (ok, err) = run_in(

@@ -2,11 +2,14 @@
 output of the same state (tests/it/vtk.rs runs it with the Python of .ci/vtk-venv).
 
     python check.py DIR PREFIX
-    python check.py --arrays DIR PREFIX NAME,NAME,...
+    python check.py --arrays DIR PREFIX NAME,NAME,... [--contacts NAME,NAME,...] [--single]
 
-The second form checks a frame of `VTk ARRays`: each frame of the series holds exactly the
-particle arrays named, in that order, and the last one's points and arrays are the JSON's
-(`PRint Balls` of its state, the last in out.jsonl).
+The second form checks a frame of `VTk ARRays` (`CONtacts`, `SINgle`): each frame of the
+series holds exactly the particle arrays named, in that order (and the contact arrays named
+with --contacts, all without), and the last one's points and arrays are the JSON's (`PRint
+Balls`, and `PRint Contacts` and `Grid` when the run printed them, of its state, the last in
+out.jsonl); with --single the points are single precision, compared with the JSON's
+positions rounded to single precision (exactly).
 
 DIR holds out.jsonl (the run's --json output: `PRint Balls` of the reference state first
 when the run took one, then `PRint Balls Contacts Walls Grid Clusters` of the state of the
@@ -25,6 +28,9 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 KINDS = ["particles", "contacts", "walls", "cell"]
+CONTACT_ARRAYS = ["a", "b", "wall", "force", "normal_force_vector", "tangential_force_vector",
+                  "normal_force", "tangential_force", "overlap", "contact_radius",
+                  "bridge_volume", "bridge"]
 
 
 def fail(msg):
@@ -118,45 +124,61 @@ def check_particles(d, balls, ref, contacts, clusters):
         fail("displacement written without a reference state")
 
 
-def check_contacts(d, balls, contacts, cell):
+def check_contacts(d, balls, contacts, cell, names=CONTACT_ARRAYS, single=False):
+    """The contacts file: a line per kept contact, from A's centre (the JSON's position,
+    rounded to single precision with `single`) to B's nearest image or the wall, and the
+    cell arrays `names` (exactly those, in that order) as the JSON's."""
     kept = [c for c in contacts if c["touching"] or "bridge" in c]
     if d.GetNumberOfLines() != len(kept):
         fail(f"contacts: {d.GetNumberOfLines()} lines, JSON {len(kept)} contacts")
     a = arrays(d.GetCellData())
-    same("a", a["a"], [c["a"] for c in kept], f32=False)
-    same("b", a["b"], [c.get("b", -1) for c in kept], f32=False)
-    same("wall", a["wall"], [c.get("wall", 0) for c in kept], f32=False)
-    for name in ["normal_force", "tangential_force", "overlap"]:
-        same(name, a[name], [c[name] for c in kept])
-    same("contact_radius", a["contact_radius"], [c["contact_radius"] for c in kept])
-    same("bridge", a["bridge"], [1 if "bridge" in c else 0 for c in kept], f32=False)
-    same("bridge_volume", a["bridge_volume"], [c["bridge"]["volume"] if "bridge" in c else 0 for c in kept])
+    got = [d.GetCellData().GetArrayName(k) for k in range(d.GetCellData().GetNumberOfArrays())]
+    if got != list(names):
+        fail(f"contacts: cell arrays {got}, wanted {list(names)}")
+    want = {
+        "a": ([c["a"] for c in kept], False),
+        "b": ([c.get("b", -1) for c in kept], False),
+        "wall": ([c.get("wall", 0) for c in kept], False),
+        "bridge": ([1 if "bridge" in c else 0 for c in kept], False),
+        "bridge_volume": ([c["bridge"]["volume"] if "bridge" in c else 0 for c in kept], True),
+    }
+    for name in ["normal_force", "tangential_force", "overlap", "contact_radius"]:
+        want[name] = ([c[name] for c in kept], True)
+    for name, (values, f32) in want.items():
+        if name in a:
+            same(name, a[name], values, f32=f32)
     # Each line runs from A's centre to B's nearest image (or to the wall).
     pos = {b["id"]: np.array(b["pos"]) for b in balls}
     pts = vtk_to_numpy(d.GetPoints().GetData())
+    if single and pts.dtype != np.float32 or not single and pts.dtype != np.float64:
+        fail(f"contacts: points of type {pts.dtype}, single precision {single}")
     lines = d.GetLines()
     ids = vtk.vtkIdList()
     lines.InitTraversal()
     size = np.array(cell["size"])
     per = np.array(cell["periodic"])
+    tol = (4e-7 if single else 1e-12) * size.max()
     for c in kept:
         lines.GetNextCell(ids)
         p0, p1 = pts[ids.GetId(0)], pts[ids.GetId(1)]
-        if not (p0 == pos[c["a"]]).all():
+        at = pos[c["a"]].astype(np.float32) if single else pos[c["a"]]
+        if not (p0 == at).all():
             fail(f"contact {c['a']}-{c.get('b')}: line starts at {p0}, A is at {pos[c['a']]}")
         length = np.linalg.norm(p1 - p0)
         if "b" in c:
             l = pos[c["b"]] - pos[c["a"]]
             l = np.where(per, l - size * np.round(l / size), l)
-            if np.abs(p1 - p0 - l).max() > 1e-12 * size.max():
+            if np.abs(p1 - p0 - l).max() > tol:
                 fail(f"contact {c['a']}-{c['b']}: line {p1 - p0}, branch {l}")
         if length > 2.5 * max(b["radius"] for b in balls):
             fail(f"contact {c['a']}-{c.get('b')}: line {length} m long")
     for name in ["force", "normal_force_vector", "tangential_force_vector"]:
-        if a[name].shape != (len(kept), 3):
+        if name in a and a[name].shape != (len(kept), 3):
             fail(f"{name}: shape {a[name].shape}")
     # The normal part of the force is along the line; normal + tangential = whole.
-    if not np.allclose(a["normal_force_vector"] + a["tangential_force_vector"], a["force"], rtol=1e-5, atol=1e-6 * np.abs(a["force"]).max(initial=1e-30)):
+    if all(n in a for n in ["force", "normal_force_vector", "tangential_force_vector"]) and not np.allclose(
+            a["normal_force_vector"] + a["tangential_force_vector"], a["force"], rtol=1e-5,
+            atol=1e-6 * np.abs(a["force"]).max(initial=1e-30)):
         fail("normal + tangential force vectors are not the force")
 
 
@@ -216,7 +238,7 @@ def check_field(path, fl):
     same("field stress", a["stress"], np.add(fl["stress_contact"], fl["stress_kinetic"]), f32=False)
 
 
-def check_selection(top, prefix, names):
+def check_selection(top, prefix, names, contact_names, single):
     out = os.path.join(top, "out")
     rows = [json.loads(l) for l in open(os.path.join(top, "out.jsonl")) if l.startswith("{")]
     state = [r for r in rows if r.get("print") == "balls"][-1]
@@ -228,10 +250,17 @@ def check_selection(top, prefix, names):
         got = [d.GetPointData().GetArrayName(k) for k in range(d.GetPointData().GetNumberOfArrays())]
         if got != names:
             fail(f"{f}: point arrays {got}, wanted {names}")
+        dc = read(os.path.join(out, f.replace("_particles_", "_contacts_")))
+        got = [dc.GetCellData().GetArrayName(k) for k in range(dc.GetCellData().GetNumberOfArrays())]
+        if got != contact_names:
+            fail(f"{f}: contact arrays {got}, wanted {contact_names}")
     d = read(os.path.join(out, files[-1]))
     if int(arrays(d.GetFieldData())["cycle"][0]) != state["cycle"]:
         fail(f"the last frame is not of the JSON state's cycle {state['cycle']}")
-    same("particle positions", vtk_to_numpy(d.GetPoints().GetData()), [b["pos"] for b in balls], f32=False)
+    pts = vtk_to_numpy(d.GetPoints().GetData())
+    if pts.dtype != (np.float32 if single else np.float64):
+        fail(f"particles: points of type {pts.dtype}, single precision {single}")
+    same("particle positions", pts, [b["pos"] for b in balls], f32=single)
     a = arrays(d.GetPointData())
     keys = {"radius": "radius", "velocity": "vel", "spin": "spin", "force": "force"}
     for name in names:
@@ -239,12 +268,25 @@ def check_selection(top, prefix, names):
             same("id", a["id"], [b["id"] for b in balls], f32=False)
         elif name in keys:
             same(name, a[name], [b[keys[name]] for b in balls])
-    print(f"VTK check passed: {len(files)} frames with the arrays {names}, {len(balls)} particles")
+    contacts = [r for r in rows if r.get("print") == "contacts"]
+    grid = [r for r in rows if r.get("print") == "grid"]
+    if contacts and grid:
+        if contacts[-1]["cycle"] != state["cycle"]:
+            fail("the JSON contacts are not of the state of the balls")
+        dc = read(os.path.join(out, files[-1].replace("_particles_", "_contacts_")))
+        check_contacts(dc, balls, contacts[-1]["contacts"], grid[-1], contact_names, single)
+    print(f"VTK check passed: {len(files)} frames with the arrays {names} and {contact_names}, "
+          f"{len(balls)} particles, single {single}")
 
 
 def main():
     if sys.argv[1] == "--arrays":
-        check_selection(sys.argv[2], sys.argv[3], sys.argv[4].split(","))
+        rest = sys.argv[5:]
+        contact_names = CONTACT_ARRAYS
+        if "--contacts" in rest:
+            contact_names = rest[rest.index("--contacts") + 1].split(",")
+        check_selection(sys.argv[2], sys.argv[3], sys.argv[4].split(","), contact_names,
+                        "--single" in rest)
         return
     top, prefix = sys.argv[1], sys.argv[2]
     out = os.path.join(top, "out")

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use super::xml::{Array, PolyData, Values};
-use crate::lang::command::PARTICLE_ARRAYS;
+use crate::lang::command::{CONTACT_ARRAYS, PARTICLE_ARRAYS};
 use crate::sim::scene::Vec3;
 use crate::sim::stress::pair_force;
 use crate::sim::walls::wall_gap;
@@ -31,6 +31,9 @@ pub fn coordination(scene: &Scene) -> Vec<i32> {
 
 /// Every particle array (`VTk` without `ARRays`).
 pub const ALL_ARRAYS: u16 = (1 << PARTICLE_ARRAYS.len()) - 1;
+
+/// Every contact array (`VTk` without `CONtacts`).
+pub const ALL_CONTACT_ARRAYS: u16 = (1 << CONTACT_ARRAYS.len()) - 1;
 
 /// The particles: points at their centres (one vertex cell each) with the arrays of
 /// `arrays` (a bit per entry of [`PARTICLE_ARRAYS`], in that order): id, radius, velocity
@@ -120,8 +123,9 @@ struct Row {
 /// tangential spring force's magnitude, as in `PRint Contacts`), `overlap`, `contact_radius`,
 /// `bridge` (1 or 0), `bridge_volume`, and the vectors `force` (the whole force on B of the
 /// last step, bridge included: `sim::stress::pair_force`), `normal_force_vector` and
-/// `tangential_force_vector` (its normal and tangential parts).
-pub fn contacts(scene: &Scene) -> PolyData {
+/// `tangential_force_vector` (its normal and tangential parts); of those, the ones of
+/// `arrays` (a bit per entry of [`CONTACT_ARRAYS`], in that order).
+pub fn contacts(scene: &Scene, arrays: u16) -> PolyData {
     let p = scene.particles();
     let mut d = PolyData {
         points: p.pos.iter().map(a3).collect(),
@@ -160,37 +164,29 @@ pub fn contacts(scene: &Scene) -> PolyData {
         d.lines.push(&[i, d.points.len() - 1]);
         rows.push(row(c.id as i32, -1, c.wall as i32 + 1, &c.s, &n));
     }
-    let cd = &mut d.cell_data;
-    let int = |name: &str, f: &dyn Fn(&Row) -> i32| {
-        Array::new(name, 1, Values::I32(rows.iter().map(f).collect()))
-    };
-    cd.push(int("a", &|r| r.a));
-    cd.push(int("b", &|r| r.b));
-    cd.push(int("wall", &|r| r.wall));
-    cd.push(Array::vectors("force", rows.iter().map(|r| r.force)));
-    cd.push(Array::vectors(
-        "normal_force_vector",
-        rows.iter().map(|r| r.fnv),
-    ));
-    cd.push(Array::vectors(
-        "tangential_force_vector",
-        rows.iter().map(|r| r.ftv),
-    ));
-    let names = [
-        "normal_force",
-        "tangential_force",
-        "overlap",
-        "contact_radius",
-        "bridge_volume",
-    ];
-    for (k, name) in names.into_iter().enumerate() {
-        cd.push(Array::scalars(name, rows.iter().map(|r| r.scalars[k])));
+    let on = |k: usize| arrays & (1 << k) != 0;
+    for (k, name) in CONTACT_ARRAYS
+        .into_iter()
+        .enumerate()
+        .filter(|&(k, _)| on(k))
+    {
+        let int = |f: &dyn Fn(&Row) -> i32| Values::I32(rows.iter().map(f).collect());
+        let array = match k {
+            0 => Array::new(name, 1, int(&|r| r.a)),
+            1 => Array::new(name, 1, int(&|r| r.b)),
+            2 => Array::new(name, 1, int(&|r| r.wall)),
+            3 => Array::vectors(name, rows.iter().map(|r| r.force)),
+            4 => Array::vectors(name, rows.iter().map(|r| r.fnv)),
+            5 => Array::vectors(name, rows.iter().map(|r| r.ftv)),
+            6..=10 => Array::scalars(name, rows.iter().map(|r| r.scalars[k - 6])),
+            _ => Array::new(
+                name,
+                1,
+                Values::U8(rows.iter().map(|r| r.bridge as u8).collect()),
+            ),
+        };
+        d.cell_data.push(array);
     }
-    cd.push(Array::new(
-        "bridge",
-        1,
-        Values::U8(rows.iter().map(|r| r.bridge as u8).collect()),
-    ));
     d
 }
 

@@ -19,14 +19,17 @@ use crate::sim::Scene;
 /// The kinds of file of a frame.
 pub const KINDS: [&str; 4] = ["particles", "contacts", "walls", "cell"];
 
-/// The frames of one series (one prefix): (cycle, time), how its files are encoded, and
-/// the particle arrays its frames hold (a bit per entry of `PARTICLE_ARRAYS`).
+/// The frames of one series (one prefix): (cycle, time), how its files are encoded, the
+/// particle and contact arrays its frames hold (a bit per entry of `PARTICLE_ARRAYS`,
+/// `CONTACT_ARRAYS`), and whether the points are single precision.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Series {
     pub prefix: String,
     pub frames: Vec<(u64, f64)>,
     pub encoding: xml::Encoding,
     pub arrays: u16,
+    pub contacts: u16,
+    pub single: bool,
 }
 
 impl Series {
@@ -36,6 +39,8 @@ impl Series {
             frames: Vec::new(),
             encoding: xml::Encoding::default(),
             arrays: frame::ALL_ARRAYS,
+            contacts: frame::ALL_CONTACT_ARRAYS,
+            single: false,
         }
     }
 }
@@ -85,16 +90,17 @@ pub fn file_name(prefix: &str, kind: &str, cycle: u64) -> String {
     format!("{prefix}_{kind}_c{cycle:08}.vtp")
 }
 
-/// The bytes of the file of one kind (`KINDS`) for the scene as it is; `arrays`: the
-/// particle arrays written (a bit per entry of `PARTICLE_ARRAYS`).
-pub fn encode_kind(scene: &Scene, kind: &str, encoding: xml::Encoding, arrays: u16) -> Vec<u8> {
-    let d = match kind {
-        "particles" => frame::particles(scene, arrays),
-        "contacts" => frame::contacts(scene),
+/// The bytes of the file of one kind (`KINDS`) for the scene as it is, with the arrays,
+/// precision and encoding of the series.
+pub fn encode_kind(scene: &Scene, kind: &str, series: &Series) -> Vec<u8> {
+    let mut d = match kind {
+        "particles" => frame::particles(scene, series.arrays),
+        "contacts" => frame::contacts(scene, series.contacts),
         "walls" => surfaces::walls(scene),
         _ => frame::cell_box(scene),
     };
-    xml::encode(&d, encoding)
+    d.single = series.single;
+    xml::encode(&d, series.encoding)
 }
 
 /// The `.pvd` index of one kind: a `DataSet` per frame, at its time.
@@ -158,11 +164,7 @@ pub fn write_frame(scene: &Scene, series: &mut Series) -> Result<Vec<String>, St
     let mut shown = Vec::new();
     for kind in KINDS {
         let name = file_name(&series.prefix, kind, scene.cycle());
-        shown.push(write(
-            &dir,
-            &name,
-            &encode_kind(scene, kind, series.encoding, series.arrays),
-        )?);
+        shown.push(write(&dir, &name, &encode_kind(scene, kind, series))?);
     }
     for kind in KINDS {
         let name = format!("{}_{kind}.pvd", series.prefix);

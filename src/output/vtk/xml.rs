@@ -149,10 +149,12 @@ impl Cells {
 }
 
 /// One PolyData piece: points, cells, and the arrays on points, cells and the whole set
-/// (field data: the time and cycle of the frame).
+/// (field data: the time and cycle of the frame); `single`: the points written in single
+/// precision (`VTk SINgle`), else double.
 #[derive(Default)]
 pub struct PolyData {
     pub points: Vec<[f64; 3]>,
+    pub single: bool,
     pub verts: Cells,
     pub lines: Cells,
     pub polys: Cells,
@@ -193,10 +195,21 @@ impl Out {
         }
     }
 
+    /// The cells' connectivity and offsets, as Int32 when every index fits (half the
+    /// bytes; VTK reads either type into its cell arrays), else as Int64.
     fn cells(&mut self, tag: &str, c: &Cells) {
         self.xml.push_str(&format!("      <{tag}>\n"));
-        let conn = Array::new("connectivity", 1, Values::I64(c.connectivity.clone()));
-        let offs = Array::new("offsets", 1, Values::I64(c.offsets.clone()));
+        let small = c.offsets.last().is_none_or(|&n| n <= i32::MAX as i64)
+            && c.connectivity.iter().all(|&k| k <= i32::MAX as i64);
+        let values = |v: &[i64]| {
+            if small {
+                Values::I32(v.iter().map(|&k| k as i32).collect())
+            } else {
+                Values::I64(v.to_vec())
+            }
+        };
+        let conn = Array::new("connectivity", 1, values(&c.connectivity));
+        let offs = Array::new("offsets", 1, values(&c.offsets));
         self.array("        ", &conn, false);
         self.array("        ", &offs, false);
         self.xml.push_str(&format!("      </{tag}>\n"));
@@ -248,11 +261,12 @@ pub fn encode(p: &PolyData, encoding: Encoding) -> Vec<u8> {
         o.xml.push_str(&format!("      </{tag}>\n"));
     }
     o.xml.push_str("      <Points>\n");
-    let pts = Array::new(
-        "Points",
-        3,
-        Values::F64(p.points.iter().flatten().copied().collect()),
-    );
+    let coords = p.points.iter().flatten().copied();
+    let pts = if p.single {
+        Array::new("Points", 3, Values::F32(coords.map(|x| x as f32).collect()))
+    } else {
+        Array::new("Points", 3, Values::F64(coords.collect()))
+    };
     o.array("        ", &pts, false);
     o.xml.push_str("      </Points>\n");
     o.cells("Verts", &p.verts);
@@ -355,6 +369,47 @@ mod tests {
             f64::from_le_bytes(bytes[pt + 32..pt + 40].try_into().unwrap()),
             4.0
         );
+    }
+
+    /// The cells' indices as Int32 (they fit), the points as Float32 with `single`: the
+    /// types the header names, and the bytes at their offsets.
+    #[test]
+    fn small_indices_and_single_points() {
+        let mut p = PolyData {
+            points: vec![[1.0, 2.0, 0.1], [4.0, 5.0, 6.0]],
+            single: true,
+            ..Default::default()
+        };
+        p.lines.push(&[0, 1]);
+        let bytes = encode(&p, Encoding::Raw);
+        let text = String::from_utf8_lossy(&bytes);
+        let start = text.find("encoding=\"raw\">\n   _").unwrap() + "encoding=\"raw\">\n   _".len();
+        // The first array of this name after `after` (the lines' cells follow the vertices').
+        let at = |after: &str, name: &str, ty: &str| -> usize {
+            let from = text.find(after).unwrap();
+            let k = text[from..].find(&format!("Name=\"{name}\"")).unwrap() + from;
+            let tag = &text[text[..k].rfind('<').unwrap()..];
+            assert!(
+                tag.starts_with(&format!("<DataArray type=\"{ty}\"")),
+                "{name}"
+            );
+            let o = text[k..].find("offset=\"").unwrap() + k + 8;
+            let e = text[o..].find('"').unwrap() + o;
+            start + text[o..e].parse::<usize>().unwrap()
+        };
+        let pt = at("<Points>", "Points", "Float32");
+        assert_eq!(
+            u64::from_le_bytes(bytes[pt..pt + 8].try_into().unwrap()),
+            24
+        );
+        let x = f32::from_le_bytes(bytes[pt + 16..pt + 20].try_into().unwrap());
+        assert_eq!(x, 0.1f32);
+        let c = at("<Lines>", "connectivity", "Int32");
+        let word = |k: usize| i32::from_le_bytes(bytes[k..k + 4].try_into().unwrap());
+        assert_eq!(u64::from_le_bytes(bytes[c..c + 8].try_into().unwrap()), 8);
+        assert_eq!((word(c + 8), word(c + 12)), (0, 1));
+        let o = at("<Lines>", "offsets", "Int32");
+        assert_eq!(word(o + 8), 2);
     }
 
     /// A compressed array: the header counts the blocks, the block size and the last
