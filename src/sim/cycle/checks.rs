@@ -510,11 +510,7 @@ pub(super) fn after_step(
         return Ok(());
     }
     // The largest distance a particle moved in this step.
-    let vmax = p
-        .vel
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.norm_squared()))
-        .sqrt();
+    let vmax = largest_norm_squared(&p.vel).sqrt();
     let step = vmax * dt;
     if !scene.walls.is_empty() {
         // Every particle when the candidates are due for a re-mapping or a wall jumped by
