@@ -32,6 +32,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::hertz;
+use super::jkr_branch::{Branch, t_of_a, taylor_start};
 
 /// Floor applied to `|x³ − 1| = |dα/da| · (…)` in [`Jkr::stiffness_of_a`] near the pole at
 /// `a = a_s`: the returned stiffness is bounded by `2E*a · 2 / STIFFNESS_POLE_FLOOR`.
@@ -108,8 +109,8 @@ impl PathStart {
 /// `t_n`, the start of the path `lo = α_{n−1/2}`, the separation rate `v` at `t_{n−1/2}`
 /// (positive opening), the step, the reduced mass, the contact's force of the last step, the
 /// separation rate of the last step (`v_prev`, not finite if unknown), the dashpot's force
-/// of the last step, the contact radius of the last step, where the path starts and the
-/// last evaluated point of the last step's path (if known).
+/// of the last step, where the path starts and the last evaluated point of the last step's
+/// path (if known).
 #[derive(Clone, Copy, Debug)]
 pub struct LeapFrog {
     pub alpha: f64,
@@ -120,7 +121,6 @@ pub struct LeapFrog {
     pub p_old: f64,
     pub v_prev: f64,
     pub f_damp: f64,
-    pub a_old: f64,
     pub from: PathStart,
     pub end: Option<PathEnd>,
 }
@@ -300,25 +300,7 @@ impl Jkr {
         if !(d <= 1e60) {
             return self.solve_a_huge(alpha);
         }
-        let mut t = start(d, a_guess / a_s);
-        for _ in 0..200 {
-            let step = newton_step(t, d);
-            if !(step > 0.0) {
-                break; // at (or, by rounding, just below) the root
-            }
-            let tn = t - step;
-            if !(tn < t) || tn <= 0.0 {
-                break;
-            }
-            t = tn;
-            // Quadratic convergence from above: the next step would be at most
-            // 3(t+1)²/(2(t²+3t+3)) (step/t)² t < 1.5e-16 t, below the 2ε t at which it stops
-            // (the root to within an ulp of t).
-            if step <= 1e-8 * t {
-                break;
-            }
-        }
-        let x = 1.0 + t;
+        let x = 1.0 + newton_t(d, t_of_a(a_s, a_guess));
         a_s * x * x
     }
 
@@ -425,25 +407,27 @@ impl Jkr {
     /// `E(α_{n−1/2})`. The path ends where the particles go: `v_{n+1/2} = v + Δt(P̄ −
     /// P_old)/m* + (v − v_prev)`, the last step's change of the separation rate less this
     /// contact's force then standing for the other forces (as `dashpot::drive` takes them),
-    /// or `v + Δt(P̄ + F_dashpot)/m*` without the last step's rate. `a` is the contact radius
-    /// at `α_n` ([`Jkr::solve_a_with`]). Returns `P̄` and the last evaluated point of the
-    /// path, for the next step's `x.end`.
+    /// or `v + Δt(P̄ + F_dashpot)/m*` without the last step's rate. `t` is the root of (3.29)
+    /// at `α_n` on the branch `b` ([`Jkr::solve_t`]). Returns `P̄` and the last evaluated point
+    /// of the path, for the next step's `x.end`.
     ///
     /// `E(α_{n−1/2})` is where the last step's path ended up to the prediction error `δ` of
     /// the other forces: from its last evaluated point `x.end` it is the Taylor polynomial
     /// `E + Pδ + kδ²/2` ([`Jkr::energy_from_end`]) when that is exact to 1e-10 of the work of
     /// half a step, else (and without `x.end`) a solution of (3.29) at `α_{n−1/2}`.
-    pub fn leap_frog_force(&self, a_s: f64, a: f64, x: &LeapFrog) -> (f64, Option<PathEnd>) {
-        let w_p = self.peel_work_with(a_s);
+    pub fn leap_frog_force(&self, b: &Branch, t: f64, x: &LeapFrog) -> (f64, Option<PathEnd>) {
         let e_lo = match x.from {
             PathStart::Touch => 0.0,
-            PathStart::Primed => self.energy_of_a_with(a_s, a) + w_p,
+            PathStart::Primed => b.energy(t),
             PathStart::Path => match x
                 .end
-                .and_then(|end| self.energy_from_end(a_s, &end, x.lo, x.alpha))
+                .and_then(|end| self.end_energy(b, &end, x.lo, x.alpha))
             {
                 Some(e) => e,
-                None => self.branch_energy(a_s, w_p, x.lo, x.a_old).0,
+                None => {
+                    let tg = taylor_start(t, (x.lo - x.alpha) * b.c_d);
+                    self.branch_at(b, x.lo, tg).0
+                }
             },
         };
         let inv_m = 1.0 / x.m_star;
@@ -458,12 +442,12 @@ impl Jkr {
             base: x.alpha - 0.5 * x.dt * v_ahead,
             lag: 0.5 * x.dt * x.dt * inv_m,
         };
-        let (p, _, at) = self.step_force_at(a_s, &path, self.force_of_a(a), a);
-        let end = at.map(|(alpha, e, p, a)| PathEnd {
+        let (p, _, at) = self.step_force_t(b, &path, guess(b, t, x, &path), (x.alpha, t));
+        let end = at.map(|(alpha, e, p, t)| PathEnd {
             alpha,
             e,
             p,
-            k: self.stiffness_with(a_s, a),
+            k: b.stiffness(t),
             e_star: self.e_star,
             r_star: self.r_star,
         });
@@ -480,10 +464,15 @@ impl Jkr {
     /// `max(|P|, P_c)|α − α_end|` of the half step: the tolerance of [`Jkr::step_force`]'s own
     /// iteration. Else `None` (a solution of (3.29) is needed).
     pub fn energy_from_end(&self, a_s: f64, end: &PathEnd, lo: f64, alpha: f64) -> Option<f64> {
+        self.end_energy(&self.branch(a_s), end, lo, alpha)
+    }
+
+    /// [`Jkr::energy_from_end`] on the branch `b`.
+    fn end_energy(&self, b: &Branch, end: &PathEnd, lo: f64, alpha: f64) -> Option<f64> {
         if end.e_star != self.e_star || end.r_star != self.r_star {
             return None;
         }
-        let rho = end.alpha + 3.0 * a_s * a_s / self.r_star;
+        let rho = end.alpha - b.alpha_s;
         let d = lo - end.alpha;
         let h = (alpha - end.alpha).abs();
         if rho > 0.0 && d.abs() * d * d <= 1e-10 * rho * rho * h {
@@ -533,19 +522,22 @@ impl Jkr {
     /// derivative falls below 1/4; returns `(P̄, α_{n+1/2})`.
     /// On a path shorter than `1e-9` of its scale the mean is the force at its middle.
     pub fn step_force(&self, a_s: f64, path: &StepPath, p_guess: f64, a_guess: f64) -> (f64, f64) {
-        let (p, end, _) = self.step_force_at(a_s, path, p_guess, a_guess);
+        let b = self.branch(a_s);
+        let seed = (self.alpha_of_a(a_guess), t_of_a(a_s, a_guess));
+        let (p, end, _) = self.step_force_t(&b, path, p_guess, seed);
         (p, end)
     }
 
-    /// [`Jkr::step_force`], with the last point of the path where the energy was evaluated:
-    /// `(α, E, P, a)` ([`Jkr::branch_energy`]), `None` if none was.
-    #[allow(clippy::type_complexity)]
-    pub fn step_force_at(
+    /// [`Jkr::step_force`] on the branch `b`, each solution of (3.29) started from the last
+    /// one by [`taylor_start`], the first from `seed`, a point `(α, t)` of the branch (`t` not
+    /// finite: none); with the last point of the path where the energy was evaluated:
+    /// `(α, E, P, t)` ([`Jkr::branch_at`]), `None` if none was.
+    pub fn step_force_t(
         &self,
-        a_s: f64,
+        b: &Branch,
         path: &StepPath,
         p_guess: f64,
-        a_guess: f64,
+        seed: (f64, f64),
     ) -> (f64, f64, Option<(f64, f64, f64, f64)>) {
         let StepPath {
             lo,
@@ -553,10 +545,9 @@ impl Jkr {
             base,
             lag,
         } = *path;
-        let w_p = self.peel_work_with(a_s);
-        let alpha_s = -3.0 * a_s * a_s / self.r_star;
+        let alpha_s = b.alpha_s;
         let mut p = if p_guess.is_finite() { p_guess } else { 0.0 };
-        let mut guess = a_guess;
+        let (mut alpha_0, mut t_0) = seed;
         let mut out = (p, base - lag * p);
         let mut at = None;
         for _ in 0..8 {
@@ -566,13 +557,16 @@ impl Jkr {
             if !(d.abs() > 1e-9 * scale) {
                 // (Also a NaN path: the force at its middle, which is then NaN too.)
                 let mid = 0.5 * (lo + hi);
-                let (em, pm, am) = self.branch_energy(a_s, w_p, mid, guess);
-                return (pm, hi, Some((mid, em, pm, am)));
+                let tg = taylor_start(t_0, (mid - alpha_0) * b.c_d);
+                let (em, pm, tm) = self.branch_at(b, mid, tg);
+                return (pm, hi, Some((mid, em, pm, tm)));
             }
-            let (e, ph, a) = self.branch_energy(a_s, w_p, hi, guess);
-            at = Some((hi, e, ph, a));
-            guess = a;
-            let chord = (e - e_lo) / d;
+            let tg = taylor_start(t_0, (hi - alpha_0) * b.c_d);
+            let (e, ph, t) = self.branch_at(b, hi, tg);
+            at = Some((hi, e, ph, t));
+            (alpha_0, t_0) = (hi, t);
+            let inv_d = 1.0 / d;
+            let chord = (e - e_lo) * inv_d;
             out = (chord, hi);
             let g = p - chord;
             // Converged when the end of the path moves by less than 1e-10 of the path (the
@@ -586,7 +580,7 @@ impl Jkr {
             // its velocity does (quasi-static, or particles whose velocity is held, which
             // the force does not move), the equation may have other roots far away: the
             // chord on the path of the guess is kept.
-            let slope = 1.0 + lag * (ph - chord) / d;
+            let slope = 1.0 + lag * (ph - chord) * inv_d;
             if !(slope > 0.25) {
                 break;
             }
@@ -603,23 +597,66 @@ impl Jkr {
     }
 }
 
+/// The first guess of the mean force `P̄` of a step ([`Jkr::step_force`]): the mean over the
+/// path of the force's tangent at `α_n`, `P_n + k_n (α_m − α_n)`, `α_m = (lo + α_{n+1/2})/2`
+/// the middle of the path, whose end depends on `P̄` (`α_{n+1/2} = base − lag P̄`), so
+/// `P̄ = (P_n + k_n((lo + base)/2 − α_n))/(1 + k_n lag/2)`, `k_n` (3.41). `P̄ − P_n` is of
+/// the first order in the step (the middle of the path moves with the pair's acceleration),
+/// this guess's error of the second (the force's curvature over the path), so that the
+/// iteration usually stops after one solution of (3.29) instead of two. `P_n` itself for a
+/// path that starts at the touch, and where `k_n lag` is not small (near the pole at `a_s`).
+fn guess(b: &Branch, t: f64, x: &LeapFrog, path: &StepPath) -> f64 {
+    let p_n = b.force(t);
+    if x.from != PathStart::Path {
+        return p_n;
+    }
+    let k = b.stiffness(t);
+    let kl = 0.5 * k * path.lag;
+    let p = (p_n + k * (0.5 * (path.lo + path.base) - x.alpha)) / (1.0 + kl);
+    if kl.abs() < 0.25 && p.is_finite() {
+        p
+    } else {
+        p_n
+    }
+}
+
+/// The root `t ≥ 0` of `g(t) = t⁴ + 4t³ + 6t² − D` ([`Jkr::solve_a_with`]'s iteration,
+/// `D ≤ 1e60`) by safeguarded Newton from the warm start `tg` (anything: not finite or not
+/// positive means none), decreasing monotonically from the start of [`start`].
+pub(crate) fn newton_t(d: f64, tg: f64) -> f64 {
+    let mut t = start(d, tg);
+    for _ in 0..200 {
+        let step = newton_step(t, d);
+        if !(step > 0.0) {
+            break; // at (or, by rounding, just below) the root
+        }
+        let tn = t - step;
+        if !(tn < t) || tn <= 0.0 {
+            break;
+        }
+        t = tn;
+        // Quadratic convergence from above: the next step would be at most
+        // 3(t+1)²/(2(t²+3t+3)) (step/t)² t < 1.5e-16 t, below the 2ε t at which it stops
+        // (the root to within an ulp of t).
+        if step <= 1e-8 * t {
+            break;
+        }
+    }
+    t
+}
+
 /// The start of the Newton iteration of [`Jkr::solve_a_with`] for `g(t) = t⁴ + 4t³ + 6t² − D`
-/// given the warm start `y = a_guess/a_s`: the smallest of the upper bounds `sqrt(D/6)`
-/// (`g = t⁴ + 4t³ ≥ 0` there), `D^{1/4}` (`g = 4t³ + 6t² ≥ 0`) and the warm start `t_g =
-/// sqrt(y) − 1` when it is one (`g(t_g) ≥ 0`), else the Newton iterate from it (above the root
-/// by convexity). A warm start inside the bounds by a margin (`6t² < D` and `t⁴ < D` with
+/// given the warm start `tg` (`sqrt(a_guess/a_s) − 1`, or a Taylor start): the smallest of the
+/// upper bounds `sqrt(D/6)` (`g = t⁴ + 4t³ ≥ 0` there), `D^{1/4}` (`g = 4t³ + 6t² ≥ 0`) and
+/// the warm start when it is one (`g(t_g) ≥ 0`), else the Newton iterate from it (above the
+/// root by convexity). A warm start inside the bounds by a margin (`6t² < D` and `t⁴ < D` with
 /// `1e-12` to spare, more than the rounding of the bounds) is taken without computing them:
 /// the same start, three square roots fewer.
-fn start(d: f64, y: f64) -> f64 {
+fn start(d: f64, tg: f64) -> f64 {
     let inside = |t: f64| {
         let t2 = t * t;
         let lim = d * (1.0 - 1e-12);
         6.0 * t2 < lim && t2 * t2 < lim
-    };
-    let tg = if y.is_finite() && y > 1.0 {
-        y.sqrt() - 1.0
-    } else {
-        f64::NAN
     };
     let mut g = f64::NAN;
     if tg > 0.0 {

@@ -5,6 +5,7 @@ pub mod dashpot;
 pub mod hertz;
 pub mod hertz_edge;
 pub mod jkr;
+pub mod jkr_branch;
 pub mod jkr_nguyen;
 pub mod mdr;
 pub mod modified_jkr;

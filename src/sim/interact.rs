@@ -10,6 +10,7 @@ use super::scene::Vec3;
 use crate::physics::bridge::{self, Bridge};
 use crate::physics::hertz_edge::{EdgeIn, edge_step};
 use crate::physics::jkr::{Jkr, LeapFrog, PathStart};
+use crate::physics::jkr_branch::{t_of_a, taylor_start};
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz};
@@ -221,20 +222,29 @@ fn viscous_normal<const ADH: bool>(
         } else {
             0.0
         };
-        // (R* α)^{1/2}: the Hertz contact radius.
-        let a_h = (k.r_star * alpha).sqrt();
-        let (coef, vn) = dashpot::viscous_step(&dashpot::ViscousIn {
-            alpha,
-            v: v_n,
-            drive,
-            dash: if dashed { pc.dash } else { 0.0 },
-            scale: k.m_star * k.m_star * k.r_star,
-            steady: was_touching && alpha > 0.0,
-            point: (k.m_star * a_h).sqrt(),
-            linear: rayleigh + bridge_c,
-            inv_m,
-            dt,
-        });
+        let linear = rayleigh + bridge_c;
+        let (coef, vn) = if dashed {
+            // (R* α)^{1/2}: the Hertz contact radius.
+            let a_h = (k.r_star * alpha).sqrt();
+            dashpot::viscous_step(&dashpot::ViscousIn {
+                alpha,
+                v: v_n,
+                drive,
+                dash: pc.dash,
+                scale: k.m_star * k.m_star * k.r_star,
+                steady: was_touching && alpha > 0.0,
+                point: (k.m_star * a_h).sqrt(),
+                linear,
+                inv_m,
+                dt,
+            })
+        } else {
+            // A linear coefficient alone (a bridge's, Rayleigh's): `viscous_step`'s implicit
+            // step with the dashpot's coefficient 0, the same arithmetic without the means
+            // of α^{1/4} it would multiply by 0 (four fourth roots).
+            let h = 0.5 * dt;
+            (0.0, (v_n + h * drive) / (1.0 + h * (0.0 + linear) * inv_m))
+        };
         fd = 0.0 - coef * vn;
         if rayleigh > 0.0 {
             fd -= rayleigh * vn;
@@ -334,23 +344,26 @@ fn normal_law<const ADH: bool>(
             }
         }
         if s.touching {
-            let a_s = s.ext().a_s;
+            let b = j.branch(s.ext().a_s);
             // The step's path starts at α_{n−1/2} = α + v Δt/2 (α itself while priming).
             let lo = alpha + 0.5 * v_n * dt;
-            if was_touching && lo < -3.0 * a_s * a_s / k.r_star {
+            if was_touching && lo < b.alpha_s {
                 // Detachment at α_s (3.38): the last step's path ended beyond it, at
                 // E(α_s) = W_p, which is lost (3.119). (While priming: the energy it had.)
                 acc.adhesion += if dt > 0.0 {
-                    j.peel_work_with(a_s)
+                    b.w_p
                 } else {
                     super::energy::normal_strain(s, pc.e_star, k.r_star)
                 };
                 reset_solid(s, acc);
             } else {
-                let a_old = s.a;
-                let a = j.solve_a_with(a_s, alpha, s.a);
-                s.a = a;
-                s.normal_force = j.force_of_a(a);
+                // (3.29) at α_n, started from the last step's root (at its overlap; a new
+                // contact's at α = 0, a_0) by the inverse's Taylor polynomial.
+                let t_old = t_of_a(b.a_s, s.a);
+                let alpha_old = if was_touching { s.overlap } else { 0.0 };
+                let t = j.solve_t(&b, alpha, taylor_start(t_old, (alpha - alpha_old) * b.c_d));
+                s.a = b.radius(t);
+                s.normal_force = b.force(t);
                 if dt > 0.0 {
                     // The mean force over the step's path (`Jkr::leap_frog_force`).
                     let from = PathStart::of(s.v_prev == f64::NEG_INFINITY, was_touching);
@@ -363,16 +376,15 @@ fn normal_law<const ADH: bool>(
                         p_old,
                         v_prev: s.v_prev,
                         f_damp: s.damp_force,
-                        a_old,
                         from,
                         end: s.ext().end,
                     };
-                    let (p, end) = j.leap_frog_force(a_s, a, &x);
+                    let (p, end) = j.leap_frog_force(&b, t, &x);
                     s.normal_force = p;
                     s.ext_mut().end = end;
                 }
                 if laws.beta > 0.0 {
-                    kn = j.stiffness_of_a(a).abs();
+                    kn = b.stiffness(t).abs();
                 }
                 pcrit = j.pc();
             }
