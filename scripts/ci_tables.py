@@ -32,10 +32,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import lun_shear  # noqa: E402
+import pasha_indent  # noqa: E402
 import pasha_single  # noqa: E402
 import provenance  # noqa: E402
 import run_table  # noqa: E402
 import shang_shear  # noqa: E402
+import triaxial  # noqa: E402
 
 REFERENCE = os.path.join(ROOT, "doc", "data", "ci_tables.json")
 SAMPLES = 5
@@ -172,6 +174,38 @@ def pasha4(exe, work, k):
             "e_tning_3": pasha_single.run("tning", 3.0 * f, 0.05)}
 
 
+def pasha5(exe, work, k):
+    """Pasha Ch. 5 reduced: scripts/pasha_indent.py's procedure (settle under 5 g, consolidate
+    to 10 kPa at 20/s, unload at 1/s, indent at 20/s to h/r = 0.6) on a tiny bed: particles
+    twice Pasha's size (Table 5.1 x 2, d_p = 2 mm), E/1000, MJKR EDEM with mu_r = 0.1, an
+    18 mm die (9 d_p), a 12 mm bed (6 d_p), a 10 mm ball (5 d_p); random seed k. The measures:
+    the settled solids fraction, the compaction by the piston (1 - consolidated / settled
+    height) and the hardness over h/r 0.35-0.6 (the table: 20 d_p beds of 12,800-30,300
+    particles, balls of 13-22 d_p)."""
+    os.environ["TRUBAL_BIN"] = exe
+    os.environ["TRUBAL_PIPE"] = "1"
+    pasha_indent.DATA = pasha_indent.WORK = work
+    pasha_indent.CHARTS = False
+    o = pasha_indent.main(["--scale", "2", "--die", "18", "--bed", "12", "--d", "10", "--law", "mjkr edem",
+                           "--mur", "0.1", "--rate", "20", "--hold", "0", "--unload-rate", "1", "--gsettle", "5",
+                           "--seed", str(k), "--tag", "_ci"])
+    return {"solids_fraction": o["solids_fraction"], "compaction": 1 - o["consolidated_height"] / o["bed_height"],
+            "hardness_kpa": o["hardness_plateau_kpa"]}
+
+
+def triaxial_case(exe, work, k):
+    """The triaxial test reduced: scripts/triaxial.tru with 200 spheres instead of 600-1000,
+    the dense sample (friction 0 during the isotropic compression, 40,000 cycles instead of
+    80,000, then 10,000 at rest instead of 20,000), compressed axially to 5 % instead of 25 %
+    at 5/s, random seed k. The measures: the solid fraction at 100 kPa, the mobilised friction
+    angle's peak and its mean over the last fifth, and the volumetric strain at the end."""
+    deck = reduce_deck("triaxial.tru", [("cycle 20000 s0 $p", "cycle 10000 s0 $p")], work)
+    _, s = triaxial.run(exe, {"np": 200, "mu0": 0.0, "gain": 5e-3, "strain": 0.05, "niso": 40000, "seed": k},
+                        work, deck)
+    return {"solid_fraction_at_p": s["solid_fraction_at_p"], "peak_phi_deg": s["peak_phi_deg"],
+            "phi_last_fifth_deg": s["critical_phi_deg"], "final_volumetric_strain": s["final_volumetric_strain"]}
+
+
 # case: (function, floor of the tolerance, relative)
 CASES = {
     "lian6": (lian6, 0.01),
@@ -180,6 +214,8 @@ CASES = {
     "lun_shear": (lun, 0.01),
     "shang_shear": (shang, 0.01),
     "pasha4": (pasha4, 1e-4),
+    "pasha5": (pasha5, 0.01),
+    "triaxial": (triaxial_case, 0.01),
 }
 
 
