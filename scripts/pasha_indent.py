@@ -56,6 +56,10 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
                  this run's --soften, --law and --mur
   --wall-mu MU   with --from-settled: sliding friction MU between the particles and the die,
                  floor and piston (Table 5.3: 0, "to avoid the influence of wall friction")
+  --settle-cap N settle for at most about N steps (default: 400,000 or 10 fall times); a
+                 capped settling is flagged `settle_capped` in the summary (a particle spinning
+                 about the vertical on the frictionless floor keeps a tiny bed above the rest
+                 criterion)
   --cut MM       with --from-settled: delete the settled bed's particles whose centres lie
                  above MM (DELete), to make a shallower bed with the deep bed's packing
        scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
@@ -209,6 +213,7 @@ def main(argv=None):
     tang = arg(argv, "--tang", "noslip")
     cut = arg(argv, "--cut", 0.0) * 1e-3
     wall_mu = arg(argv, "--wall-mu", 0.0)
+    settle_cap_opt = arg(argv, "--settle-cap", 0)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     if cut > 0 and not from_settled:
@@ -330,7 +335,7 @@ def main(argv=None):
             # The caps on the steps of each stage scale with the step (at E = 55 GPa and
             # Pasha's 1/s the stages take millions of steps); they bind only if a stage fails.
             fall = math.sqrt(2 * hgen / (G * gsettle))
-            settle_cap = max(400000, steps_in(10 * fall, dt))
+            settle_cap = settle_cap_opt or max(400000, steps_in(10 * fall, dt))
             while True:
                 tr.cycle(chunk)
                 settle += chunk
