@@ -57,9 +57,9 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --wall-mu MU   with --from-settled: sliding friction MU between the particles and the die,
                  floor and piston (Table 5.3: 0, "to avoid the influence of wall friction")
   --settle-cap N settle for at most about N steps (default: 400,000 or 10 fall times); a
-                 capped settling is flagged `settle_capped` in the summary (a particle spinning
-                 about the vertical on the frictionless floor keeps a tiny bed above the rest
-                 criterion)
+                 capped settling is flagged `settle_capped` in the summary (one seed's bed of
+                 346 particles kept a constant kinetic energy of 4.5e-8 J, above the rest
+                 criterion, for 120,000 steps; its cause not examined)
   --cut MM       with --from-settled: delete the settled bed's particles whose centres lie
                  above MM (DELete), to make a shallower bed with the deep bed's packing
        scripts/pasha_indent.py --compare [--out NAME.png] TAG[=LABEL]...   (H against h/d of
