@@ -12,13 +12,14 @@ run-to-run scatter), and at least the case's floor. A change of the program that
 validated result by more than that scatter fails CI until the tables are run again and the
 reference regenerated:
 
-    python3 scripts/ci_tables.py --regenerate [CASE ...]   (writes doc/data/ci_tables.json)
+    python3 scripts/ci_tables.py --regenerate [--jobs N] [CASE ...]   (writes doc/data/ci_tables.json)
     python3 scripts/ci_tables.py --check [CASE ...]        (exit 1 if a measure is outside)
     python3 scripts/ci_tables.py --list
 
 TRUBAL_BIN selects the binary (the CI test passes its own build).
 Python 3 standard library only.
 """
+import concurrent.futures
 import json
 import math
 import os
@@ -32,10 +33,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import lun_shear  # noqa: E402
+import pasha_indent  # noqa: E402
 import pasha_single  # noqa: E402
 import provenance  # noqa: E402
 import run_table  # noqa: E402
 import shang_shear  # noqa: E402
+import triaxial  # noqa: E402
 
 REFERENCE = os.path.join(ROOT, "doc", "data", "ci_tables.json")
 SAMPLES = 5
@@ -172,6 +175,41 @@ def pasha4(exe, work, k):
             "e_tning_3": pasha_single.run("tning", 3.0 * f, 0.05)}
 
 
+def pasha5(exe, work, k):
+    """Pasha Ch. 5 reduced: scripts/pasha_indent.py's procedure (settle under 5 g, consolidate
+    to 10 kPa at 20/s, unload at 1/s, indent at 20/s to h/r = 0.6) on a tiny bed: particles
+    twice Pasha's size (Table 5.1 x 2, d_p = 2 mm), E/1000, MJKR EDEM with mu_r = 0.1, an
+    18 mm die (9 d_p), a 12 mm bed of 346 particles (6 d_p), a 10 mm ball (5 d_p), settling
+    for at most about 30,000 steps; random seed 1000 k (RGenerate SEed k discards k numbers,
+    and a rejected first placement outside the die consumes 3: seeds 0 and 3 made the same
+    bed). The measures:
+    the settled solids fraction, the compaction by the piston (1 - consolidated / settled
+    height) and the hardness over h/r 0.35-0.6 (the table: 20 d_p beds of 12,800-30,300
+    particles, balls of 13-22 d_p)."""
+    os.environ["TRUBAL_BIN"] = exe
+    os.environ["TRUBAL_PIPE"] = "1"
+    pasha_indent.DATA = pasha_indent.WORK = work
+    pasha_indent.CHARTS = False
+    o = pasha_indent.main(["--scale", "2", "--die", "18", "--bed", "12", "--d", "10", "--law", "mjkr edem",
+                           "--mur", "0.1", "--rate", "20", "--hold", "0", "--unload-rate", "1", "--gsettle", "5",
+                           "--settle-cap", "30000", "--seed", str(1000 * k), "--tag", "_ci"])
+    return {"solids_fraction": o["solids_fraction"], "compaction": 1 - o["consolidated_height"] / o["bed_height"],
+            "hardness_kpa": o["hardness_plateau_kpa"]}
+
+
+def triaxial_case(exe, work, k):
+    """The triaxial test reduced: scripts/triaxial.tru with 200 spheres instead of 600-1000,
+    the dense sample (friction 0 during the isotropic compression, 40,000 cycles instead of
+    80,000, then 10,000 at rest instead of 20,000), compressed axially to 5 % instead of 25 %
+    at 5/s, random seed k. The measures: the solid fraction at 100 kPa, the mobilised friction
+    angle's peak and its mean over the last fifth, and the volumetric strain at the end."""
+    deck = reduce_deck("triaxial.tru", [("cycle 20000 s0 $p", "cycle 10000 s0 $p")], work)
+    _, s = triaxial.run(exe, {"np": 200, "mu0": 0.0, "gain": 5e-3, "strain": 0.05, "niso": 40000, "seed": k},
+                        work, deck)
+    return {"solid_fraction_at_p": s["solid_fraction_at_p"], "peak_phi_deg": s["peak_phi_deg"],
+            "phi_last_fifth_deg": s["critical_phi_deg"], "final_volumetric_strain": s["final_volumetric_strain"]}
+
+
 # case: (function, floor of the tolerance, relative)
 CASES = {
     "lian6": (lian6, 0.01),
@@ -180,6 +218,8 @@ CASES = {
     "lun_shear": (lun, 0.01),
     "shang_shear": (shang, 0.01),
     "pasha4": (pasha4, 1e-4),
+    "pasha5": (pasha5, 0.01),
+    "triaxial": (triaxial_case, 0.01),
 }
 
 
@@ -191,13 +231,15 @@ def sample(exe, name, k):
         shutil.rmtree(work, ignore_errors=True)
 
 
-def regenerate(exe, names):
+def regenerate(exe, names, jobs=1):
     ref = {}
     if os.path.exists(REFERENCE):
         with open(REFERENCE) as fh:
             ref = json.load(fh)
     for name in names:
-        runs = [sample(exe, name, k) for k in range(SAMPLES + 1)]
+        # (--jobs N: the samples in N processes; the same figures, each sample is one run.)
+        with concurrent.futures.ProcessPoolExecutor(max_workers=jobs) as pool:
+            runs = list(pool.map(sample, [exe] * (SAMPLES + 1), [name] * (SAMPLES + 1), range(SAMPLES + 1)))
         floor = CASES[name][1]
         case = {"what": " ".join(CASES[name][0].__doc__.split()), "measures": {}}
         for m in runs[0]:
@@ -239,7 +281,7 @@ def check(exe, names):
 
 def main():
     argv = sys.argv[1:]
-    names = [a for a in argv if not a.startswith("--")] or list(CASES)
+    names = [a for a in argv if not a.startswith("--") and not a.isdigit()] or list(CASES)
     for n in names:
         if n not in CASES:
             raise SystemExit(f"unknown case {n}; cases: {', '.join(CASES)}")
@@ -249,7 +291,8 @@ def main():
         return
     exe = run_table.trubal_binary()
     if "--regenerate" in argv:
-        regenerate(exe, names)
+        jobs = int(argv[argv.index("--jobs") + 1]) if "--jobs" in argv else 1
+        regenerate(exe, names, jobs)
     elif "--check" in argv:
         check(exe, names)
     else:

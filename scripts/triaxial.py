@@ -5,6 +5,10 @@ deviator q/p, volumetric strain, mobilised friction angle) and doc/img/triaxial.
 prints the peak and critical-state friction angles and the servo's error.
 
 usage: scripts/triaxial.py [--chart-only] [--np N] [--p PA] [--rate 1/S] [--strain AXIAL] [--mu0 MU] [--seed K] [--tag T] [--gain G]
+                           [--niso CYCLES]
+
+The defaults are the loose sample of doc/validation.md (600 spheres, --mu0 0.5, --gain 1.5e-2);
+the dense one is `--np 1000 --mu0 0 --gain 5e-3 --tag _dense`.
 """
 import csv
 import json
@@ -29,28 +33,20 @@ def dt():
     return 0.2 * math.pi * 1e-4 * math.sqrt(RHO / g) / (0.1631 * NU + 0.8766)
 
 
-def main():
-    argv = sys.argv[1:]
-    if "--chart-only" in argv:
-        # Draw the chart again from doc/data/triaxial<tag>.csv (no run).
-        draw(arg([a for a in argv if a != "--chart-only"], "--tag", ""))
-        return
-    npart = arg(argv, "--np", 600)
-    p = arg(argv, "--p", 1e5)
-    rate = arg(argv, "--rate", 5.0)
-    axial = arg(argv, "--strain", 0.25)
-    mu0 = arg(argv, "--mu0", 0.5)
-    seed = arg(argv, "--seed", 0)
-    tag = arg(argv, "--tag", "")
-    gain = arg(argv, "--gain", 5e-3)
-    n = int(axial / (rate * dt()))
+OPTIONS = {"np": 600, "p": 1e5, "rate": 5.0, "strain": 0.25, "mu0": 0.5, "seed": 0, "gain": 1.5e-2, "niso": 80000}
+
+
+def run(exe, opts, work, deck=None):
+    """Runs the command file `deck` (scripts/triaxial.tru) in `work` with OPTIONS updated by
+    opts; returns the rows (axial strain, q/p, volumetric strain, mobilised friction angle,
+    mean stress, one per history record of the triaxial stage) and the summary."""
+    o = dict(OPTIONS, **opts)
+    npart, p, rate, gain = int(o["np"]), o["p"], o["rate"], o["gain"]
+    n = int(o["strain"] / (rate * dt()))
     vols = sum(math.pi * 4 / 3 * rr ** 3 for rr in [1e-4] * (npart // 2) + [1.2e-4] * (npart // 2))
-    sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n, "niso": 80000, "h": max(1, n // 300), "mu0": mu0,
-            "seed": seed, "g": gain}
-    exe = run_table.trubal_binary()
-    work = os.path.join(ROOT, "target", "triaxial")
-    os.makedirs(work, exist_ok=True)
-    args = [exe, "--json", os.path.join(HERE, "triaxial.tru")]
+    sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n,
+            "niso": int(o["niso"]), "h": max(1, n // 300), "mu0": o["mu0"], "seed": int(o["seed"]), "g": gain}
+    args = [exe, "--json", deck or os.path.join(HERE, "triaxial.tru")]
     for k, v in sets.items():
         args += ["--set", f"{k}={v}"]
     out = subprocess.run(args, cwd=work, capture_output=True, text=True, check=True).stdout
@@ -74,11 +70,6 @@ def main():
             "phi_mobilised_deg": math.degrees(math.asin(max(-1.0, min(1.0, sphi)))),
             "mean_stress": mean,
         })
-    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
-    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), run_table.trubal_binary())
     peak = max(rows, key=lambda r: r["phi_mobilised_deg"])
     tail = rows[-len(rows) // 5 :]
     crit = sum(r["phi_mobilised_deg"] for r in tail) / len(tail)
@@ -90,13 +81,33 @@ def main():
         "solid_fraction_at_p": vols / (size[0] * size[1] * size[2]),
         "peak_phi_deg": peak["phi_mobilised_deg"], "peak_axial_strain": peak["axial_strain"],
         "critical_phi_deg": crit, "final_volumetric_strain": rows[-1]["volumetric_strain"],
-        "largest_mean_stress_error": err, "steps": n, "gain": gain, "mu0": mu0,
+        "largest_mean_stress_error": err, "steps": n, "gain": gain, "mu0": o["mu0"],
         "particles": npart, "p": p,
     }
+    return rows, summary
+
+
+def main():
+    argv = sys.argv[1:]
+    if "--chart-only" in argv:
+        # Draw the chart again from doc/data/triaxial<tag>.csv (no run).
+        draw(arg([a for a in argv if a != "--chart-only"], "--tag", ""))
+        return
+    opts = {k: arg(argv, "--" + k, v) for k, v in OPTIONS.items()}
+    tag = arg(argv, "--tag", "")
+    exe = run_table.trubal_binary()
+    work = os.path.join(ROOT, "target", "triaxial")
+    os.makedirs(work, exist_ok=True)
+    rows, summary = run(exe, opts, work)
+    with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}.csv"), exe)
     print(json.dumps(summary, indent=1))
     with open(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), "w") as fh:
         json.dump(summary, fh, indent=1)
-    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), run_table.trubal_binary())
+    provenance.record(os.path.join(ROOT, "doc", "data", f"triaxial{tag}_summary.json"), exe)
     draw(tag)
 
 

@@ -55,6 +55,16 @@ fn pasha_single_particle_within_scatter() {
     check("pasha4");
 }
 
+#[test]
+fn pasha_reduced_indentation_within_scatter() {
+    check("pasha5");
+}
+
+#[test]
+fn triaxial_reduced_within_scatter() {
+    check("triaxial");
+}
+
 /// Every case of the script has its reference figures and the provenance of the build that
 /// made them (version, git describe, command, date).
 #[test]
@@ -68,6 +78,8 @@ fn the_reference_figures_record_their_provenance() {
         "lun_shear",
         "shang_shear",
         "pasha4",
+        "pasha5",
+        "triaxial",
     ] {
         let c = &v[case];
         for key in ["version", "git", "command", "date"] {
