@@ -249,7 +249,9 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 10 differs in the contact state (no `end`, sim::contacts::old); version 9
         // also in having no groups (scene::old_groups) and no dashpot forms in the contact
         // laws (scene::old_laws).
-        9 | 10 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        9 | 10 => {
+            crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
+        }
         // Versions 6 to 8 differ in the ledger (no `unbooked`, scene::old_ledger) and the
         // contact state (no `mdr`, sim::contacts::old).
         6..=8 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
