@@ -189,7 +189,13 @@ fn loading_leaves_a_field_of_its_path() {
         if d + vn * dt <= d {
             // The peak: each spring's fraction of its limit, centre to edge.
             let lims = row.xs.iter().map(|x| MU * e_star / g_row * (d - x * x / R));
-            break row.u.iter().zip(lims).filter(|(_, l)| *l > 0.0).map(|(u, l)| u / l).collect::<Vec<_>>();
+            break row
+                .u
+                .iter()
+                .zip(lims)
+                .filter(|(_, l)| *l > 0.0)
+                .map(|(u, l)| u / l)
+                .collect::<Vec<_>>();
         }
         d += vn * dt;
         if vc < 0.0 && reversed_at.is_none() {
@@ -205,7 +211,10 @@ fn loading_leaves_a_field_of_its_path() {
             }
         }
     };
-    assert!(worst < 0.9, "a spring reached {worst} of its limit while loading");
+    assert!(
+        worst < 0.9,
+        "a spring reached {worst} of its limit while loading"
+    );
     let at = reversed_at.expect("the slip velocity reverses during loading");
     assert!(at < 0.9, "reversed at α = {at} α_max");
     let n = ratios.len();
