@@ -251,7 +251,9 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         VERSION => decode_all::<Scene, R>(r, version),
         // Version 12 differs in the groups (no standing Fix, scene::old_groups), 11 also in
         // the settings (no `wall_bridges`, scene::old_settings).
-        11 | 12 => crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version)),
+        11 | 12 => {
+            crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
+        }
         // Version 10 differs in the contact state (no `end`, sim::contacts::old); version 9
         // also in having no groups (scene::old_groups) and no dashpot forms in the contact
         // laws (scene::old_laws).
