@@ -59,7 +59,7 @@ pub struct Candidate {
 
 /// The periodic axes of the work-space, for the images of a centre: a box, sphere or
 /// cylinder holds a particle when its centre or one of the centre's images in the
-/// neighbouring cells lies in it (doc/groups.md, "Periodic cells"). `shift` is the
+/// neighbouring cells lies in it (doc/groups.md, "A range"). `shift` is the
 /// Lees–Edwards offset of a sheared cell: the image one cell up in y is `shift` further
 /// along x (`sim::cell::nearest_image`).
 #[derive(Clone, Copy, Debug, Default)]
