@@ -220,27 +220,10 @@ impl Jkr {
     /// `≈ −4E*a_s / STIFFNESS_POLE_FLOOR`, is returned). Never NaN or infinite for finite `a`.
     /// For `γ = 0` it is Hertz `2E*a`.
     pub fn stiffness_of_a(&self, a: f64) -> f64 {
-        let a = a.max(0.0);
-        let k_hertz = 2.0 * self.e_star * a;
         if self.is_hertz() {
-            return k_hertz;
+            return 2.0 * self.e_star * a.max(0.0);
         }
-        let y = a / self.a_s();
-        let x3 = y * y.sqrt();
-        if x3 > 4.0 {
-            // Same ratio, overflow-free for huge a.
-            let ix = 1.0 / x3;
-            return k_hertz * (1.0 - 3.0 * ix) / (1.0 - ix);
-        }
-        let mut den = x3 - 1.0;
-        if den.abs() < STIFFNESS_POLE_FLOOR {
-            den = if den < 0.0 {
-                -STIFFNESS_POLE_FLOOR
-            } else {
-                STIFFNESS_POLE_FLOOR
-            };
-        }
-        k_hertz * (x3 - 3.0) / den
+        self.stiffness_with(self.a_s(), a)
     }
 
     /// [`Jkr::stiffness_of_a`] with `a_s` (3.117) given by the caller (as
@@ -378,13 +361,7 @@ impl Jkr {
         let x = (a / a_s).sqrt();
         let t = x - 1.0;
         if t.abs() <= 1.0 {
-            let p = -2.5
-                + t * (-17.0 / 3.0
-                    + t * (-25.0 / 6.0
-                        + t * (7.0 / 5.0
-                            + t * (14.0 / 3.0
-                                + t * (11.0 / 3.0 + t * (1.5 + t * (1.0 / 3.0 + t / 30.0)))))));
-            scale * a_s.powi(5) * t * t * p
+            scale * a_s.powi(5) * t * t * fold_series(t)
         } else {
             // a⁵ [1/30 − r^{3/2}/3 + r³/2 − r⁵/5], r = a_s/a < 1/4: overflow-free, no inf − inf.
             let r = a_s / a;
@@ -719,6 +696,18 @@ pub fn savkoor_briggs_a(g_star: f64, e_star: f64, r_star: f64, p: f64, pc: f64, 
     } else {
         0.0
     }
+}
+
+/// `U / (u t²)` near the fold, `U` the energy of the JKR branch from `a_s` (the integral of
+/// (3.24) along (3.29)) and `t = (a/a_s)^{1/2} − 1`: the polynomial `−5/2 − 17/3 t − …`
+/// both `Jkr::energy_of_a_with` and `jkr_branch` evaluate for `|t| ≤ 1`.
+pub(crate) fn fold_series(t: f64) -> f64 {
+    -2.5 + t
+        * (-17.0 / 3.0
+            + t * (-25.0 / 6.0
+                + t * (7.0 / 5.0
+                    + t * (14.0 / 3.0
+                        + t * (11.0 / 3.0 + t * (1.5 + t * (1.0 / 3.0 + t / 30.0)))))))
 }
 
 #[cfg(test)]

@@ -95,13 +95,7 @@ impl Branch {
     /// in `t` near `a_s`, where it starts at `−5/2 t²`, and in `1/x` beyond `t = 1`).
     pub fn energy(&self, t: f64) -> f64 {
         let u = if t <= 1.0 {
-            let p = -2.5
-                + t * (-17.0 / 3.0
-                    + t * (-25.0 / 6.0
-                        + t * (7.0 / 5.0
-                            + t * (14.0 / 3.0
-                                + t * (11.0 / 3.0 + t * (1.5 + t * (1.0 / 3.0 + t / 30.0)))))));
-            self.u_scale * t * t * p
+            self.u_scale * t * t * super::jkr::fold_series(t)
         } else {
             // x¹⁰ [1/30 − x⁻³/3 + x⁻⁶/2 − x⁻¹⁰/5]: no inf − inf for huge x.
             let x = 1.0 + t;
