@@ -88,13 +88,23 @@ def accuracy(exe, tmp):
     return rows, best
 
 
+def trubal_cycle_seconds(exe, deck, cwd):
+    """The wall time of the Cycles of a command file, one thread (TRUBAL_TIMING's lines)."""
+    p = subprocess.run([exe, "--threads", "1", deck], cwd=cwd, capture_output=True, text=True,
+                       env={**os.environ, "TRUBAL_TIMING": "1"}, check=True)
+    return sum(float(x) for x in re.findall(r"cycle_wall_s=([0-9.eE+-]+)", p.stderr))
+
+
+def peer_loop_seconds(stdout):
+    """A LIGGGHTS or LAMMPS run's last "Loop time of"."""
+    return float(re.findall(r"Loop time of ([0-9.eE+-]+)", stdout)[-1])
+
+
 def time_trubal(exe, bed, frac, steps):
     deck = os.path.join(bed, f"equal_error_{frac}.tru")
     open(deck, "w").write(f"restart bed10000.sav\nset tangential noslip\nfraction {frac}\n"
                           f"cycle {steps}\nprint info\n")
-    p = subprocess.run([exe, "--threads", "1", deck], cwd=bed, capture_output=True, text=True,
-                       env={**os.environ, "TRUBAL_TIMING": "1"}, check=True)
-    return sum(float(x) for x in re.findall(r"cycle_wall_s=([0-9.eE+-]+)", p.stderr))
+    return trubal_cycle_seconds(exe, deck, bed)
 
 
 def time_liggghts(bed, frac, steps, tmp):
@@ -106,7 +116,7 @@ def time_liggghts(bed, frac, steps, tmp):
     p = subprocess.run(["liggghts", "-in", path, "-var", "data", os.path.join(bed, "bed10000.data"),
                         "-var", "nsteps", str(steps), "-log", "none"], cwd=tmp,
                        capture_output=True, text=True, check=True)
-    return float(re.findall(r"Loop time of ([0-9.eE+-]+)", p.stdout)[-1])
+    return peer_loop_seconds(p.stdout)
 
 
 def main():

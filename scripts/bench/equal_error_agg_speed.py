@@ -27,6 +27,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+from equal_error import peer_loop_seconds, trubal_cycle_seconds  # noqa: E402
+
 PEERS = os.environ.get("PEERS_DIR", os.path.join(ROOT, "..", "shared", "peers"))
 LAMMPS_DECK = os.path.join(PEERS, "s2_agglomerate", "in.agglomerate.lammps")
 LIGGGHTS_DECK = os.path.join(HERE, "in.agglomerate_moist.liggghts")
@@ -50,9 +53,7 @@ def time_trubal(exe, bed, scene, frac):
         sys.exit(f"the {scene} deck of {bed} has no single 'fraction 0.2' and 'cycle N' line")
     deck = os.path.join(bed, f"equal_error_{scene}_{frac}.tru")
     open(deck, "w").write(text)
-    p = subprocess.run([exe, "--threads", "1", deck], cwd=bed, capture_output=True, text=True,
-                       env={**os.environ, "TRUBAL_TIMING": "1"}, check=True)
-    return sum(float(x) for x in re.findall(r"cycle_wall_s=([0-9.eE+-]+)", p.stderr))
+    return trubal_cycle_seconds(exe, deck, bed)
 
 
 def zwall(bed, info):
@@ -73,8 +74,7 @@ def time_peer(bed, peer, frac):
     args = [cmd, "-in", path, "-var", "data", os.path.join(bed, data), "-var", "zwall",
             zwall(bed, info), "-var", "nsteps", str(steps(frac)), "-var", "outdir", work, "-log", "none"]
     args += ["-var", "vimp", "1.0", "-var", "px", "1", "-nocite"] if peer == "lammps" else ["-var", "wet", "1"]
-    p = subprocess.run(args, cwd=work, capture_output=True, text=True, check=True)
-    return float(re.findall(r"Loop time of ([0-9.eE+-]+)", p.stdout)[-1])
+    return peer_loop_seconds(subprocess.run(args, cwd=work, capture_output=True, text=True, check=True).stdout)
 
 
 def main():
