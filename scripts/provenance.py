@@ -41,14 +41,19 @@ def version(exe):
 
 @functools.lru_cache(maxsize=None)
 def git_describe():
-    """`git describe --always --dirty` of the source tree (a -dirty build has uncommitted
-    changes: regenerate from a commit), or TRUBAL_BUILD_REV when set (the commit a copied
-    binary, TRUBAL_BIN, was built from, while the tree moves on)."""
+    """`git describe --always` of the source tree, with `-dirty` when the program's sources or
+    the scripts have uncommitted changes (regenerate from a commit; the run's own outputs in
+    doc/ do not count), or TRUBAL_BUILD_REV when set (the commit a copied binary, TRUBAL_BIN,
+    was built from, while the tree moves on)."""
     if os.environ.get("TRUBAL_BUILD_REV"):
         return os.environ["TRUBAL_BUILD_REV"]
     try:
-        return subprocess.run(["git", "describe", "--always", "--dirty", "--tags"], cwd=ROOT,
-                              capture_output=True, text=True, check=True).stdout.strip()
+        rev = subprocess.run(["git", "describe", "--always", "--tags"], cwd=ROOT,
+                             capture_output=True, text=True, check=True).stdout.strip()
+        changed = subprocess.run(
+            ["git", "status", "--porcelain", "--", "src", "Cargo.toml", "Cargo.lock", "scripts"],
+            cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+        return rev + "-dirty" if changed else rev
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
 
