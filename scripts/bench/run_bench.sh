@@ -83,7 +83,7 @@ case " $SCENES " in *" s2 "*|*" moist "*)
   for v in jkr dry moist; do
     python3 "$here/agg2tru.py" "$v" "$S2_STEPS" "$OUT/agg_$v.tru" > "$OUT/agg_$v.info"
     # The peers' tangential law is Mindlin's no-slip spring with a Coulomb cap: ours is
-    # NOSLIP (TANG=md: our default, the full Mindlin-Deresiewicz law).
+    # NOSLIP (TANG=mdr: our default, the exact Hertz-Mindlin law; md: Mindlin-Deresiewicz).
     sed -i "s/^fraction 0.2$/fraction 0.2\nset tangential $TANG/" "$OUT/agg_$v.tru"
   done
   if have lammps; then

@@ -1,5 +1,6 @@
 //! The Hertz–Mindlin tangential contact by the method of dimensionality reduction (MDR;
-//! Popov & Heß 2015, ch. 5–6), `SET TANgential MDR`: a row of independent springs that keeps
+//! Popov & Heß 2015, ch. 5–6), the default tangential law of Hertz pairs (`SET TANgential
+//! MDR`): a row of independent springs that keeps
 //! the traction field itself, so that it is exact for any history of the normal and
 //! tangential displacement, where the Mindlin–Deresiewicz law (`physics::tangential`, which
 //! keeps the force and its turning points) cannot tell a field proportional to the pressure
@@ -39,7 +40,7 @@
 //! The row is the elastic Hertz contact without adhesion: the MDR of the JKR contact
 //! (Popov & Heß 2015 ch. 6 with a tangential part) is not derived here, and a plastic
 //! contact has no Hertz profile. `sim::interact` uses the Mindlin–Deresiewicz law for the
-//! pairs with a surface energy or a law of `SET NORmal` under `SET TANgential MDR`.
+//! pairs with a surface energy or a law of `SET NORmal` under `MDR`.
 
 use serde::{Deserialize, Serialize};
 

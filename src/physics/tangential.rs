@@ -9,7 +9,8 @@
 //! `doc/spec/physics-lian1994.md` §2 and §7 and `doc/spec/DECISIONS.md`.
 //!
 //! Two laws:
-//! * [`mindlin_deresiewicz`] (`SET TANGENTIAL MD`, default): Mindlin–Deresiewicz micro-slip with
+//! * [`mindlin_deresiewicz`] (`SET TANGENTIAL MD`; the default law of JKR pairs, Hertz pairs
+//!   taking `physics::mdr`): Mindlin–Deresiewicz micro-slip with
 //!   the Thornton–Randall θ-factor incremental stiffness (3.109)–(3.112); with adhesion, the
 //!   Savkoor–Briggs no-slip/peeling stage (3.93), (3.101), (3.113) first, then micro-slip with the
 //!   effective normal force `P_e = P + 2 P_c` and sliding at `μ (P + 2 P_c)` (3.103), Thornton (1991).

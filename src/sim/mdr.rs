@@ -1,5 +1,6 @@
-//! The tangential force of a contact under `SET TANgential MDR`: its spring row
-//! (`physics::mdr`) turned into the contact plane, moved by the step's slip, and booked.
+//! The tangential force of a Hertz contact under `MDR` (the default, `SET TANgential MDR`):
+//! its spring row (`physics::mdr`) turned into the contact plane, moved by the step's slip,
+//! and booked.
 
 use super::contacts::ContactState;
 use super::kinematics::{Acc, Kin};

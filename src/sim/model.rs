@@ -85,7 +85,7 @@ pub enum TangentialChoice {
     /// The exact Hertz–Mindlin tangential contact by the method of dimensionality reduction
     /// (Popov & Heß 2015): a row of springs that keeps the traction field
     /// (`physics::mdr`); the pairs with a surface energy or a law of `SET NORmal` keep `Md`.
-    /// Appended last (checkpoint format 9).
+    /// The default (`Settings::default`). Appended last (checkpoint format 9).
     Mdr,
 }
 

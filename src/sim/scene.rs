@@ -299,7 +299,7 @@ impl Default for Settings {
             xres: None,
             smin: None,
             bridge: BridgeChoice::Fit,
-            tangential: TangentialChoice::Md,
+            tangential: TangentialChoice::Mdr,
             liquid_mode: LiquidMode::Lian,
             periodic: [true; 3],
             out_dir: ".".into(),

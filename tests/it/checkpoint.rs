@@ -73,6 +73,7 @@ group low box 0 0.004 0 0.004 0 0.001
 group wet dynamic material 1 not group low or id 6
 group low history
 fix 0 0 1 0 0 0 group wet
+set tangential md
 cycle 40
 set tangential walton
 cycle 5

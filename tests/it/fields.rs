@@ -252,7 +252,11 @@ fn field_average_is_the_time_average_of_the_states() {
         let sc: Vec<Vec<f64>> = s.iter().map(|v| node(v, "stress_contact", k)).collect();
         let sk: Vec<Vec<f64>> = s.iter().map(|v| node(v, "stress_kinetic", k)).collect();
         let cscale = sc.iter().flatten().fold(1e-30f64, |x, y| x.max(y.abs()));
-        let kscale = rbar * vscale * vscale;
+        // The kinetic stress's own size too: the fluctuation part σᵏ may exceed ρ̄v².
+        let kscale = sk
+            .iter()
+            .flatten()
+            .fold(rbar * vscale * vscale, |x, y| x.max(y.abs()));
         for (ij, (i, j)) in (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).enumerate() {
             let c = (0..3).map(|m| sc[m][ij]).sum::<f64>() / 3.0;
             close(
