@@ -19,7 +19,11 @@
 //! took them off the core while they spun ([`Pacer`]); when that is more than a few per cent
 //! of a window, the Cycle's thread times one window with the pollers asleep on a condition
 //! variable — it then runs every task itself, in the same order — and keeps whichever way
-//! made more steps per second, for a hold that doubles while the choice stays the same.
+//! made more steps per second, for a hold that doubles while the choice stays the same. The
+//! two mistakes are not alike (pollers awake beside another program: several times slower;
+//! asleep on an idle machine: the second thread's gain lost), so awake must beat the asleep
+//! hold's mean rate by a margin, and an awake hold ends at once when the rate falls while
+//! the pollers are often off their cores.
 //! Which thread runs which task never changes a result (the tasks are the same and their
 //! sums are made in a fixed order), so all of this is a matter of time only: the bits are
 //! the same whatever the pollers do (`tests/it/threads.rs`).
@@ -41,6 +45,17 @@ const BUSY: f64 = 0.05;
 /// doubles while the choice stays the same).
 const HOLD_FIRST: Duration = Duration::from_millis(250);
 const HOLD_MAX: Duration = Duration::from_secs(4);
+/// On a machine that takes the pollers off their cores, awake must make this many times the
+/// steps per second of asleep to be kept. The two mistakes do not cost the same: pollers kept
+/// awake beside another program make the step several times slower (3.6 × on S1), pollers
+/// asleep on an idle machine cost at most the second thread's gain (1.5–1.8 ×), and one
+/// window's rate differs from the hold's by the rebuilds it happens to hold.
+const AWAKE_MARGIN: f64 = 1.15;
+/// While awake on a choice's hold, the pollers' time off their cores beyond this fraction of
+/// a window, with the rate below [`HOLD_BREAK_RATE`] of the rate that won, ends the hold at
+/// once (another program started within it).
+const HOLD_BREAK_OFF: f64 = 0.25;
+const HOLD_BREAK_RATE: f64 = 0.8;
 
 /// The pollers' changes (to sleep or awake) and nanoseconds asleep in this process, for
 /// the benchmark hook (`TRUBAL_TIMING`).
@@ -226,6 +241,7 @@ impl<'a> Pacer<'a> {
         let window = Window {
             rate: self.steps as f64 / secs,
             off_core: (off - self.off_start) as f64 * 1e-9 / secs,
+            secs,
         };
         if sh.asleep.load(Ordering::Relaxed) {
             let ns = u64::try_from(span.as_nanos()).unwrap_or(u64::MAX);
@@ -259,40 +275,50 @@ static LAST: Mutex<Option<Pace>> = Mutex::new(None);
 struct Window {
     rate: f64,
     off_core: f64,
+    /// The window's length (s).
+    secs: f64,
 }
 
 /// Where the choice between pollers awake and asleep stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Phase {
-    /// Awake, watching the pollers' time off their cores (from `quiet` on).
-    Awake { quiet: Instant },
+    /// Awake, watching the pollers' time off their cores (from `quiet` on; before, only for a
+    /// fall below [`HOLD_BREAK_RATE`] of `won`, the rate with which awake won, 0 for none).
+    Awake { quiet: Instant, won: f64 },
     /// One window asleep, to compare with the awake window's rate.
     TryAsleep { awake: f64 },
-    /// Asleep until `until`.
-    Asleep { until: Instant },
-    /// One window awake, to compare with the last asleep window's rate.
+    /// Asleep until `until`, having made `steps` steps in `secs` seconds so far.
+    Asleep {
+        until: Instant,
+        steps: f64,
+        secs: f64,
+    },
+    /// One window awake, to compare with the asleep hold's mean rate.
     TryAwake { asleep: f64 },
 }
 
 /// The decision: pollers awake until they are often off their cores; then a window of
 /// each, and the faster kept for a hold that doubles while the same way keeps winning.
+/// Awake must beat the asleep hold's mean rate by [`AWAKE_MARGIN`] to be chosen on such a
+/// machine, and an awake hold ends early when the rate falls and the pollers are off their
+/// cores much of the time.
 #[derive(Clone, Copy, Debug)]
 struct Pace {
     phase: Phase,
     hold: Duration,
     /// The way chosen last (`Some(true)`: asleep).
     chosen: Option<bool>,
-    /// The last window's rate asleep.
-    asleep_rate: f64,
 }
 
 impl Pace {
     fn new(now: Instant) -> Pace {
         Pace {
-            phase: Phase::Awake { quiet: now },
+            phase: Phase::Awake {
+                quiet: now,
+                won: 0.0,
+            },
             hold: HOLD_FIRST,
             chosen: None,
-            asleep_rate: 0.0,
         }
     }
 
@@ -305,8 +331,15 @@ impl Pace {
     /// window was cut), the choice and its hold kept.
     fn resumed(mut self, now: Instant) -> Pace {
         self.phase = match self.phase {
-            Phase::TryAsleep { .. } => Phase::Awake { quiet: now },
-            Phase::TryAwake { .. } => Phase::Asleep { until: now },
+            Phase::TryAsleep { .. } => Phase::Awake {
+                quiet: now,
+                won: 0.0,
+            },
+            Phase::TryAwake { .. } => Phase::Asleep {
+                until: now,
+                steps: 0.0,
+                secs: 0.0,
+            },
             p => p,
         };
         self
@@ -326,41 +359,61 @@ impl Pace {
     /// The end of a window at `now`: `Some(asleep)` when the pollers are to change.
     fn window(&mut self, now: Instant, w: Window) -> Option<bool> {
         match self.phase {
-            Phase::Awake { quiet } => {
-                if now >= quiet && w.off_core > BUSY {
+            Phase::Awake { quiet, won } => {
+                let busy = if now >= quiet {
+                    w.off_core > BUSY
+                } else {
+                    w.off_core > HOLD_BREAK_OFF && w.rate < HOLD_BREAK_RATE * won
+                };
+                if busy {
                     self.phase = Phase::TryAsleep { awake: w.rate };
                     return Some(true);
                 }
                 None
             }
             Phase::TryAsleep { awake } => {
-                let asleep = w.rate > awake;
+                let asleep = w.rate * AWAKE_MARGIN > awake;
                 let hold = self.hold_for(asleep);
                 if asleep {
-                    self.asleep_rate = w.rate;
-                    self.phase = Phase::Asleep { until: now + hold };
+                    self.phase = Phase::Asleep {
+                        until: now + hold,
+                        steps: w.rate * w.secs,
+                        secs: w.secs,
+                    };
                     None
                 } else {
-                    self.phase = Phase::Awake { quiet: now + hold };
+                    self.phase = Phase::Awake {
+                        quiet: now + hold,
+                        won: awake,
+                    };
                     Some(false)
                 }
             }
-            Phase::Asleep { until } => {
-                self.asleep_rate = w.rate;
+            Phase::Asleep { until, steps, secs } => {
+                let (steps, secs) = (steps + w.rate * w.secs, secs + w.secs);
                 if now >= until {
-                    self.phase = Phase::TryAwake { asleep: w.rate };
+                    let mean = if secs > 0.0 { steps / secs } else { w.rate };
+                    self.phase = Phase::TryAwake { asleep: mean };
                     return Some(false);
                 }
+                self.phase = Phase::Asleep { until, steps, secs };
                 None
             }
             Phase::TryAwake { asleep } => {
-                let stay_asleep = w.rate <= asleep;
+                let stay_asleep = w.rate <= asleep * AWAKE_MARGIN;
                 let hold = self.hold_for(stay_asleep);
                 if stay_asleep {
-                    self.phase = Phase::Asleep { until: now + hold };
+                    self.phase = Phase::Asleep {
+                        until: now + hold,
+                        steps: 0.0,
+                        secs: 0.0,
+                    };
                     Some(true)
                 } else {
-                    self.phase = Phase::Awake { quiet: now + hold };
+                    self.phase = Phase::Awake {
+                        quiet: now + hold,
+                        won: w.rate,
+                    };
                     None
                 }
             }
@@ -438,7 +491,11 @@ mod tests {
     }
 
     fn window(rate: f64, off_core: f64) -> Window {
-        Window { rate, off_core }
+        Window {
+            rate,
+            off_core,
+            secs: WINDOW.as_secs_f64(),
+        }
     }
 
     #[test]
@@ -495,7 +552,13 @@ mod tests {
         // Cut in its trial: the next Cycle starts awake and may try again at once.
         let next = pace.resumed(at(30));
         assert!(!next.asleep());
-        assert_eq!(next.phase, Phase::Awake { quiet: at(30) });
+        assert_eq!(
+            next.phase,
+            Phase::Awake {
+                quiet: at(30),
+                won: 0.0
+            }
+        );
         // Asleep by choice: the next Cycle starts asleep, with the same hold.
         assert_eq!(pace.window(at(50), window(500.0, 0.0)), None);
         let next = pace.resumed(at(60));
@@ -506,5 +569,36 @@ mod tests {
         let mut next = pace.resumed(at(310));
         assert!(next.asleep());
         assert_eq!(next.window(at(335), window(500.0, 0.0)), Some(false));
+    }
+    #[test]
+    fn awake_must_win_by_the_margin_on_a_busy_machine() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert_eq!(pace.window(at(25), window(300.0, 0.3)), Some(true));
+        // Asleep 10 % slower than the awake window: within the margin, asleep is kept.
+        assert_eq!(pace.window(at(50), window(272.0, 0.0)), None);
+        // The hold's mean, not its last window, is what a trial awake must beat: a slow
+        // last window (a rebuild) does not let a trial 10 % above the mean win.
+        assert_eq!(pace.window(at(275), window(500.0, 0.0)), None);
+        assert_eq!(pace.window(at(300), window(300.0, 0.0)), Some(false));
+        let mean = (272.0 + 500.0 + 300.0) / 3.0;
+        assert!(1.1 * mean > AWAKE_MARGIN * 300.0);
+        assert_eq!(pace.window(at(325), window(1.1 * mean, 0.3)), Some(true));
+    }
+
+    #[test]
+    fn another_program_starting_within_an_awake_hold_ends_it() {
+        let t0 = Instant::now();
+        let mut pace = Pace::new(t0);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert_eq!(pace.window(at(25), window(800.0, 0.1)), Some(true));
+        assert_eq!(pace.window(at(50), window(500.0, 0.0)), Some(false));
+        // Within the hold: a little time off the cores, or a slower window alone, change
+        // nothing.
+        assert_eq!(pace.window(at(75), window(790.0, 0.2)), None);
+        assert_eq!(pace.window(at(100), window(500.0, 0.1)), None);
+        // Both at once: asleep is timed at once.
+        assert_eq!(pace.window(at(125), window(300.0, 0.5)), Some(true));
     }
 }
