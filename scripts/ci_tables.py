@@ -107,7 +107,7 @@ def seed(k):
 
 def lian7(exe, work, k):
     """Table 7.1 reduced: two random agglomerates of 120 spheres (R_a 245 um) instead of 1000
-    (500 um), prepared by scripts/lian_ch7_prepare.tru with random seed k, colliding head-on
+    (500 um), prepared by scripts/lian_ch7_prepare.tru with random seed seed(k), colliding head-on
     at 2 m/s, eta = 0.01, Gamma = 0.025, 4 x 3000 cycles."""
     state = "lian_ch7.sav"
     deck = reduce_deck("lian_ch7_prepare.tru", [
@@ -154,7 +154,7 @@ def olsson_impact(exe, work, v="2", dashpot="trubal", law=""):
 def olsson(exe, work, k):
     """Tables 4:1-4:2 reduced, dry: Olsson's size distribution, 400 particles (a tenth of each
     class) in R_a = 241 um instead of 4000 in 520 um, prepared by
-    scripts/olsson_prepare_dry.tru with random seed k, on the wall at 2 m/s for 4 x 1500
+    scripts/olsson_prepare_dry.tru with random seed seed(k), on the wall at 2 m/s for 4 x 1500
     cycles (scripts/olsson_impact.tru)."""
     olsson_prepare(exe, work, k)
     return olsson_impact(exe, work)
@@ -162,7 +162,7 @@ def olsson(exe, work, k):
 
 def lun(exe, work, k):
     """The Lun simple shear reduced: phi = 0.3, 250 smooth spheres, 40 strain units (the table:
-    400 spheres, 60 units), random seed k; the measures over Lun's theory."""
+    400 spheres, 60 units), random seed seed(k); the measures over Lun's theory."""
     r = lun_shear.run(exe, 0.3, 250, 40.0, work, seed=seed(k))
     t = lun_shear.lun(r["phi"])
     return {f"{m}_over_lun": r[m] / t[m] for m in ("pxy", "pyy", "3T")}
@@ -170,7 +170,7 @@ def lun(exe, work, k):
 
 def shang(exe, work, k):
     """Shang's cohesive shear reduced: phi = 0.45, 300 spheres, s = 12000 1/s, 20 strain units
-    (the table: 480 spheres, 30 units), random seed k."""
+    (the table: 480 spheres, 30 units), random seed seed(k)."""
     shang_shear.SEED = seed(k)
     r = shang_shear.run(exe, 0.45, 300, 12000.0, 20.0, work)
     return {m: r[m] for m in ("pxy", "pyy", "3T")}
@@ -210,7 +210,7 @@ def triaxial_case(exe, work, k):
     """The triaxial test reduced: scripts/triaxial.tru with 200 spheres instead of 600-1000,
     the dense sample (friction 0 during the isotropic compression, 40,000 cycles instead of
     80,000, then 10,000 at rest instead of 20,000), compressed axially to 5 % instead of 25 %
-    at 5/s, random seed k. The measures: the solid fraction at 100 kPa, the mobilised friction
+    at 5/s, random seed seed(k). The measures: the solid fraction at 100 kPa, the mobilised friction
     angle's peak and its mean over the last fifth, and the volumetric strain at the end."""
     deck = reduce_deck("triaxial.tru", [("cycle 20000 s0 $p", "cycle 10000 s0 $p")], work)
     _, s = triaxial.run(exe, {"np": 200, "mu0": 0.0, "gain": 5e-3, "strain": 0.05, "niso": 40000, "seed": seed(k)},
