@@ -436,6 +436,12 @@ pub struct Derived {
     /// `Ledger::walls`): half of it is still in flight at the step's end
     /// (`cycle::in_flight`).
     pub wall_step_work: f64,
+    /// The velocity and radial velocity each wall moved with in the last step (by index;
+    /// walls are only appended): the work of the next step is booked over the mean of it and
+    /// the velocity the wall goes on with, also when a command (`AWAll ... V`) changed the
+    /// velocity between the two steps (`cycle::wall_loop::move_walls`). Empty after a
+    /// RESTart: the walls' velocities then stand for it.
+    pub wall_last_vel: Vec<([f64; 3], f64)>,
 }
 
 impl Default for Derived {
@@ -449,6 +455,7 @@ impl Default for Derived {
             create_index: None,
             audit_end: 0.0,
             wall_step_work: 0.0,
+            wall_last_vel: Vec::new(),
         }
     }
 }
