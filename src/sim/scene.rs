@@ -442,6 +442,11 @@ pub struct Derived {
     /// velocity between the two steps (`cycle::wall_loop::move_walls`). Empty after a
     /// RESTart: the walls' velocities then stand for it.
     pub wall_last_vel: Vec<([f64; 3], f64)>,
+    /// The work in flight when the last `Cycle` ended (`cycle::in_flight`): the contact
+    /// states are then a step behind the positions, and a re-evaluation after a command
+    /// leaves this part out of what the command put in (`cycle::prime`); 0 once the states
+    /// were re-evaluated, after a RESTart or a restored snapshot.
+    pub in_flight_end: f64,
 }
 
 impl Default for Derived {
@@ -456,6 +461,7 @@ impl Default for Derived {
             audit_end: 0.0,
             wall_step_work: 0.0,
             wall_last_vel: Vec::new(),
+            in_flight_end: 0.0,
         }
     }
 }
