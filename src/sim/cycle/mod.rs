@@ -586,7 +586,7 @@ pub fn prime_if_stale(scene: &mut Scene) {
 /// [`in_flight`], to first order) without any command. That part is the scheme's, not the
 /// command's: it is left out of what the command put in, so that a command that changes
 /// nothing (an `AWAll ... V` between two Cycles) leaves the books as one longer Cycle would,
-/// to second order in the step (doc/limits.md, "Moving containers").
+/// to second order in the step (doc/limits.md, "Issue 49, item by item").
 pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
     let before = super::energy::stored(scene).total();
     rebuild(scene, tol);
