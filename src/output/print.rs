@@ -116,7 +116,13 @@ fn info(scene: &Scene) -> (String, Value) {
 
 /// The time step for `PRint Info`, or what it still waits for.
 fn dt_text(scene: &Scene, dt: f64) -> String {
-    if dt.is_finite() && dt > 0.0 {
+    let heavy = params::build(scene).map_or(1.0, |m| m.heavy_share);
+    if dt.is_finite() && dt > 0.0 && heavy < 1.0 {
+        format!(
+            "{dt:.6e} s (the default FRAction times {heavy:.4}: a pair's restitution is below {}, doc/limits.md)",
+            crate::physics::dashpot::HEAVY_E
+        )
+    } else if dt.is_finite() && dt > 0.0 {
         format!("{dt:.6e} s")
     } else if scene.particles().is_empty() {
         "not yet known (no particles)".to_string()

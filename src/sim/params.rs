@@ -2,7 +2,7 @@
 //! loop only looks them up), and the scene checks that must pass before cycling.
 
 use super::scene::Scene;
-use crate::physics::hertz;
+use crate::physics::{dashpot, hertz};
 use crate::sim::model::NormalLaw;
 
 /// Constants of a material pair (particle–particle or particle–wall).
@@ -96,6 +96,9 @@ pub struct Model {
     pub dt_base: f64,
     /// The FRAction in use.
     pub fraction: f64,
+    /// The share of the default FRAction that `fraction` is, for a pair with a heavy dashpot
+    /// (`physics::dashpot::heavy_step_share`); 1 otherwise.
+    pub heavy_share: f64,
     /// Rayleigh critical step of the scene.
     pub dt_rayleigh: f64,
     /// The particles' common radius, mass and material (no command changes them during a
@@ -181,6 +184,9 @@ struct PairTable {
     k_lin: f64,
     all_linear: bool,
     rolling: Vec<f64>,
+    /// The share of the default step the heaviest dashpot asks for
+    /// (`dashpot::heavy_step_share`; 1: none is heavy).
+    heavy: f64,
 }
 
 /// The pair table of [`build`]: E*, G*, μ, γ, the dashpot and the law of every pair of
@@ -194,6 +200,7 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
     let mut k_lin: f64 = 0.0;
     let mut all_linear = true;
     let mut rolling = vec![0.0; nmat * nmat];
+    let mut heavy: f64 = 1.0;
     for a in 0..nmat {
         for b in 0..nmat {
             let (ma, mb) = (&scene.materials[a], &scene.materials[b]);
@@ -246,6 +253,13 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
             };
             // The linear laws have their own dashpot (PairLaw::restitution).
             let zeta = if linear { 0.0 } else { zeta };
+            if let Some(e) = e
+                && zeta > 0.0
+                && e < dashpot::HEAVY_E
+            {
+                let zeta_ref = form.zeta(dashpot::HEAVY_REFERENCE_E);
+                heavy = heavy.min(dashpot::heavy_step_share(e, zeta, zeta_ref));
+            }
             table[a * nmat + b] = PairConst {
                 e_star,
                 g_star,
@@ -267,6 +281,7 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
         k_lin,
         all_linear,
         rolling,
+        heavy,
     }
 }
 
@@ -350,6 +365,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         k_lin,
         all_linear,
         rolling,
+        heavy,
         ..
     } = pairs;
     let rotation = pairs.rotation
@@ -365,10 +381,17 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         let rho = p.mass[i] / (4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3));
         dt_r = dt_r.min(hertz::rayleigh_dt(p.radius[i], rho, m.shear(), m.poisson));
     }
-    let fraction = scene
-        .settings
-        .fraction
-        .unwrap_or_else(|| super::scene::default_fraction(adhesion || !laws.is_empty()));
+    // The default FRAction, shortened for a heavy dashpot (not under FRAction AUTO, which
+    // follows the fastest contact).
+    let heavy = if scene.settings.fraction.is_none() && scene.settings.auto_step.is_none() {
+        heavy
+    } else {
+        1.0
+    };
+    let fraction = scene.settings.fraction.unwrap_or_else(|| {
+        let f = super::scene::default_fraction(adhesion || !laws.is_empty());
+        if heavy < 1.0 { f * heavy } else { f }
+    });
     let dt = step_limits(scene, fraction * dt_r, dt_r, fraction, (k_lin, all_linear))?;
     let wall_laws = laws.iter().map(|l| PairLaw { wall: true, ..*l }).collect();
     Ok(Model {
@@ -383,6 +406,7 @@ pub fn build(scene: &Scene) -> Result<Model, String> {
         dt,
         dt_base: dt,
         fraction,
+        heavy_share: heavy,
         dt_rayleigh: dt_r,
         uniform: Uniform::of(p),
         plan: crate::sim::parallel::plan::ExecPlan::detect(),

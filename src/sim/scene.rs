@@ -436,6 +436,17 @@ pub struct Derived {
     /// `Ledger::walls`): half of it is still in flight at the step's end
     /// (`cycle::in_flight`).
     pub wall_step_work: f64,
+    /// The velocity and radial velocity each wall moved with in the last step (by index;
+    /// walls are only appended): the work of the next step is booked over the mean of it and
+    /// the velocity the wall goes on with, also when a command (`AWAll ... V`) changed the
+    /// velocity between the two steps (`cycle::wall_loop::move_walls`). Empty after a
+    /// RESTart: the walls' velocities then stand for it.
+    pub wall_last_vel: Vec<([f64; 3], f64)>,
+    /// The work in flight when the last `Cycle` ended (`cycle::in_flight`): the contact
+    /// states are then a step behind the positions, and a re-evaluation after a command
+    /// leaves this part out of what the command put in (`cycle::prime`); 0 once the states
+    /// were re-evaluated, after a RESTart or a restored snapshot.
+    pub in_flight_end: f64,
 }
 
 impl Default for Derived {
@@ -449,6 +460,8 @@ impl Default for Derived {
             create_index: None,
             audit_end: 0.0,
             wall_step_work: 0.0,
+            wall_last_vel: Vec::new(),
+            in_flight_end: 0.0,
         }
     }
 }

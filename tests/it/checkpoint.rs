@@ -506,8 +506,12 @@ fn the_whole_state_round_trips() {
     let mut sc = sc;
     sc.unchecked().contacts.clear_derived();
     sc.unchecked().derived.maybe_outside = true;
-    // The last step's wall work in flight (derived, for the next audit) is not saved either.
+    // The last step's wall work in flight (derived, for the next audit) is not saved either,
+    // nor the walls' last velocities and the work in flight when the last Cycle ended (for
+    // the books of the next step and of a command's re-evaluation).
     sc.unchecked().derived.wall_step_work = 0.0;
+    sc.unchecked().derived.wall_last_vel = Vec::new();
+    sc.unchecked().derived.in_flight_end = 0.0;
     // (A loaded scene's energy audit measures from the residual it holds.)
     sc.unchecked().derived.audit_end = trubal::sim::energy::residual(&sc);
     sc.unchecked().derived.wall_step_work = 0.0;

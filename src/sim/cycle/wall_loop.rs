@@ -200,11 +200,20 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
     // The servos set the velocities the walls move with until the next step; a wall's work
     // on the particles is its force times its displacement about this instant, the mean of
     // the velocity it came with and the one it goes on with (central in time, as the
-    // particles' booking: exact for the scheme when a servo changes the speed every step).
+    // particles' booking: exact for the scheme when a servo changes the speed every step,
+    // and when a command changed it between steps: the velocity it came with is the one of
+    // its last step, not the one the command gave it).
     let mut wall_work = 0.0;
-    for (w, fr) in scene.walls.iter_mut().zip(&radial) {
-        let (vel_old, vr_old) = (Vec3::from(w.vel), w.vr);
+    let last = &mut scene.derived.wall_last_vel;
+    last.resize(scene.walls.len(), ([f64::NAN; 3], f64::NAN));
+    for ((w, fr), came) in scene.walls.iter_mut().zip(&radial).zip(last.iter_mut()) {
+        let (vel_old, vr_old) = if came.1.is_nan() {
+            (Vec3::from(w.vel), w.vr)
+        } else {
+            (Vec3::from(came.0), came.1)
+        };
         walls::servo(w);
+        *came = (w.vel, w.vr);
         let vel = (vel_old + Vec3::from(w.vel)) * 0.5;
         let vr = 0.5 * (vr_old + w.vr);
         // Work done by a moving wall on the particles: −(force on wall)·v_w Δt.
