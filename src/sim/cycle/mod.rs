@@ -343,13 +343,12 @@ impl Audit {
         Audit { floor }
     }
 
-    /// The energy scale of the scene: the largest of the energy put in so far, the energy
-    /// commands left unbooked (a scene read from an old checkpoint) and the floor — what
-    /// the scene had or was given, the same however its run is split into Cycles.
+    /// The energy scale of the scene: the largest of the energy put in so far (the
+    /// periodic cell's work included, as in the books' residual), the energy commands left
+    /// unbooked (a scene read from an old checkpoint) and the floor — what the scene had or
+    /// was given, the same however its run is split into Cycles.
     fn scale(&self, scene: &Scene) -> f64 {
-        scene
-            .ledger
-            .input()
+        (scene.ledger.input() + scene.cell.work)
             .abs()
             .max(scene.ledger.unbooked.abs())
             .max(self.floor)
