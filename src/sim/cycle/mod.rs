@@ -664,6 +664,20 @@ mod tests {
         assert_eq!(costs, vec![15 * BLOCK, 25 * BLOCK]);
     }
 
+    /// The audit's energy scale counts the periodic cell's work as an input, as the books'
+    /// residual does (doc/limits.md, "No silent energy creation"): a scene given its energy
+    /// by the cell alone is held to 5 % of that energy, not of the 1 %-overlap floor.
+    #[test]
+    fn the_audit_scale_includes_the_cell_work() {
+        let mut sc = Scene::new([1e-3; 3], 10, 200, 0);
+        sc.cell.work = 1e-6;
+        let audit = Audit { floor: 1e-8 };
+        assert_eq!(sc.ledger.input(), 0.0);
+        assert_eq!(audit.scale(&sc), 1e-6);
+        sc.cell.work = -1e-6;
+        assert_eq!(audit.scale(&sc), 1e-6);
+    }
+
     /// Rates relative to the mean time per unit of cost, clamped.
     #[test]
     fn balance_rates_are_relative_to_the_mean() {
