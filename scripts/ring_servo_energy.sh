@@ -51,4 +51,23 @@ run md_ed11_only md 1e-3 "" "" 50 "-2 0 0 0 0 0"
 run mdr_ed22_only mdr 1e-3 "" "" 50 "0 -2 0 0 0 0"
 run mdr_ring_no_shear mdr 1e-3 "$S" "" 50 "0 0 0 0 0 0"
 } > "$out"
+# The whole test: 40,000 cycles of the shear, the residual over the input at the end.
+long() { # law
+    f=$dir/long_$1.tru
+    { echo "start 1e-3 1e-3 1e-3 100 1000 0"
+      [ "$1" = md ] && echo "set tangential md"
+      printf 'rad 8e-5 1\ndensity 2600 1\nymd 1e8 1\npra 0.25 1\nfriction 0.3 1\n'
+      printf 'damping restitution 0.2\nrge 100 1 1 0\ngain 2e-2 600\nmode 1\n'
+      printf 'cycle 20000 s0 2e4\ncycle 20000 s0 2e4 ring 120\nprint grid\n'
+      printf 'grid 0 0 0 20 0 0\ngain 1e-3 600\nmode 0\n'
+      printf 'cycle 40000 s22 2e4 s33 2e4 ring 105\nprint energy\n'
+    } > "$f"
+    "$bin" "$f" > "$dir/long_$1.out" 2>&1 || { echo "long $1 failed" >&2; cat "$dir/long_$1.out" >&2; exit 1; }
+    paste -d' ' <(grep "^ *input " "$dir/long_$1.out" | awk '{print $9}') \
+        <(grep residual "$dir/long_$1.out" | awk '{print $2}') \
+        <(grep "image offset" "$dir/long_$1.out" | awk '{print $12}') \
+        <(grep "^work-space" "$dir/long_$1.out" | awk '{print $2}') |
+    awk -v law="$1" '{printf "# whole test (80,000 cycles), %s: image offset before the shear %.4e m (L_x %.4e m); cell input %.4e J, residual %.4e J (%.3f %% of the input)\n", law, $3, $4, $1, $2, 100*$2/$1}'
+}
+{ long mdr; long md; } >> "$out"
 rm -r "$dir"
