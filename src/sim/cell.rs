@@ -8,7 +8,8 @@
 //!   along axis k and every particle coordinate `x_k` is multiplied by `exp(ed_kk Δt)`, so a
 //!   cell without particles deforms exactly as `L_k(t) = L_k(0) exp(∫ ed_kk dt)`;
 //! - `ed12` shears without distorting the cell: the images above it (`y + L_y`) slide along x
-//!   by `shift`, which grows by `ed12 L_y Δt` per step (taken modulo `L_x`); a particle leaving
+//!   by `shift`, which grows by `ed12 L_y Δt` per step and stretches with the cell's x
+//!   (`× exp(ed11 Δt)`, as the images do), taken modulo `L_x`; a particle leaving
 //!   through `y = L_y` re-enters through `y = 0` at its image, `x − shift`, and one leaving
 //!   through `y = 0` at `x + shift` (Lees–Edwards). Every particle moves with the field too:
 //!   `x += ed12 y Δt`.
@@ -289,9 +290,12 @@ pub fn deform(scene: &mut Scene, dt: f64) -> [[f64; 3]; 3] {
         scene.cell.strain[k] += r[k] * dt;
     }
     scene.cell.strain[3] += r[3] * dt;
-    if r[3] != 0.0 {
+    // The images above the cell sit at `(shift, L_y)` from the particles: the field maps that
+    // lattice vector as every other, `shift → f₁₁ shift + ed12 L_y Δt`, so that a pair across
+    // the sheared side moves by `G l Δt` like any other (the re-mapping rule above).
+    if r[3] != 0.0 || (r[0] != 0.0 && scene.cell.shift != 0.0) {
         let (lx, step) = (scene.size[0], r[3] * scene.size[1] * dt);
-        scene.cell.shift = (scene.cell.shift + step).rem_euclid(lx);
+        scene.cell.shift = (scene.cell.shift * f[0] + step).rem_euclid(lx);
     }
     // One pass: the kinetic sum of the velocities before, the field's share of the motion,
     // SLLOD, and the wrap into the new cell ([`wrap_one`]).

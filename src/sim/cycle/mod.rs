@@ -343,13 +343,12 @@ impl Audit {
         Audit { floor }
     }
 
-    /// The energy scale of the scene: the largest of the energy put in so far, the energy
-    /// commands left unbooked (a scene read from an old checkpoint) and the floor — what
-    /// the scene had or was given, the same however its run is split into Cycles.
+    /// The energy scale of the scene: the largest of the energy put in so far (the
+    /// periodic cell's work included, as in the books' residual), the energy commands left
+    /// unbooked (a scene read from an old checkpoint) and the floor — what the scene had or
+    /// was given, the same however its run is split into Cycles.
     fn scale(&self, scene: &Scene) -> f64 {
-        scene
-            .ledger
-            .input()
+        (scene.ledger.input() + scene.cell.work)
             .abs()
             .max(scene.ledger.unbooked.abs())
             .max(self.floor)
@@ -673,6 +672,20 @@ mod tests {
         check_cover(&r, hot.len(), np);
         assert_eq!(r[0].pairs.end, 15 * BLOCK);
         assert_eq!(costs, vec![15 * BLOCK, 25 * BLOCK]);
+    }
+
+    /// The audit's energy scale counts the periodic cell's work as an input, as the books'
+    /// residual does (doc/limits.md, "No silent energy creation"): a scene given its energy
+    /// by the cell alone is held to 5 % of that energy, not of the 1 %-overlap floor.
+    #[test]
+    fn the_audit_scale_includes_the_cell_work() {
+        let mut sc = Scene::new([1e-3; 3], 10, 200, 0);
+        sc.cell.work = 1e-6;
+        let audit = Audit { floor: 1e-8 };
+        assert_eq!(sc.ledger.input(), 0.0);
+        assert_eq!(audit.scale(&sc), 1e-6);
+        sc.cell.work = -1e-6;
+        assert_eq!(audit.scale(&sc), 1e-6);
     }
 
     /// Rates relative to the mean time per unit of cost, clamped.
