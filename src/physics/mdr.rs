@@ -50,7 +50,7 @@ pub const NODES: usize = 16;
 /// The independent sums of [`MdrRow::step`] (a divisor of [`NODES`]; four are added in a
 /// fixed order at the end of the step).
 const LANES: usize = 4;
-const _: () = assert!(LANES == 4 && NODES % LANES == 0);
+const _: () = assert!(LANES == 4 && NODES.is_multiple_of(LANES));
 
 /// The springs' places in steps of `a_ref/NODES`: `i + ½`.
 const MID: [f64; NODES] = {
