@@ -47,6 +47,22 @@ use serde::{Deserialize, Serialize};
 /// Springs per (half) row.
 pub const NODES: usize = 16;
 
+/// The independent sums of [`MdrRow::step`] (a divisor of [`NODES`]; four are added in a
+/// fixed order at the end of the step).
+const LANES: usize = 4;
+const _: () = assert!(LANES == 4 && NODES.is_multiple_of(LANES));
+
+/// The springs' places in steps of `a_ref/NODES`: `i + ½`.
+const MID: [f64; NODES] = {
+    let mut m = [0.5; NODES];
+    let mut i = 1;
+    while i < NODES {
+        m[i] = m[i - 1] + 1.0;
+        i += 1;
+    }
+    m
+};
+
 /// The row of one contact (checkpoint format 9: `ContactExt::mdr`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MdrRow {
@@ -159,7 +175,12 @@ impl MdrRow {
 
     /// One step: the row follows the contact radius `a` (grown: remapped; springs outside
     /// cleared), every spring in contact moves by `Δδ` and is held at its Coulomb limit
-    /// `μE*(a² − x²)/(4G*R*)`.
+    /// `μE*(a² − x²)/(4G*R*)`; the force `T = 8G* dx Σu` and the energy `4G* dx Σ|u|²`.
+    ///
+    /// The springs go in [`LANES`] lanes (spring `i` in lane `i mod LANES`), each lane with
+    /// its own sums, added in a fixed order at the end: the result does not depend on the
+    /// threads, and the lanes' arithmetic is independent, so that it vectorises. The groups
+    /// of [`LANES`] springs that lie wholly outside the contact (`x ≥ a`) are only cleared.
     pub fn step(&mut self, inp: &MdrInput) -> MdrStep {
         let a = inp.a;
         if a > self.a_ref {
@@ -172,27 +193,44 @@ impl MdrRow {
             0.0
         };
         let h = self.a_ref / NODES as f64;
+        // The groups whose first spring is in contact (`x < a`), and the first group (a row
+        // of zero size: its limit is zero).
+        let groups = 1
+            + (1..NODES / LANES)
+                .filter(|&g| MID[g * LANES] * h < a)
+                .count();
+        let (active, outside) = self.u.split_at_mut(groups * LANES);
+        outside.fill([0.0; 2]);
         let [dx, dy] = inp.dd;
-        let (mut sx, mut sy, mut s2) = (0.0, 0.0, 0.0);
-        // Branch-free (the loop vectorises): a spring out of contact has the limit 0, so it
-        // is scaled to zero; a zero displacement is never scaled.
-        for (i, u) in self.u.iter_mut().enumerate() {
-            let x = (i as f64 + 0.5) * h;
-            let lim = lim_c * (a2 - x * x).max(0.0);
-            let (ux, uy) = (u[0] + dx, u[1] + dy);
-            let l2 = ux * ux + uy * uy;
-            let over = l2 > lim * lim;
-            let r = if over { lim / l2.sqrt() } else { 1.0 };
-            let (ux, uy) = (ux * r + 0.0, uy * r + 0.0);
-            *u = [ux, uy];
-            sx += ux;
-            sy += uy;
-            s2 += ux * ux + uy * uy;
+        let (mut sx, mut sy, mut s2) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+        for (g, us) in active.chunks_exact_mut(LANES).enumerate() {
+            // The group's components apart (lane by lane), so that the lanes vectorise.
+            let ux: [f64; LANES] = std::array::from_fn(|l| us[l][0] + dx);
+            let uy: [f64; LANES] = std::array::from_fn(|l| us[l][1] + dy);
+            let l2: [f64; LANES] = std::array::from_fn(|l| ux[l] * ux[l] + uy[l] * uy[l]);
+            // Branch-free, the root taken for every spring (a conditional root, or a
+            // select, becomes a branch): over its limit a spring is scaled by
+            // `lim/|u| < 1`; out of contact the limit is 0 and it is scaled to +0; a zero
+            // displacement gives 0/0 (NaN, which `min` passes over) or lim/0, and `r = 1`.
+            let r: [f64; LANES] = std::array::from_fn(|l| {
+                let x = MID[g * LANES + l] * h;
+                let lim = lim_c * (a2 - x * x).max(0.0);
+                (lim / l2[l].sqrt()).min(1.0)
+            });
+            let ux: [f64; LANES] = std::array::from_fn(|l| ux[l] * r[l] + 0.0);
+            let uy: [f64; LANES] = std::array::from_fn(|l| uy[l] * r[l] + 0.0);
+            for l in 0..LANES {
+                sx[l] += ux[l];
+                sy[l] += uy[l];
+                s2[l] += l2[l] * (r[l] * r[l]);
+                us[l] = [ux[l], uy[l]];
+            }
         }
+        let sum = |s: [f64; LANES]| (s[0] + s[1]) + (s[2] + s[3]);
         let k = 8.0 * inp.g_star * h;
         MdrStep {
-            force: [k * sx, k * sy],
-            energy: 0.5 * k * s2,
+            force: [k * sum(sx), k * sum(sy)],
+            energy: 0.5 * k * sum(s2),
         }
     }
 }
@@ -391,6 +429,33 @@ mod tests {
         );
         let t1 = row.step(&inp((R * 0.75 * ALPHA).sqrt(), 0.0)).force[0];
         assert!((t1 / t - 0.945).abs() < 5e-3, "{}", t1 / t);
+    }
+
+    /// A contact that shrinks clears the springs it leaves, and they come back into a regrown
+    /// contact at zero (the law: a spring enters at `u = 0`): after loading at `a`, shrinking
+    /// to `a/4` and growing back with no tangential motion, only the springs of `x < a/4` hold
+    /// a displacement, and the force is theirs, `8G* dx Σu` summed spring by spring.
+    #[test]
+    fn springs_left_by_a_shrinking_contact_are_cleared() {
+        let mut row = MdrRow::default();
+        row.step(&inp(a(), 0.0));
+        for _ in 0..10 {
+            row.step(&inp(a(), 0.05 * delta_s()));
+        }
+        row.step(&inp(0.25 * a(), 0.0));
+        let t = row.step(&inp(a(), 0.0)).force[0];
+        let h = row.a_ref / NODES as f64;
+        let mut sum = 0.0;
+        for (i, u) in row.u.iter().enumerate() {
+            let x = (i as f64 + 0.5) * h;
+            if x < 0.25 * a() {
+                assert!(u[0] > 0.0, "spring {i} kept");
+                sum += u[0];
+            } else {
+                assert_eq!(*u, [0.0; 2], "spring {i} cleared");
+            }
+        }
+        assert!((t / (8.0 * G * h * sum) - 1.0).abs() < 1e-14, "{t}");
     }
 
     /// A row made for a contact already holding a force gives that force back.
