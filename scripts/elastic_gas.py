@@ -35,15 +35,10 @@ def rust_e(x):
     return ("-" if sign else "") + f"{mant}e{e10}"
 
 
-def deck(steps, prints):
-    length = 0.028
-    s = (
-        f"start {length} {length} {length} 10 1010 6\nset open all\nrad 1e-3 1\nymd 1e8 1\n"
-        f"pra 0.3 1\ndensity 2500 1\n"
-        f"dwall p 1 0 0 0\ndwall p -1 0 0 -{length}\ndwall p 0 1 0 0\n"
-        f"dwall p 0 -1 0 -{length}\ndwall p 0 0 1 0\ndwall p 0 0 -1 -{length}\n"
-    )
-    state = [0x9E3779B97F4A7C15]
+def gas(n, length, seed):
+    """The `create` lines of n³ spheres on a lattice of pitch length/n, each velocity component
+    normal with 0.5 m/s (xorshift64 from `seed`, Box-Muller): the gas of tests/it/elastic_gas.rs."""
+    state = [seed]
 
     def uniform():
         x = state[0]
@@ -57,15 +52,28 @@ def deck(steps, prints):
         u1, u2 = uniform(), uniform()
         return math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * math.pi * u2)
 
-    a = length / 10.0
-    for i in range(10):
-        for j in range(10):
-            for k in range(10):
+    a = length / n
+    s = ""
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
                 p = lambda q: (q + 0.5) * a
                 v = [0.5 * normal(), 0.5 * normal(), 0.5 * normal()]
                 s += "create {} {} {} {} {} {} 0 0 0 1 1\n".format(
                     rust_f(p(i)), rust_f(p(j)), rust_f(p(k)), rust_e(v[0]), rust_e(v[1]), rust_e(v[2])
                 )
+    return s
+
+
+def deck(steps, prints):
+    length = 0.028
+    s = (
+        f"start {length} {length} {length} 10 1010 6\nset open all\nrad 1e-3 1\nymd 1e8 1\n"
+        f"pra 0.3 1\ndensity 2500 1\n"
+        f"dwall p 1 0 0 0\ndwall p -1 0 0 -{length}\ndwall p 0 1 0 0\n"
+        f"dwall p 0 -1 0 -{length}\ndwall p 0 0 1 0\ndwall p 0 0 -1 -{length}\n"
+    )
+    s += gas(10, length, 0x9E3779B97F4A7C15)
     s += "print energy\n"
     for _ in range(prints):
         s += f"cycle {steps // prints}\nprint energy\n"

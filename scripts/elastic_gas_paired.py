@@ -17,14 +17,13 @@ Writes OUT.csv (cycle, the quiet residual over the input, the printed one) with 
 (scripts/provenance.py) and prints the means of each tenth of the run.
 """
 import json
-import math
 import os
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import provenance  # noqa: E402
-from elastic_gas import rust_e, rust_f  # noqa: E402
+from elastic_gas import gas  # noqa: E402
 
 MASK = (1 << 64) - 1
 
@@ -40,29 +39,7 @@ def deck(steps, prints, frac, n=10, length=0.028, seed=0x9E3779B97F4A7C15, walls
             f"dwall p 0 -1 0 -{length}\ndwall p 0 0 1 0\ndwall p 0 0 -1 -{length}\n"
         )
     s += f"fraction {frac}\n"
-    state = [seed]
-
-    def uniform():
-        x = state[0]
-        x ^= (x << 13) & MASK
-        x ^= x >> 7
-        x ^= (x << 17) & MASK
-        state[0] = x
-        return ((x >> 11) + 0.5) / float(1 << 53)
-
-    def normal():
-        u1, u2 = uniform(), uniform()
-        return math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * math.pi * u2)
-
-    a = length / n
-    for i in range(n):
-        for j in range(n):
-            for k in range(n):
-                p = lambda q: (q + 0.5) * a
-                v = [0.5 * normal() for _ in range(3)]
-                s += "create {} {} {} {} {} {} 0 0 0 1 1\n".format(
-                    rust_f(p(i)), rust_f(p(j)), rust_f(p(k)), rust_e(v[0]), rust_e(v[1]), rust_e(v[2])
-                )
+    s += gas(n, length, seed)
     s += "print energy\ncycle 1\nprint energy\n"
     for _ in range(prints):
         s += f"cycle {steps // prints - 1}\nprint energy\ncycle 1\nprint energy\n"
