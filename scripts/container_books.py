@@ -17,6 +17,10 @@ import math
 import subprocess
 import sys
 import time
+import os
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from heavy_dashpot import prints  # noqa: E402
 
 GLASS = "rad 30e-6 1\nymd 70e9 1\npra 0.3 1\ndensity 2650 1\n"
 DT_R = math.pi * 30e-6 * math.sqrt(2650 * 2.6 / 70e9) / (0.1631 * 0.3 + 0.8766)
@@ -25,15 +29,7 @@ WALLS = {"sphere": ("sp 5e-4 5e-4 5e-4 2.2e-4", 9.5e-6),
 
 
 def run(binary, deck):
-    p = subprocess.run([binary, "--json", "-"], input=deck, capture_output=True, text=True)
-    out = {}
-    for line in p.stdout.splitlines():
-        try:
-            j = json.loads(line)
-        except ValueError:
-            continue
-        out[j.get("print")] = j
-    return out, p.stderr
+    return prints(binary, deck)
 
 
 def squeeze(binary, kind, fraction):
@@ -90,4 +86,5 @@ def main():
         f.write("\n".join(rows) + "\n")
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -20,7 +20,8 @@ G = 1e8 / 2.6
 DT_R = math.pi * 0.01 * math.sqrt(2500 / G) / (0.1631 * 0.3 + 0.8766)
 
 
-def run(binary, deck):
+def prints(binary, deck):
+    """Runs `deck` through `binary --json`: its JSON prints by kind, and its stderr."""
     p = subprocess.run([binary, "--json", "-"], input=deck, capture_output=True, text=True)
     out = {}
     for line in p.stdout.splitlines():
@@ -29,8 +30,13 @@ def run(binary, deck):
         except ValueError:
             continue
         out[j.get("print")] = j
+    return out, p.stderr
+
+
+def run(binary, deck):
+    out, err = prints(binary, deck)
     if "balls" not in out:
-        sys.exit(p.stderr)
+        sys.exit(err)
     return out
 
 
@@ -81,4 +87,5 @@ def main():
         f.write("\n".join(rows) + "\n")
 
 
-main()
+if __name__ == "__main__":
+    main()
