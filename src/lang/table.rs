@@ -625,7 +625,7 @@ pub const COMMANDS: &[CommandDef] = &[
         ],
         true,
         b_print,
-        "Print the items (restricted by Window where it applies). GROup name (or ALL, every group) and RANge range: the sums and averages over a group's or a range's particles now (count, mass, centre of mass, its velocity, kinetic energy, force sum, mean coordination; doc/groups.md). With --json each item is one JSON object per line."
+        "Print the items (restricted by Window where it applies). GROup name (or ALL, every group) and RANge range: the sums and averages over a group's or a range's particles now (count, mass, centre of mass, its velocity, kinetic energy, force sum, mean coordination; doc/groups.md). Grid: the cell's rates, strains, image offset (in [-L_x/2, L_x/2): a small shear the negative way prints negative), servo gain and work. With --json each item is one JSON object per line."
     ),
     def!(
         "PRObe",

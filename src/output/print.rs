@@ -706,6 +706,7 @@ fn chist(scene: &Scene) -> (String, Value) {
 
 fn grid(scene: &Scene) -> (String, Value) {
     let c = &scene.cell();
+    let offset = c.signed_offset(scene.size()[0]);
     let mut s = format!(
         "work-space {} x {} x {} m; periodic x {} y {} z {}\n",
         scene.size()[0],
@@ -721,12 +722,12 @@ fn grid(scene: &Scene) -> (String, Value) {
          image offset (x step between the bottom and top y sides) {:e} m; servo gain {:e} edmax {:e} mode {}; cell work {:e} J\n",
         c.rate[0], c.rate[1], c.rate[2], c.rate[3], c.rate[4], c.rate[5],
         c.strain[0], c.strain[1], c.strain[2], c.strain[3], c.strain[4], c.strain[5],
-        c.shift, c.gain[0], c.gain[1], c.mode, c.work
+        offset, c.gain[0], c.gain[1], c.mode, c.work
     ));
     (
         s,
         json!({"print": "grid", "size": scene.size(), "periodic": scene.settings().periodic,
-            "rates": c.rate, "strains": c.strain, "offset": c.shift, "gain": c.gain,
+            "rates": c.rate, "strains": c.strain, "offset": offset, "gain": c.gain,
             "mode": c.mode, "work": c.work}),
     )
 }

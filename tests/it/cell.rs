@@ -278,7 +278,29 @@ fn a_sheared_cell_is_deterministic_across_threads_and_restarts() {
     }
     // It sheared: the offset moved and contacts formed across the sheared side.
     let g = &printed(&one, "grid")[0];
-    assert!(g["offset"].as_f64().unwrap() > 0.0);
+    assert!(g["offset"].as_f64().unwrap() != 0.0);
+}
+
+/// A cell sheared the negative way prints its image offset as the small negative number it
+/// is, not as L_x less that number (the offset is defined modulo L_x; `PRint Grid` gives the
+/// representative in [−L_x/2, L_x/2), doc/cell.md): ed12 = −3000 1/s over 30 steps moves
+/// the images by ed12 L_y t, well under L_x/2.
+#[test]
+fn a_small_negative_offset_prints_as_negative() {
+    let setup = "start 1e-3 1e-3 1e-3 400 1000 0\nrad 6e-5 1\ndensity 2600 1\nymd 1e8 1\n\
+                 pra 0.25 1\nrge 50 1 1 0\ngrid 0 0 0 -3000 0 0\ncycle 30\nprint grid\n";
+    let run = trubal_json(setup, &[]);
+    assert!(run.ok, "{}", run.stderr);
+    let g = &printed(&run, "grid")[0];
+    let offset = g["offset"].as_f64().unwrap();
+    let t = g["strains"][3].as_f64().unwrap();
+    // The strain e12 = ed12 t (no other rate): the offset is e12 L_y, L_y = 1e-3 m.
+    assert!(t < 0.0, "e12 {t}");
+    assert!(
+        (offset - t * 1e-3).abs() <= 1e-9 * 1e-3,
+        "offset {offset} m, e12 L_y {} m",
+        t * 1e-3
+    );
 }
 
 /// Bad input: each refused with a reason, nothing changed.

@@ -36,6 +36,18 @@ pub struct Cell {
 }
 
 impl Cell {
+    /// The Lees–Edwards offset as a user reads it: the images' x displacement is defined
+    /// modulo the cell's length `lx`, and [`Cell::shift`] keeps it in [0, L_x), where a
+    /// small shear the negative way reads L_x − ε; this is the representative in
+    /// [−L_x/2, L_x/2), −ε for it (`PRint Grid`).
+    pub fn signed_offset(&self, lx: f64) -> f64 {
+        if self.shift >= 0.5 * lx {
+            self.shift - lx
+        } else {
+            self.shift
+        }
+    }
+
     /// The velocity gradient G (G[i][j] = ∂v_i/∂x_j) of the rates.
     pub fn gradient(&self) -> [[f64; 3]; 3] {
         let r = &self.rate;
