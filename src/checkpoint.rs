@@ -162,6 +162,8 @@ fn read_header(prefix: &[u8], total: u64) -> Result<(u32, u64, u64), String> {
     if total < HEADER as u64 || prefix.len() < HEADER {
         return Err("the checkpoint is truncated (incomplete header)".into());
     }
+    // (Invariant: `prefix` holds at least HEADER bytes, checked above; the slices below are
+    // of fixed length.)
     let version = u32::from_le_bytes(prefix[8..12].try_into().expect("4 bytes"));
     if version > VERSION {
         return Err(format!(

@@ -39,6 +39,7 @@ pub fn parse_line_in(
             Err(e) => {
                 let mut msg = e.describe(&t.text, "command", &keywords);
                 if !out.is_empty() {
+                    // (Invariant: checked non-empty just above.)
                     let prev: &Parsed = out.last().expect("non-empty");
                     let name = command_name(&prev.command);
                     msg = format!("unexpected `{}` after {name}: {msg}", t.text);

@@ -59,6 +59,7 @@ pub fn range(a: &mut Args) -> Result<Range, ParseError> {
         let Some(w) = a.try_keyword(WORDS)? else {
             break;
         };
+        // (Invariant: a keyword was read, so a token was there.)
         let t = tok.expect("a keyword was read");
         match w {
             Word::Not => {

@@ -184,6 +184,7 @@ pub fn b_define(a: &mut Args) -> Result<Command, ParseError> {
     let name = new_name(a, "procedure")?;
     let mut params: Vec<String> = Vec::new();
     while !a.at_end() {
+        // (Invariant: the loop runs while a token is left.)
         let t = a.peek().expect("not at end");
         let p = new_name(a, "parameter")?;
         if p == name || params.contains(&p) {

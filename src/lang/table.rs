@@ -1912,6 +1912,7 @@ fn b_velocity(a: &mut Args) -> Result<Command, ParseError> {
         }
     };
     if ivd != 0.0 && ivd != 1.0 {
+        // (Invariant: ivd is 0 unless a number token gave it.)
         let t = ivd_tok.as_ref().expect("number token");
         return Err(ParseError::at(t, "ivd must be 0 or 1"));
     }

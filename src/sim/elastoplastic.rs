@@ -304,6 +304,8 @@ fn linear_step(
     hist: NormalHistory,
     out: &mut NormalOut,
 ) -> LawStep {
+    // (Invariant: only Pasha's linear laws come here: the others have arms of their own in
+    // `normal`, and Hertz has law index 0, which never calls it, `params`.)
     let (l, k_t) = linear_of(law, pc, k.r_star).expect("a linear law");
     let mut st = match hist {
         NormalHistory::Linear { st, .. } => st,

@@ -19,6 +19,7 @@ pub const PROBE_CYCLES: [u64; 3] = [500, 250, 500];
 /// (a clone: every bit, the contact states included).
 pub fn probe(scene: &mut Scene, dir: [f64; 6]) -> Result<[[f64; 3]; 3], Blowup> {
     let m = probe_watched(scene, dir, &mut |_, _| false)?;
+    // (Invariant: the watcher never stops the probe, so it runs to its end.)
     Ok(m.expect("a probe no watcher stops runs to its end"))
 }
 

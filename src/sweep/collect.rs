@@ -182,6 +182,7 @@ fn default_measures(objects: &[Value]) -> Vec<(String, String)> {
     }
     let mut out = Vec::new();
     for k in kinds {
+        // (Invariant: `k` was taken from one of `objects`.)
         let last = objects
             .iter()
             .rev()

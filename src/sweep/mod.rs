@@ -104,6 +104,8 @@ fn script_of(path: &Path, text: &Text) -> Script {
 /// Reads the files, expands the runs, checks the measures and charts: everything that can be
 /// wrong is found here, before anything is written or run.
 fn plan(spec: &Spec) -> Result<(Plan, Manifest), Vec<String>> {
+    // (Invariant: `Spec::from_args` refuses a sweep without a command file; only the
+    // internal task and collect modes have none, and they do not plan.)
     let file = spec.file.as_ref().expect("a command file");
     let mut errors = Vec::new();
     let script = read_text(file, "command file")
@@ -258,6 +260,7 @@ fn check_dir(store: &Store, new: &Manifest) -> Result<Option<Manifest>, String> 
 
 fn sweep(spec: &Spec) -> Result<ExitCode, Vec<String>> {
     let (plan, manifest) = plan(spec)?;
+    // (Invariant: `Spec::from_args` refuses a sweep without --out.)
     let out = spec.out.clone().expect("checked");
     let store = Store::new(&out);
     let existing = one(check_dir(&store, &manifest))?;
@@ -453,6 +456,7 @@ fn report_collect(store: &Store, m: &Manifest) -> ExitCode {
 
 /// The sweep already in `--out DIR`, as its manifest describes it.
 fn existing_sweep(spec: &Spec) -> Result<(Store, Manifest), Vec<String>> {
+    // (Invariant: `Spec::from_args` refuses a sweep without --out.)
     let out = spec.out.clone().expect("checked");
     let store = Store::new(&out);
     match one(store.load())? {

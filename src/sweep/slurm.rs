@@ -96,6 +96,7 @@ pub fn write(
     let dir = slurm_dir(store);
     let logs = dir.join("logs");
     fs::create_dir_all(&logs).map_err(|e| format!("cannot create {}: {e}", logs.display()))?;
+    // (Invariant: the search is unbounded; finitely many files exist.)
     let number = (1..)
         .find(|k| !dir.join(format!("collect.{k}.sh")).exists())
         .expect("a free number");

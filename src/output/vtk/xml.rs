@@ -37,6 +37,7 @@ fn zlib_array(bytes: &[u8]) -> Vec<u8> {
                 Vec::with_capacity(b.len() / 2),
                 flate2::Compression::fast(),
             );
+            // (Invariant: compressing into a Vec cannot fail.)
             z.write_all(b).expect("writing to memory");
             z.finish().expect("writing to memory")
         })

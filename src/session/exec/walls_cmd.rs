@@ -5,6 +5,7 @@ use super::*;
 pub(super) fn apply(scene: &mut Scene, cmd: &Command) -> Result<String, String> {
     match cmd {
         Command::Dwall(opts) => {
+            // (Invariant: the parser refuses a DWAll without a geometry.)
             let geom = unit_axis(opts.geom.expect("DWAll parser requires a geometry"));
             check_geom(&geom)?;
             let material = opts.material.unwrap_or(1);

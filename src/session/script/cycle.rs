@@ -175,6 +175,7 @@ impl Session {
         self.script.in_hook = true;
         let r = self.call(&name, &[]);
         self.script.in_hook = false;
+        // (Invariant: the hooks are set for the whole Cycle that calls this.)
         let h = self.script.hooks.as_mut().expect("set for the Cycle");
         match r {
             Ok(Flow::Continue) => true,

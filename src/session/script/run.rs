@@ -48,6 +48,8 @@ impl Session {
                     then,
                     otherwise,
                 } => {
+                    // (Invariant: the block was built from this line's first word, IF; a
+                    // `$name` can only add to that word, which then fails to parse, `opener`.)
                     let ScriptCmd::If { cond } = self.opener(&lines[*at])? else {
                         unreachable!("an IF line parses to IF")
                     };
@@ -124,6 +126,7 @@ impl Session {
                     })
                 };
                 if s == 0.0 {
+                    // (Invariant: without a step it is 1, so a 0 was given.)
                     return Err(span(
                         step.as_ref().expect("0 is given"),
                         "the step of a LOOP must not be 0".into(),
