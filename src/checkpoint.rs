@@ -59,7 +59,13 @@
 //! version 12 adds the setting `wall_bridges` (`SET WALlbridges`, read as on from older
 //! files, which always made particle–wall bridges); version 13 adds a group's standing Fix
 //! (`Fix ... GROup name` over a dynamic group, `sim::range::StandingFix`; read as none from
-//! formats 10 to 12, through `scene::old_groups`). Versions 1 to 12
+//! formats 10 to 12, through `scene::old_groups`); version 14 adds what the last `Cycle`
+//! handed on to the next (`Scene::carried`, `scene::Carried`: the energy audit's reference,
+//! the work in flight at its end, the walls' velocities of their last step and the stress
+//! servo it ended with), so that a command or a servo `Cycle` after a RESTart does what it
+//! does in the uninterrupted session (read from older files as `Carried::unknown`, through
+//! `scene::old_carried`: the audit's reference taken at the RESTart, nothing in flight).
+//! Versions 1 to 13
 //! are read through `sim::contacts::old` (contact states), `scene::old_walls`,
 //! `scene::old_cell`, `scene::old_laws` and
 //! `scene::old_settings`, which read the types that changed in the layout of the version
@@ -74,7 +80,7 @@ use crate::sim::Scene;
 
 pub const MAGIC: &[u8; 8] = b"TRUBALCK";
 /// Format version written by this program.
-pub const VERSION: u32 = 13;
+pub const VERSION: u32 = 14;
 /// Oldest format version this program still reads.
 pub const OLDEST_READABLE: u32 = 1;
 /// Bytes before the payload: magic, version, length, checksum.
@@ -251,9 +257,11 @@ fn decode_version<R: Read>(version: u32, r: &mut R) -> Result<Scene, String> {
         // Version 6 differs only in never holding `NormalLaw::ModifiedJkrEdem`, 6 and 7 in
         // never holding `TangentialChoice::HertzMindlin`.
         VERSION => decode_all::<Scene, R>(r, version),
-        // Version 12 differs in the groups (no standing Fix, scene::old_groups), 11 also in
-        // the settings (no `wall_bridges`, scene::old_settings).
-        11 | 12 => {
+        // Version 13 differs in having nothing carried from the last Cycle
+        // (scene::old_carried), as all older ones; 12 also in the groups (no standing Fix,
+        // scene::old_groups), 11 also in the settings (no `wall_bridges`,
+        // scene::old_settings).
+        11..=13 => {
             crate::sim::contacts::old::reading(version, || decode_all::<Scene, R>(r, version))
         }
         // Version 10 differs in the contact state (no `end`, sim::contacts::old); version 9

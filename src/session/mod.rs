@@ -400,6 +400,12 @@ impl Session {
             targets.push((t, v));
         }
         let scene = self.scene_mut()?;
+        // The servo the last Cycle ended with goes on, if it held these targets over the
+        // same cell settings (`Scene::continued_servo`): it was checked when it began.
+        if let Some(kept) = scene.continued_servo(&targets) {
+            scene.set_servo(Some(kept));
+            return self.cycle_ending_servo(n);
+        }
         if scene.settings().two_d
             && let Some(&(t, _)) = targets
                 .iter()
@@ -435,6 +441,11 @@ impl Session {
             return Err("Cycle: RING has no strain rate to turn: GRID prescribes the shear rate ed12 and S11 and S22 hold ed11 and ed22; give up one of them (doc/cell.md, \"Ring shear\")".into());
         }
         scene.set_servo(Some(servo));
+        self.cycle_ending_servo(n)
+    }
+
+    /// A Cycle with the servo set; the servo is kept for the next Cycle after it.
+    fn cycle_ending_servo(&mut self, n: u64) -> Result<Flow, String> {
         let r = self.cycle(n);
         if let Ok(scene) = self.scene_mut() {
             scene.set_servo(None);

@@ -9,6 +9,7 @@ use super::rng::Rng;
 use crate::sim::model::{BridgeChoice, LiquidMode, Servo, TangentialChoice, View, WallGeom};
 
 mod access;
+mod carried;
 pub(in crate::sim) mod cell;
 mod check;
 mod edit;
@@ -17,6 +18,7 @@ mod ledger;
 mod old;
 mod overlap;
 mod reference;
+pub use carried::{Carried, KeptServo};
 pub use ledger::Ledger;
 pub use overlap::{CreateIndex, OverlapIndex};
 pub use reference::Reference;
@@ -393,6 +395,11 @@ pub struct Scene {
     /// The named groups (`GROup`, `sim::range`); checkpoints before format 10 have none.
     #[serde(deserialize_with = "old::old_groups")]
     pub(in crate::sim) groups: crate::sim::range::Groups,
+    /// What the last `Cycle` handed on to the next (the audit's reference, the work in
+    /// flight, the walls' last velocities, the stress servo: [`Carried`]); checkpoints
+    /// before format 14 have none (read as [`Carried::unknown`]).
+    #[serde(deserialize_with = "old::old_carried")]
+    pub(in crate::sim) carried: Carried,
     /// What a `Cycle` and the commands derive and keep between steps or commands, never
     /// saved (see [`Derived`]).
     #[serde(skip)]
@@ -428,25 +435,6 @@ pub struct Derived {
     /// The overlap index kept between consecutive `CReate` commands (derived, not saved;
     /// dropped by any other command before it runs: `Session::execute`).
     pub create_index: Option<CreateIndex>,
-    /// The books' residual when the last `Cycle` ended (or its blow-up snapshot was
-    /// restored, or the scene was read from a checkpoint; 0 for a new scene): what the
-    /// residual moved by since then, commands moved (`cycle::Audit`).
-    pub audit_end: f64,
-    /// The work the walls did on the particles in the last step (booked in
-    /// `Ledger::walls`): half of it is still in flight at the step's end
-    /// (`cycle::in_flight`).
-    pub wall_step_work: f64,
-    /// The velocity and radial velocity each wall moved with in the last step (by index;
-    /// walls are only appended): the work of the next step is booked over the mean of it and
-    /// the velocity the wall goes on with, also when a command (`AWAll ... V`) changed the
-    /// velocity between the two steps (`cycle::wall_loop::move_walls`). Empty after a
-    /// RESTart: the walls' velocities then stand for it.
-    pub wall_last_vel: Vec<([f64; 3], f64)>,
-    /// The work in flight when the last `Cycle` ended (`cycle::in_flight`): the contact
-    /// states are then a step behind the positions, and a re-evaluation after a command
-    /// leaves this part out of what the command put in (`cycle::prime`); 0 once the states
-    /// were re-evaluated, after a RESTart or a restored snapshot.
-    pub in_flight_end: f64,
 }
 
 impl Default for Derived {
@@ -458,10 +446,6 @@ impl Default for Derived {
             reach_ext: Vec::new(),
             lattice_run: None,
             create_index: None,
-            audit_end: 0.0,
-            wall_step_work: 0.0,
-            wall_last_vel: Vec::new(),
-            in_flight_end: 0.0,
         }
     }
 }
@@ -508,6 +492,7 @@ impl Scene {
             cell: Default::default(),
             laws: Default::default(),
             groups: Default::default(),
+            carried: Carried::default(),
             derived: Derived::default(),
         }
     }

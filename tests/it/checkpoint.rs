@@ -109,6 +109,23 @@ fn fixture_scene() -> Scene {
     // `SET WALlbridges OFF` (format 12), set directly: the command would also remove the
     // wall bridges, which the fixture keeps for the layout of their state.
     sc.unchecked().settings.wall_bridges = false;
+    // What the last Cycle handed on (format 14): the Cycles of the script leave the audit's
+    // reference, the work in flight and the wall's last velocity; a kept stress servo, set
+    // directly (the fixture is not a periodic cell).
+    use trubal::sim::cell::{Servo, StressTarget};
+    sc.unchecked().carried.servo = Some(trubal::sim::scene::KeptServo {
+        servo: Servo {
+            targets: vec![
+                (StressTarget::Axis(1), 2e4, [false, true, false, false]),
+                (StressTarget::Ring, 105.0, [true, false, false, true]),
+            ],
+            base: [1e-3, 0.0, 0.0, 20.0, 0.0, 0.0],
+            flips: 3,
+        },
+        rate: [-2e-3, 1e-3, 0.0, 20.0, 0.0, 0.0],
+        gain: [2e-3, 40.0],
+        mode: 1,
+    });
     sc
 }
 
@@ -270,6 +287,8 @@ fn facts(sc: &Scene) -> Value {
     // reached its recursion limit.)
     v["groups"] = json!(format!("{:?}", sc.groups()));
     v["dashpot"] = json!(format!("{:?}", sc.laws().dashpot));
+    // (Format 14: what the last Cycle handed on.)
+    v["carried"] = json!(format!("{:?}", sc.carried()));
     v
 }
 
@@ -497,6 +516,10 @@ fn the_whole_state_round_trips() {
     assert!(l.friction > 0.0 && l.damping_contact > 0.0 && l.damping_mass > 0.0);
     assert!(l.gravity != 0.0 && l.commands > 0.0);
     assert!(sc.particles().spin.iter().any(|w| w.norm() > 0.0));
+    // Format 14: what the last Cycle handed on.
+    let c = sc.carried();
+    assert!(c.in_flight_end != 0.0 && c.audit_end != 0.0 && !c.wall_last_vel.is_empty());
+    assert!(c.servo.is_some());
 
     let bytes = to_bytes(&sc).unwrap();
     let back = from_bytes(&bytes).unwrap();
@@ -506,15 +529,8 @@ fn the_whole_state_round_trips() {
     let mut sc = sc;
     sc.unchecked().contacts.clear_derived();
     sc.unchecked().derived.maybe_outside = true;
-    // The last step's wall work in flight (derived, for the next audit) is not saved either,
-    // nor the walls' last velocities and the work in flight when the last Cycle ended (for
-    // the books of the next step and of a command's re-evaluation).
-    sc.unchecked().derived.wall_step_work = 0.0;
-    sc.unchecked().derived.wall_last_vel = Vec::new();
-    sc.unchecked().derived.in_flight_end = 0.0;
-    // (A loaded scene's energy audit measures from the residual it holds.)
-    sc.unchecked().derived.audit_end = trubal::sim::energy::residual(&sc);
-    sc.unchecked().derived.wall_step_work = 0.0;
+    // (What the last Cycle handed on — the audit's reference, the work in flight, the walls'
+    // last velocities, the stress servo — is saved from format 14: `sim::scene::Carried`.)
     assert_eq!(format!("{sc:?}"), format!("{back:?}"));
     assert!(to_bytes(&back).unwrap() == bytes);
 }

@@ -538,3 +538,106 @@ fn an_interrupted_cycle_is_a_shorter_cycle() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// 27 glass spheres in a spherical container that shrinks at 10 m/s onto them
+/// (tests/it/hard_cases.rs), with friction: contacts and a moving wall in contact when a
+/// command comes between two Cycles.
+const SQUEEZE: &str = "start 1e-3 1e-3 1e-3 10 100 2
+set open all
+rad 30e-6 1
+ymd 70e9 1
+pra 0.3 1
+density 2650 1
+friction 0.3 1
+aggl 1 5e-4 5e-4 5e-4 1.4e-4
+age 1 1 1 4.4e-4 4.4e-4 4.4e-4 6e-5 6e-5 6e-5
+dwall sp 5e-4 5e-4 5e-4 2.2e-4 v 0 0 0 -10";
+
+/// A command between two Cycles books the same whether or not a SAve and a RESTart (in a
+/// fresh session) came between: the work in flight at the first Cycle's end, the velocity
+/// each wall moved with in its last step and the audit's reference are part of the state
+/// (checkpoint format 14, `sim::scene::Carried`), so the books after the command are
+/// bitwise those of the uninterrupted session (doc/spec/DECISIONS.md, "Output,
+/// determinism, checkpoints"). The container is pressing the lattice when the command
+/// comes; the command changes its speed, or puts a servo on it, or comes before the SAve.
+#[test]
+fn a_command_after_a_restart_books_as_without_it() {
+    let dir = scratch("cmd-after-restart");
+    let mut whole = session_in(&dir, SQUEEZE);
+    run(&mut whole, "cycle 1400");
+    let touching = whole.scene.as_ref().unwrap().touching_counts();
+    assert!(touching.0 > 0 && touching.1 > 0, "in contact: {touching:?}");
+    for (tag, before, after) in [
+        ("speed", "", "awall 1 v 0 0 0 -5"),
+        ("servo", "", "awall 1 se 1e-2 5 1e-2"),
+        ("before", "awall 1 v 0 0 0 -5", ""),
+    ] {
+        let mut a = session_in(&dir, SQUEEZE);
+        run(&mut a, "cycle 1400");
+        if !before.is_empty() {
+            run(&mut a, before);
+        }
+        run(&mut a, &format!("save cmd-{tag}.sav"));
+        let mut b = session_in(&dir, &format!("restart cmd-{tag}.sav"));
+        for s in [&mut a, &mut b] {
+            if !after.is_empty() {
+                run(s, after);
+            }
+            run(s, "cycle 100");
+        }
+        assert_same(
+            a.scene.as_ref().unwrap(),
+            b.scene.as_ref().unwrap(),
+            &format!("cycle 1400; {before}; save; [restart;] {after}; cycle 100"),
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A loose gas of 100 spheres in a periodic cell pressed by the stress servo (mode 1): a
+/// run split into Cycles, or across SAve and RESTart, is the run of one Cycle, to the bit —
+/// the servo goes on with the axes it adjusts and its base rates (`Scene::continued_servo`).
+/// With GRID prescribing ed11, S0 adjusts ed22 and ed33 only, in every part (a servo begun
+/// afresh at the second Cycle, whose rates are then all non-zero, took ed11 over too); RING
+/// in mode 1 turns ed12 from the first Cycle's rate, not from the one the first part left.
+#[test]
+fn a_servo_cycle_split_in_two_is_one_cycle() {
+    let dir = scratch("servo-split");
+    let base = "start 1e-3 1e-3 1e-3 100 1000 0\nrad 8e-5 1\ndensity 2600 1\nymd 1e8 1\n\
+                pra 0.25 1\nfriction 0.3 1\ndamping restitution 0.2\nrge 100 1 1 0\n\
+                gain 2e-2 600\nmode 1";
+    for (tag, grid, targets) in [
+        ("s0", "grid -50 0 0 0 0 0", "s0 2e4"),
+        ("ring", "grid 0 0 0 0 0 0", "s0 2e4 ring 120"),
+    ] {
+        let setup = format!("{base}\n{grid}");
+        let mut whole = session_in(&dir, &setup);
+        run(&mut whole, &format!("cycle 3000 {targets}"));
+        let mut two = session_in(&dir, &setup);
+        run(&mut two, &format!("cycle 1700 {targets}"));
+        run(&mut two, &format!("save servo-{tag}.sav"));
+        run(&mut two, &format!("cycle 1300 {targets}"));
+        assert_same(
+            whole.scene.as_ref().unwrap(),
+            two.scene.as_ref().unwrap(),
+            &format!("{tag}: cycle 1700; cycle 1300"),
+        );
+        let mut restarted = session_in(&dir, &format!("restart servo-{tag}.sav"));
+        run(&mut restarted, &format!("cycle 1300 {targets}"));
+        assert_same(
+            whole.scene.as_ref().unwrap(),
+            restarted.scene.as_ref().unwrap(),
+            &format!("{tag}: cycle 1700; save; restart; cycle 1300"),
+        );
+        let sc = whole.scene.as_ref().unwrap();
+        if tag == "s0" {
+            assert_eq!(sc.cell().rate[0], -50.0, "the prescribed rate stays");
+        }
+        assert!(
+            sc.cell().rate[1] != 0.0 && sc.cell().rate[2] != 0.0,
+            "the servo adjusted ed22 and ed33: {:?}",
+            sc.cell().rate
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

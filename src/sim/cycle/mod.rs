@@ -95,6 +95,10 @@ pub fn run_until(
     watch: &mut (dyn FnMut(&Scene, u64) -> bool + Send),
     until: Option<&mut (dyn FnMut(&Scene) -> bool + Send)>,
 ) -> Result<(Model, u64), Blowup> {
+    if scene.derived.servo.is_none() {
+        // A Cycle without the stress servo: the next servo Cycle starts its own.
+        scene.carried.servo = None;
+    }
     let r = super::parallel::awake::while_running(|pacer| {
         run_steps(&mut *scene, n, watch, until, pacer)
     });
@@ -298,7 +302,7 @@ fn stop(scene: &mut Scene, snapshot: Scene, mut e: Blowup) -> Blowup {
     ));
     restore(scene, snapshot);
     // (The audit of the next Cycle measures from the restored books.)
-    scene.derived.audit_end = super::energy::residual(scene);
+    scene.carried.audit_end = super::energy::residual(scene);
     e
 }
 
@@ -336,10 +340,10 @@ impl Audit {
         let l = &mut scene.ledger;
         if l.unbooked.is_nan() {
             l.unbooked = r;
-        } else if r != scene.derived.audit_end {
-            l.unbooked += r - scene.derived.audit_end;
+        } else if r != scene.carried.audit_end {
+            l.unbooked += r - scene.carried.audit_end;
         }
-        scene.derived.audit_end = r;
+        scene.carried.audit_end = r;
         Audit { floor }
     }
 
@@ -368,8 +372,8 @@ impl Audit {
         {
             return Some(runaway(scene, model, created, scale));
         }
-        scene.derived.audit_end = r;
-        scene.derived.in_flight_end = in_flight(scene, model.dt);
+        scene.carried.audit_end = r;
+        scene.carried.in_flight_end = in_flight(scene, model.dt);
         None
     }
 }
@@ -389,7 +393,7 @@ fn in_flight(scene: &Scene, dt: f64) -> f64 {
         * (0..p.len())
             .map(|i| p.force[i].dot(&p.vel[i]) + p.moment[i].dot(&p.spin[i]))
             .sum::<f64>()
-        - 0.5 * scene.derived.wall_step_work
+        - 0.5 * scene.carried.wall_step_work
 }
 
 /// The blow-up snapshot: the scene without what a restore can make anew, the particles'
@@ -410,7 +414,7 @@ pub fn snapshot_of(scene: &mut Scene) -> Scene {
 /// re-mapping that the restored list is marked for leaves them.
 pub fn restore(scene: &mut Scene, snapshot: Scene) {
     *scene = snapshot;
-    scene.derived.in_flight_end = 0.0;
+    scene.carried.in_flight_end = 0.0;
     let n = scene.particles.len();
     scene.particles.disp = vec![Vec3::zeros(); n];
 }
@@ -592,7 +596,7 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
     let _ = forces(scene, model, 0.0);
     finish_deferred(scene, model.rotation);
     let after = super::energy::stored(scene).total();
-    let behind = std::mem::take(&mut scene.derived.in_flight_end);
+    let behind = std::mem::take(&mut scene.carried.in_flight_end);
     scene.ledger.commands += after - before + 2.0 * behind;
 }
 

@@ -204,7 +204,7 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
     // and when a command changed it between steps: the velocity it came with is the one of
     // its last step, not the one the command gave it).
     let mut wall_work = 0.0;
-    let last = &mut scene.derived.wall_last_vel;
+    let last = &mut scene.carried.wall_last_vel;
     last.resize(scene.walls.len(), ([f64::NAN; 3], f64::NAN));
     for ((w, fr), came) in scene.walls.iter_mut().zip(&radial).zip(last.iter_mut()) {
         let (vel_old, vr_old) = if came.1.is_nan() {
@@ -228,6 +228,6 @@ pub(super) fn move_walls(scene: &mut Scene, dt: f64) -> f64 {
         }
         walls::advance(w, dt);
     }
-    scene.derived.wall_step_work = wall_work;
+    scene.carried.wall_step_work = wall_work;
     wall_work
 }

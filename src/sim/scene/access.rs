@@ -118,6 +118,10 @@ impl Scene {
     pub fn cell(&self) -> &Cell {
         &self.cell
     }
+    /// What the last `Cycle` handed on to the next (saved).
+    pub fn carried(&self) -> &super::Carried {
+        &self.carried
+    }
     /// The contact laws per material pair (`SET NORmal`, `SET ROLling`).
     pub fn laws(&self) -> &ContactLaws {
         &self.laws
@@ -157,6 +161,7 @@ pub struct Unchecked<'a> {
     pub history: &'a mut History,
     pub cell: &'a mut Cell,
     pub laws: &'a mut ContactLaws,
+    pub carried: &'a mut super::Carried,
     pub derived: &'a mut Derived,
 }
 
@@ -185,6 +190,7 @@ impl Scene {
             history: &mut self.history,
             cell: &mut self.cell,
             laws: &mut self.laws,
+            carried: &mut self.carried,
             derived: &mut self.derived,
         }
     }

@@ -1,5 +1,6 @@
 //! The state of the periodic cell (`sim::cell` has what moves it): its deformation so far,
-//! saved in checkpoints, and the stress servo a `Cycle` holds (derived, not saved).
+//! saved in checkpoints, and the stress servo a `Cycle` holds (kept for the next Cycle:
+//! `scene::Carried`).
 use serde::{Deserialize, Serialize};
 
 use super::Vec3;
@@ -80,7 +81,7 @@ impl Cell {
 }
 
 /// A stress the servo holds (`Cycle n S0 σ`, …), compression positive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum StressTarget {
     /// The mean stress (σ11 + σ22 + σ33)/3.
     Mean,
@@ -93,9 +94,10 @@ pub enum StressTarget {
     Ring,
 }
 
-/// The stress servo of one `Cycle`: its targets and the axes each adjusts (derived: set by
-/// the session for the Cycle, not saved).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The stress servo of a `Cycle`: its targets and the axes each adjusts (set by the session
+/// for the Cycle, or the one the last Cycle ended with when this one goes on with it:
+/// `Scene::continued_servo`; saved as [`super::KeptServo`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Servo {
     /// Each target, its value and the rates it adjusts (ed11, ed22, ed33, ed12; only a
     /// `Ring` target adjusts ed12).

@@ -10,8 +10,34 @@ impl Scene {
     /// later command panic.
     pub fn check_consistency(&self) -> Result<(), String> {
         check_consistency(self)?;
+        check_carried(self)?;
         self.check_groups()
     }
+}
+
+/// What the last Cycle handed on (`Carried`): no more wall velocities than walls, a kept
+/// servo's axis targets on the three axes.
+fn check_carried(scene: &Scene) -> Result<(), String> {
+    let c = &scene.carried;
+    if c.wall_last_vel.len() > scene.walls.len() {
+        return Err(format!(
+            "{} walls' last velocities for {} walls",
+            c.wall_last_vel.len(),
+            scene.walls.len()
+        ));
+    }
+    let axis_ok =
+        |t: &super::cell::StressTarget| !matches!(t, super::cell::StressTarget::Axis(k) if *k > 2);
+    if let Some(k) = &c.servo
+        && !k
+            .servo
+            .targets
+            .iter()
+            .all(|(t, v, _)| axis_ok(t) && v.is_finite())
+    {
+        return Err("the kept stress servo has a target on no axis, or not finite".into());
+    }
+    Ok(())
 }
 
 fn check_consistency(scene: &Scene) -> Result<(), String> {

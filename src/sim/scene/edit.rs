@@ -244,9 +244,28 @@ impl Scene {
         self.cell.mode = n;
     }
 
-    /// The stress servo of the `Cycle` about to run (`None` after it).
+    /// The stress servo of the `Cycle` about to run; `None` after it, which keeps the servo
+    /// the Cycle ended with for the next one (`Carried::servo`, [`Scene::continued_servo`]).
     pub fn set_servo(&mut self, servo: Option<super::cell::Servo>) {
+        if servo.is_none()
+            && let Some(ended) = self.derived.servo.take()
+        {
+            self.carried.servo = Some(super::KeptServo::of(ended, &self.cell));
+        }
         self.derived.servo = servo;
+    }
+
+    /// The servo a `Cycle` with `targets` goes on with: the one the last Cycle ended with,
+    /// if it held the same targets and no command changed the cell's rates, gain or mode
+    /// since (its base rates, the axes it adjusts and its hunting count then run on as in
+    /// one longer Cycle); `None`: the Cycle starts a servo of its own.
+    pub fn continued_servo(
+        &self,
+        targets: &[(super::cell::StressTarget, f64)],
+    ) -> Option<super::cell::Servo> {
+        let kept = self.carried.servo.as_ref()?;
+        kept.continues(targets, &self.cell)
+            .then(|| kept.servo.clone())
     }
 
     /// What the last `Cycle` had to tell that is not an error; the list is emptied.
@@ -319,7 +338,9 @@ impl Scene {
         if self.ledger.unbooked.is_nan() {
             self.ledger.unbooked = r;
         }
-        self.derived.audit_end = r;
+        if self.carried.audit_end.is_nan() {
+            self.carried.audit_end = r;
+        }
     }
 
     /// Pads history rows of an older checkpoint to the current columns (the missing ones

@@ -244,3 +244,15 @@ pub(super) fn old_walls<'de, D: serde::Deserializer<'de>>(de: D) -> Result<Vec<W
         _ => Vec::<Wall>::deserialize(de),
     }
 }
+
+/// Reads what the last `Cycle` handed on in the layout of the checkpoint being decoded:
+/// formats 1 to 13 had none (nothing read: [`super::Carried::unknown`], the audit's
+/// reference taken at the RESTart, nothing in flight, no servo to go on with).
+pub(super) fn old_carried<'de, D: serde::Deserializer<'de>>(
+    de: D,
+) -> Result<super::Carried, D::Error> {
+    match crate::sim::contacts::old::version() {
+        1..=13 => Ok(super::Carried::unknown()),
+        _ => super::Carried::deserialize(de),
+    }
+}
