@@ -785,6 +785,18 @@ fn impossible_states_are_refused() {
         ("liquid", |s| {
             s.unchecked().liquid.as_mut().unwrap().eta = -1.0
         }),
+        // What the last Cycle handed on (format 14): a servo target on a fourth axis would
+        // index past the stress tensor.
+        ("work in flight", |s| {
+            s.unchecked().carried.in_flight_end = f64::NAN
+        }),
+        ("walls' last velocities", |s| {
+            s.unchecked().carried.wall_last_vel.push(([0.0; 3], 0.0))
+        }),
+        ("kept stress servo", |s| {
+            let k = s.unchecked().carried.servo.as_mut().unwrap();
+            k.servo.targets[0].0 = trubal::sim::cell::StressTarget::Axis(7)
+        }),
     ];
     for (want, brk) in breakers {
         let mut sc = good.clone();

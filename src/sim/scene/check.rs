@@ -15,10 +15,13 @@ impl Scene {
     }
 }
 
-/// What the last Cycle handed on (`Carried`): no more wall velocities than walls, a kept
-/// servo's axis targets on the three axes.
+/// What the last Cycle handed on (`Carried`): finite work in flight, no more wall
+/// velocities than walls, a kept servo's axis targets on the three axes.
 fn check_carried(scene: &Scene) -> Result<(), String> {
     let c = &scene.carried;
+    if !(c.in_flight_end.is_finite() && c.wall_step_work.is_finite()) {
+        return Err("the work in flight carried from the last Cycle is not finite".into());
+    }
     if c.wall_last_vel.len() > scene.walls.len() {
         return Err(format!(
             "{} walls' last velocities for {} walls",
