@@ -98,7 +98,7 @@ pub struct EdgeIn {
 /// v_{m+½} Δt`: the correction `−E/Δα` with `Δα = (α_{m+1} − α_{m+3})/2 = h + c (φ − 2)`.
 /// A contact of a single step, or one that closes again before its release was corrected,
 /// is left as it is.
-pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
+pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64) {
     let EdgeIn {
         alpha,
         alpha_prev,
@@ -113,30 +113,102 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
     let dt2 = dt * dt / m_star;
     match (was_touching, alpha > 0.0) {
         // The first overlap: keep the rate.
-        (false, true) => (0.0, v_n),
+        (false, true) => (0.0, v_n, if pending { 10 } else { 1 }, f64::NAN),
         // The second step of a contact: its onset.
         (true, true) if pending => {
             let c = -(v_n - v_prev) * dt + p_prev * dt2;
             let h_e = -v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev, h_e, c) else {
-                return (0.0, f64::INFINITY);
+                return (0.0, f64::INFINITY, 3, c / h_e);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
-            (e.correction(step), f64::INFINITY)
+            let st = if step >= 0.5 * e.h { 2 } else { 4 };
+            (e.correction(step), f64::INFINITY, st, c / e.h)
         }
         // The first step without overlap: keep the rate (not after a single step).
-        (true, false) => (0.0, if pending { f64::INFINITY } else { v_n }),
+        (true, false) => (
+            0.0,
+            if pending { f64::INFINITY } else { v_n },
+            if pending { 6 } else { 5 },
+            f64::NAN,
+        ),
         // The second step after the release.
         (false, false) if pending => {
             let c = -(v_n - v_prev) * dt;
             let h_e = v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev + h_e, h_e, c) else {
-                return (0.0, f64::INFINITY);
+                return (0.0, f64::INFINITY, 8, c / h_e);
             };
             let step = e.h + c * (e.phi - 2.0);
-            (e.correction(step), f64::INFINITY)
+            let st = if step >= 0.5 * e.h { 7 } else { 9 };
+            (e.correction(step), f64::INFINITY, st, c / e.h)
         }
-        _ => (0.0, f64::INFINITY),
+        _ => (0.0, f64::INFINITY, 0, f64::NAN),
+    }
+}
+
+/// SCRATCH instrumentation: per-contact life record.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Dbg {
+    pub flags: u32,
+    pub w: f64,
+    pub f: [f64; 3],
+    pub ch_on: f64,
+    pub ch_off: f64,
+    pub excess: f64,
+}
+
+#[derive(Default)]
+pub struct Stats {
+    pub by_kind: std::collections::BTreeMap<u32, (u64, f64, f64)>,
+    pub by_on: std::collections::BTreeMap<i32, (u64, f64)>,
+    pub by_off: std::collections::BTreeMap<i32, (u64, f64)>,
+    pub total: f64,
+}
+
+pub static STATS: std::sync::Mutex<Option<Stats>> = std::sync::Mutex::new(None);
+
+fn bin(x: f64) -> i32 {
+    if !x.is_finite() {
+        return 99;
+    }
+    let edges = [-1.0, -0.3, -0.1, -0.03, -0.01, 0.01, 0.03, 0.1, 0.3, 1.0];
+    edges.iter().take_while(|&&e| x > e).count() as i32
+}
+
+/// Records a finished contact life.
+pub fn record(d: &Dbg) {
+    let mut g = STATS.lock().unwrap_or_else(|e| e.into_inner());
+    let st = g.get_or_insert_with(Stats::default);
+    let e = st.by_kind.entry(d.flags).or_insert((0, 0.0, 0.0));
+    e.0 += 1;
+    e.1 += d.w;
+    e.2 += d.w.abs();
+    st.total += d.w;
+    // the cleanly corrected ones only (onset and release corrected, nothing else but wall)
+    if d.flags & !(1 << 12) == (1 | 1 << 2 | 1 << 7) {
+        let e = st.by_on.entry(bin(d.ch_on)).or_insert((0, 0.0));
+        e.0 += 1;
+        e.1 += d.w;
+        let e = st.by_off.entry(bin(d.ch_off)).or_insert((0, 0.0));
+        e.0 += 1;
+        e.1 += d.w;
+    }
+}
+
+/// Prints the stats.
+pub fn dump() {
+    let g = STATS.lock().unwrap_or_else(|e| e.into_inner());
+    let Some(st) = g.as_ref() else { return };
+    eprintln!("DBG total {:e}", st.total);
+    for (k, v) in &st.by_kind {
+        eprintln!("DBG kind {:#06x} n {} sum {:e} abs {:e}", k, v.0, v.1, v.2);
+    }
+    for (k, v) in &st.by_on {
+        eprintln!("DBG on {} n {} sum {:e}", k, v.0, v.1);
+    }
+    for (k, v) in &st.by_off {
+        eprintln!("DBG off {} n {} sum {:e}", k, v.0, v.1);
     }
 }
 
@@ -164,7 +236,7 @@ mod tests {
                 let p = force(e, r, alpha);
                 let mut fp = p;
                 if corrected {
-                    let (d, keep) = edge_step(
+                    let (d, keep, _, _) = edge_step(
                         e,
                         r,
                         &EdgeIn {

@@ -92,6 +92,9 @@ pub struct ContactState {
     pub ext: Option<Box<ContactExt>>,
     /// Liquid bridge, if any.
     pub bridge: Option<Box<BridgeState>>,
+    /// SCRATCH instrumentation.
+    #[serde(skip)]
+    pub dbg: crate::physics::hertz_edge::Dbg,
 }
 
 /// The part of a contact's state that only some laws use.
@@ -207,6 +210,7 @@ impl Default for ContactState {
             tdamp: Vec3::zeros(),
             ext: None,
             bridge: None,
+            dbg: Default::default(),
         }
     }
 }
@@ -229,7 +233,7 @@ impl ContactState {
     /// its rate).
     #[inline(always)]
     pub fn live(&self) -> bool {
-        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite()
+        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite() || self.dbg.flags != 0
     }
     /// Surface energy of the contact (0: Hertz).
     pub fn gamma(&self) -> f64 {
