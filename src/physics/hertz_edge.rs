@@ -98,7 +98,7 @@ pub struct EdgeIn {
 /// v_{m+½} Δt`: the correction `−E/Δα` with `Δα = (α_{m+1} − α_{m+3})/2 = h + c (φ − 2)`.
 /// A contact of a single step, or one that closes again before its release was corrected,
 /// is left as it is.
-pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64) {
+pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f64) {
     let EdgeIn {
         alpha,
         alpha_prev,
@@ -113,17 +113,17 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64) {
     let dt2 = dt * dt / m_star;
     match (was_touching, alpha > 0.0) {
         // The first overlap: keep the rate.
-        (false, true) => (0.0, v_n, if pending { 10 } else { 1 }, f64::NAN),
+        (false, true) => (0.0, v_n, if pending { 10 } else { 1 }, f64::NAN, 0.0),
         // The second step of a contact: its onset.
         (true, true) if pending => {
             let c = -(v_n - v_prev) * dt + p_prev * dt2;
             let h_e = -v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev, h_e, c) else {
-                return (0.0, f64::INFINITY, 3, c / h_e);
+                return (0.0, f64::INFINITY, 3, c / h_e, 0.0);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
             let st = if step >= 0.5 * e.h { 2 } else { 4 };
-            (e.correction(step), f64::INFINITY, st, c / e.h)
+            (e.correction(step), f64::INFINITY, st, c / e.h, e.excess)
         }
         // The first step without overlap: keep the rate (not after a single step).
         (true, false) => (
@@ -131,19 +131,20 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64) {
             if pending { f64::INFINITY } else { v_n },
             if pending { 6 } else { 5 },
             f64::NAN,
+            0.0,
         ),
         // The second step after the release.
         (false, false) if pending => {
             let c = -(v_n - v_prev) * dt;
             let h_e = v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev + h_e, h_e, c) else {
-                return (0.0, f64::INFINITY, 8, c / h_e);
+                return (0.0, f64::INFINITY, 8, c / h_e, 0.0);
             };
             let step = e.h + c * (e.phi - 2.0);
             let st = if step >= 0.5 * e.h { 7 } else { 9 };
-            (e.correction(step), f64::INFINITY, st, c / e.h)
+            (e.correction(step), f64::INFINITY, st, c / e.h, e.excess)
         }
-        _ => (0.0, f64::INFINITY, 0, f64::NAN),
+        _ => (0.0, f64::INFINITY, 0, f64::NAN, 0.0),
     }
 }
 
@@ -156,13 +157,16 @@ pub struct Dbg {
     pub ch_on: f64,
     pub ch_off: f64,
     pub excess: f64,
+    pub e_on: f64,
+    pub e_off: f64,
 }
 
 #[derive(Default)]
 pub struct Stats {
     pub by_kind: std::collections::BTreeMap<u32, (u64, f64, f64)>,
-    pub by_on: std::collections::BTreeMap<i32, (u64, f64)>,
-    pub by_off: std::collections::BTreeMap<i32, (u64, f64)>,
+    pub by_on: std::collections::BTreeMap<i32, (u64, f64, f64)>,
+    pub by_off: std::collections::BTreeMap<i32, (u64, f64, f64)>,
+    pub skipped: std::collections::BTreeMap<u32, (u64, f64, f64)>,
     pub total: f64,
 }
 
@@ -186,13 +190,18 @@ pub fn record(d: &Dbg) {
     e.2 += d.w.abs();
     st.total += d.w;
     // the cleanly corrected ones only (onset and release corrected, nothing else but wall)
-    if d.flags & !(1 << 12) == (1 | 1 << 2 | 1 << 7) {
-        let e = st.by_on.entry(bin(d.ch_on)).or_insert((0, 0.0));
+    let e = st.skipped.entry(d.flags).or_insert((0, 0.0, 0.0));
+    e.1 += d.e_on;
+    e.2 += d.e_off;
+    if d.flags & !(1 << 12) == (1 | 1 << 2 | 1 << 5 | 1 << 7) {
+        let e = st.by_on.entry(bin(d.ch_on)).or_insert((0, 0.0, 0.0));
         e.0 += 1;
         e.1 += d.w;
-        let e = st.by_off.entry(bin(d.ch_off)).or_insert((0, 0.0));
+        e.2 += d.e_on;
+        let e = st.by_off.entry(bin(d.ch_off)).or_insert((0, 0.0, 0.0));
         e.0 += 1;
         e.1 += d.w;
+        e.2 += d.e_off;
     }
 }
 
@@ -202,13 +211,14 @@ pub fn dump() {
     let Some(st) = g.as_ref() else { return };
     eprintln!("DBG total {:e}", st.total);
     for (k, v) in &st.by_kind {
-        eprintln!("DBG kind {:#06x} n {} sum {:e} abs {:e}", k, v.0, v.1, v.2);
+        let x = st.skipped.get(k).copied().unwrap_or_default();
+        eprintln!("DBG kind {:#06x} n {} sum {:e} abs {:e} eon {:e} eoff {:e}", k, v.0, v.1, v.2, x.1, x.2);
     }
     for (k, v) in &st.by_on {
-        eprintln!("DBG on {} n {} sum {:e}", k, v.0, v.1);
+        eprintln!("DBG on {} n {} sum {:e} e {:e}", k, v.0, v.1, v.2);
     }
     for (k, v) in &st.by_off {
-        eprintln!("DBG off {} n {} sum {:e}", k, v.0, v.1);
+        eprintln!("DBG off {} n {} sum {:e} e {:e}", k, v.0, v.1, v.2);
     }
 }
 
@@ -236,7 +246,7 @@ mod tests {
                 let p = force(e, r, alpha);
                 let mut fp = p;
                 if corrected {
-                    let (d, keep, _, _) = edge_step(
+                    let (d, keep, _, _, _) = edge_step(
                         e,
                         r,
                         &EdgeIn {

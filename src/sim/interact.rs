@@ -97,7 +97,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     }
     if edges(pc, laws, s) {
         // An elastic contact: the corrections of its edges (`physics::hertz_edge`).
-        let (d, keep, st, ch) = edge_step(
+        let (d, keep, st, ch, ex) = edge_step(
             pc.e_star,
             k.r_star,
             &EdgeIn {
@@ -128,18 +128,33 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
             2 => {
                 g.flags |= bit(2);
                 g.ch_on = ch;
-                g.excess += d;
+                g.e_on = ex;
             }
-            3 => g.flags |= bit(3),
-            4 => g.flags |= bit(4),
+            3 => {
+                g.flags |= bit(3);
+                g.ch_on = ch;
+            }
+            4 => {
+                g.flags |= bit(4);
+                g.ch_on = ch;
+                g.e_on = ex;
+            }
             5 => g.flags |= bit(5),
             6 => g.flags |= bit(6),
             7 => {
                 g.flags |= bit(7);
                 g.ch_off = ch;
+                g.e_off = ex;
             }
-            8 => g.flags |= bit(8),
-            9 => g.flags |= bit(9),
+            8 => {
+                g.flags |= bit(8);
+                g.ch_off = ch;
+            }
+            9 => {
+                g.flags |= bit(9);
+                g.ch_off = ch;
+                g.e_off = ex;
+            }
             _ => {}
         }
         if g.flags != 0 && k.r2.is_infinite() {
