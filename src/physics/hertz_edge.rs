@@ -119,7 +119,17 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
             let c = -(v_n - v_prev) * dt + p_prev * dt2;
             let h_e = -v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev, h_e, c) else {
-                return (0.0, f64::INFINITY, 3, c / h_e, 0.0);
+                let q = h_e + 0.5 * c;
+                let disc = q * q - 2.0 * c * alpha_prev;
+                let reason = if q <= 0.0 {
+                    2.0
+                } else if disc < 0.0 {
+                    3.0
+                } else {
+                    let phi = 2.0 * alpha_prev / (q + disc.sqrt());
+                    if phi > 1.0 { 4.0 } else { 5.0 }
+                };
+                return (0.0, f64::INFINITY, 3, reason, 0.0);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
             let st = if step >= 0.5 * e.h { 2 } else { 4 };
@@ -142,7 +152,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
             };
             let step = e.h + c * (e.phi - 2.0);
             let st = if step >= 0.5 * e.h { 7 } else { 9 };
-            (e.correction(step), f64::INFINITY, st, c / e.h, e.excess)
+            (e.correction(step), f64::INFINITY, st, e.h, e.excess)
         }
         _ => (0.0, f64::INFINITY, 0, f64::NAN, 0.0),
     }
@@ -159,6 +169,9 @@ pub struct Dbg {
     pub excess: f64,
     pub e_on: f64,
     pub e_off: f64,
+    pub pending: f64,
+    pub h: f64,
+    pub vlast: f64,
 }
 
 #[derive(Default)]
