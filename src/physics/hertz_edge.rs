@@ -42,7 +42,10 @@ impl Edge {
         if !(alpha > 0.0 && q > 0.0 && disc >= 0.0) {
             return None;
         }
-        let phi = 2.0 * alpha / (q + disc.sqrt());
+        let mut phi = 2.0 * alpha / (q + disc.sqrt());
+        if phi > 1.0 && clamp() > 0.0 && phi <= clamp() {
+            phi = 1.0;
+        }
         let h = h_e - c * (phi - 0.5);
         if !(phi > 0.0 && phi <= 1.0 && h > 0.0) {
             return None;
@@ -156,6 +159,14 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
         }
         _ => (0.0, f64::INFINITY, 0, f64::NAN, 0.0),
     }
+}
+
+/// SCRATCH
+pub fn clamp() -> f64 {
+    static D: std::sync::LazyLock<f64> = std::sync::LazyLock::new(|| {
+        std::env::var("CLAMP").ok().and_then(|x| x.parse().ok()).unwrap_or(0.0)
+    });
+    *D
 }
 
 /// SCRATCH instrumentation: per-contact life record.
