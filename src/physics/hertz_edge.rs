@@ -61,8 +61,15 @@ impl Edge {
     /// which a gas meets rarely but which would otherwise divide by a change near zero (a
     /// dense gas ran away at cycle 395,000 before this guard).
     pub fn correction(&self, step: f64) -> f64 {
-        if step >= 0.5 * self.h {
-            -self.excess / step
+        self.correction_k(step, 0.0)
+    }
+
+    /// SCRATCH: with the self-work multiplier m (env SELF).
+    pub fn correction_k(&self, step: f64, k: f64) -> f64 {
+        let m = selfw();
+        let disc = step * step + 2.0 * m * k * self.excess;
+        if step >= 0.5 * self.h && disc > 0.0 {
+            -2.0 * self.excess / (step + disc.sqrt())
         } else {
             0.0
         }
@@ -136,7 +143,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
             let st = if step >= 0.5 * e.h { 2 } else { 4 };
-            (e.correction(step), f64::INFINITY, st, c / e.h, e.excess)
+            (e.correction_k(step, dt2), f64::INFINITY, st, c / e.h, e.excess)
         }
         // The first step without overlap: keep the rate (not after a single step).
         (true, false) => (
@@ -155,10 +162,18 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
             };
             let step = e.h + c * (e.phi - 2.0);
             let st = if step >= 0.5 * e.h { 7 } else { 9 };
-            (e.correction(step), f64::INFINITY, st, e.h, e.excess)
+            (e.correction_k(step, -dt2), f64::INFINITY, st, e.h, e.excess)
         }
         _ => (0.0, f64::INFINITY, 0, f64::NAN, 0.0),
     }
+}
+
+/// SCRATCH
+pub fn selfw() -> f64 {
+    static D: std::sync::LazyLock<f64> = std::sync::LazyLock::new(|| {
+        std::env::var("SELF").ok().and_then(|x| x.parse().ok()).unwrap_or(0.0)
+    });
+    *D
 }
 
 /// SCRATCH
