@@ -154,7 +154,6 @@ fn session_main(
         }
     };
     session.flush();
-    trubal::physics::hertz_edge::dump();
     if end.interrupted {
         // The shell's code for a program stopped by Ctrl-C (128 + SIGINT).
         ExitCode::from(130)

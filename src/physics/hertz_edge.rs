@@ -42,10 +42,7 @@ impl Edge {
         if !(alpha > 0.0 && q > 0.0 && disc >= 0.0) {
             return None;
         }
-        let mut phi = 2.0 * alpha / (q + disc.sqrt());
-        if phi > 1.0 && clamp() > 0.0 && phi <= clamp() {
-            phi = 1.0;
-        }
+        let phi = 2.0 * alpha / (q + disc.sqrt());
         let h = h_e - c * (phi - 0.5);
         if !(phi > 0.0 && phi <= 1.0 && h > 0.0) {
             return None;
@@ -61,15 +58,8 @@ impl Edge {
     /// which a gas meets rarely but which would otherwise divide by a change near zero (a
     /// dense gas ran away at cycle 395,000 before this guard).
     pub fn correction(&self, step: f64) -> f64 {
-        self.correction_k(step, 0.0)
-    }
-
-    /// SCRATCH: with the self-work multiplier m (env SELF).
-    pub fn correction_k(&self, step: f64, k: f64) -> f64 {
-        let m = selfw();
-        let disc = step * step + 2.0 * m * k * self.excess;
-        if step >= 0.5 * self.h && disc > 0.0 {
-            -2.0 * self.excess / (step + disc.sqrt())
+        if step >= 0.5 * self.h {
+            -self.excess / step
         } else {
             0.0
         }
@@ -108,7 +98,7 @@ pub struct EdgeIn {
 /// v_{m+½} Δt`: the correction `−E/Δα` with `Δα = (α_{m+1} − α_{m+3})/2 = h + c (φ − 2)`.
 /// A contact of a single step, or one that closes again before its release was corrected,
 /// is left as it is.
-pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f64) {
+pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
     let EdgeIn {
         alpha,
         alpha_prev,
@@ -123,141 +113,30 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64, u8, f64, f6
     let dt2 = dt * dt / m_star;
     match (was_touching, alpha > 0.0) {
         // The first overlap: keep the rate.
-        (false, true) => (0.0, v_n, if pending { 10 } else { 1 }, f64::NAN, 0.0),
+        (false, true) => (0.0, v_n),
         // The second step of a contact: its onset.
         (true, true) if pending => {
             let c = -(v_n - v_prev) * dt + p_prev * dt2;
             let h_e = -v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev, h_e, c) else {
-                let q = h_e + 0.5 * c;
-                let disc = q * q - 2.0 * c * alpha_prev;
-                let reason = if q <= 0.0 {
-                    2.0
-                } else if disc < 0.0 {
-                    3.0
-                } else {
-                    let phi = 2.0 * alpha_prev / (q + disc.sqrt());
-                    if phi > 1.0 { 4.0 } else { 5.0 }
-                };
-                return (0.0, f64::INFINITY, 3, reason, 0.0);
+                return (0.0, f64::INFINITY);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
-            let st = if step >= 0.5 * e.h { 2 } else { 4 };
-            (e.correction_k(step, dt2), f64::INFINITY, st, c / e.h, e.excess)
+            (e.correction(step), f64::INFINITY)
         }
         // The first step without overlap: keep the rate (not after a single step).
-        (true, false) => (
-            0.0,
-            if pending { f64::INFINITY } else { v_n },
-            if pending { 6 } else { 5 },
-            f64::NAN,
-            0.0,
-        ),
+        (true, false) => (0.0, if pending { f64::INFINITY } else { v_n }),
         // The second step after the release.
         (false, false) if pending => {
             let c = -(v_n - v_prev) * dt;
             let h_e = v_prev * dt;
             let Some(e) = Edge::of(e_star, r_star, alpha_prev + h_e, h_e, c) else {
-                return (0.0, f64::INFINITY, 8, c / h_e, 0.0);
+                return (0.0, f64::INFINITY);
             };
             let step = e.h + c * (e.phi - 2.0);
-            let st = if step >= 0.5 * e.h { 7 } else { 9 };
-            (e.correction_k(step, -dt2), f64::INFINITY, st, e.h, e.excess)
+            (e.correction(step), f64::INFINITY)
         }
-        _ => (0.0, f64::INFINITY, 0, f64::NAN, 0.0),
-    }
-}
-
-/// SCRATCH
-pub fn selfw() -> f64 {
-    static D: std::sync::LazyLock<f64> = std::sync::LazyLock::new(|| {
-        std::env::var("SELF").ok().and_then(|x| x.parse().ok()).unwrap_or(0.0)
-    });
-    *D
-}
-
-/// SCRATCH
-pub fn clamp() -> f64 {
-    static D: std::sync::LazyLock<f64> = std::sync::LazyLock::new(|| {
-        std::env::var("CLAMP").ok().and_then(|x| x.parse().ok()).unwrap_or(0.0)
-    });
-    *D
-}
-
-/// SCRATCH instrumentation: per-contact life record.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Dbg {
-    pub flags: u32,
-    pub w: f64,
-    pub f: [f64; 3],
-    pub ch_on: f64,
-    pub ch_off: f64,
-    pub excess: f64,
-    pub e_on: f64,
-    pub e_off: f64,
-    pub pending: f64,
-    pub h: f64,
-    pub vlast: f64,
-}
-
-#[derive(Default)]
-pub struct Stats {
-    pub by_kind: std::collections::BTreeMap<u32, (u64, f64, f64)>,
-    pub by_on: std::collections::BTreeMap<i32, (u64, f64, f64)>,
-    pub by_off: std::collections::BTreeMap<i32, (u64, f64, f64)>,
-    pub skipped: std::collections::BTreeMap<u32, (u64, f64, f64)>,
-    pub total: f64,
-}
-
-pub static STATS: std::sync::Mutex<Option<Stats>> = std::sync::Mutex::new(None);
-
-fn bin(x: f64) -> i32 {
-    if !x.is_finite() {
-        return 99;
-    }
-    let edges = [-1.0, -0.3, -0.1, -0.03, -0.01, 0.01, 0.03, 0.1, 0.3, 1.0];
-    edges.iter().take_while(|&&e| x > e).count() as i32
-}
-
-/// Records a finished contact life.
-pub fn record(d: &Dbg) {
-    let mut g = STATS.lock().unwrap_or_else(|e| e.into_inner());
-    let st = g.get_or_insert_with(Stats::default);
-    let e = st.by_kind.entry(d.flags).or_insert((0, 0.0, 0.0));
-    e.0 += 1;
-    e.1 += d.w;
-    e.2 += d.w.abs();
-    st.total += d.w;
-    // the cleanly corrected ones only (onset and release corrected, nothing else but wall)
-    let e = st.skipped.entry(d.flags).or_insert((0, 0.0, 0.0));
-    e.1 += d.e_on;
-    e.2 += d.e_off;
-    if d.flags & !(1 << 12) == (1 | 1 << 2 | 1 << 5 | 1 << 7) {
-        let e = st.by_on.entry(bin(d.ch_on)).or_insert((0, 0.0, 0.0));
-        e.0 += 1;
-        e.1 += d.w;
-        e.2 += d.e_on;
-        let e = st.by_off.entry(bin(d.ch_off)).or_insert((0, 0.0, 0.0));
-        e.0 += 1;
-        e.1 += d.w;
-        e.2 += d.e_off;
-    }
-}
-
-/// Prints the stats.
-pub fn dump() {
-    let g = STATS.lock().unwrap_or_else(|e| e.into_inner());
-    let Some(st) = g.as_ref() else { return };
-    eprintln!("DBG total {:e}", st.total);
-    for (k, v) in &st.by_kind {
-        let x = st.skipped.get(k).copied().unwrap_or_default();
-        eprintln!("DBG kind {:#06x} n {} sum {:e} abs {:e} eon {:e} eoff {:e}", k, v.0, v.1, v.2, x.1, x.2);
-    }
-    for (k, v) in &st.by_on {
-        eprintln!("DBG on {} n {} sum {:e} e {:e}", k, v.0, v.1, v.2);
-    }
-    for (k, v) in &st.by_off {
-        eprintln!("DBG off {} n {} sum {:e} e {:e}", k, v.0, v.1, v.2);
+        _ => (0.0, f64::INFINITY),
     }
 }
 
@@ -285,7 +164,7 @@ mod tests {
                 let p = force(e, r, alpha);
                 let mut fp = p;
                 if corrected {
-                    let (d, keep, _, _, _) = edge_step(
+                    let (d, keep) = edge_step(
                         e,
                         r,
                         &EdgeIn {

@@ -97,7 +97,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     }
     if edges(pc, laws, s) {
         // An elastic contact: the corrections of its edges (`physics::hertz_edge`).
-        let (d, keep, st, ch, ex) = edge_step(
+        let (d, keep) = edge_step(
             pc.e_star,
             k.r_star,
             &EdgeIn {
@@ -113,70 +113,6 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         );
         s.v_prev = keep;
         fn_b += d;
-        // SCRATCH: the contact's life work.
-        let g = &mut s.dbg;
-        if g.pending != 0.0 && st != 9 && dt > 0.0 {
-            let vl = if g.vlast.is_finite() { g.vlast } else { v_n };
-            let delta = v_n * dt + 0.5 * (v_n - vl) * dt;
-            if delta.abs() >= 0.5 * g.h {
-                let dd = -g.pending / delta;
-                fn_b += dd;
-                g.flags |= 1 << 14;
-                g.pending = 0.0;
-            }
-        }
-        g.vlast = v_n;
-        let fnow = k.n * fn_b;
-        let fp = Vec3::new(g.f[0], g.f[1], g.f[2]);
-        if dt > 0.0 {
-            g.w += 0.5 * dt * (fp + fnow).dot(&k.v_rel);
-            g.f = [fnow.x, fnow.y, fnow.z];
-        }
-        let bit = |b: u32| 1u32 << b;
-        match st {
-            1 => g.flags |= bit(0),
-            10 => g.flags |= bit(0) | bit(10),
-            2 => {
-                g.flags |= bit(2);
-                g.ch_on = ch;
-                g.e_on = ex;
-            }
-            3 => {
-                g.flags |= bit(3) | (1 << (16 + ch as u32));
-                g.ch_on = ch;
-            }
-            4 => {
-                g.flags |= bit(4);
-                g.ch_on = ch;
-                g.e_on = ex;
-            }
-            5 => g.flags |= bit(5),
-            6 => g.flags |= bit(6),
-            7 => {
-                g.flags |= bit(7);
-                g.e_off = ex;
-            }
-            8 => {
-                g.flags |= bit(8);
-                g.ch_off = ch;
-            }
-            9 => {
-                g.flags |= bit(9);
-                g.e_off = ex;
-                if defer() {
-                    g.pending = ex;
-                    g.h = ch;
-                }
-            }
-            _ => {}
-        }
-        if g.flags != 0 && k.r2.is_infinite() {
-            g.flags |= bit(12);
-        }
-        if dt > 0.0 && g.flags != 0 && !s.touching && !s.v_prev.is_finite() && fn_b == 0.0 && g.pending == 0.0 {
-            crate::physics::hertz_edge::record(g);
-            *g = Default::default();
-        }
     }
     // ---- tangential law ---------------------------------------------------------------
     let mut ft_b = match lin_shear {
@@ -197,12 +133,6 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
         f: k.n * fn_b + ft_b,
         ft: ft_b,
     }
-}
-
-fn defer() -> bool {
-    static D: std::sync::LazyLock<bool> =
-        std::sync::LazyLock::new(|| std::env::var("DEFER").is_ok());
-    *D
 }
 
 /// Whether a contact takes the corrections of its edges (`physics::hertz_edge`): in a step of

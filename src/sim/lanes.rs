@@ -385,7 +385,6 @@ mod tests {
                     },
                     ext: None,
                     bridge: None,
-                    dbg: Default::default(),
                 };
                 assert!(Batch::takes(&kin, &pc, &s));
                 assert_eq!(b.push(&kin, &pc, &s), l);

@@ -82,7 +82,6 @@ impl From<V1> for super::ContactState {
             tdamp: o.tdamp,
             ext: (ext != ContactExt::default()).then(|| Box::new(ext)),
             bridge: o.bridge,
-            dbg: Default::default(),
         }
     }
 }
@@ -168,7 +167,6 @@ impl<E: Into<ContactExt>> From<V3<E>> for super::ContactState {
             tdamp: o.tdamp,
             ext: o.ext.map(|e| Box::new((*e).into())),
             bridge: o.bridge,
-            dbg: Default::default(),
         }
     }
 }
@@ -187,7 +185,6 @@ impl From<V2> for super::ContactState {
             tdamp: o.tdamp,
             ext: ext_v3(o.ext),
             bridge: o.bridge,
-            dbg: Default::default(),
         }
     }
 }

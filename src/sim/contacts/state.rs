@@ -92,9 +92,6 @@ pub struct ContactState {
     pub ext: Option<Box<ContactExt>>,
     /// Liquid bridge, if any.
     pub bridge: Option<Box<BridgeState>>,
-    /// SCRATCH instrumentation.
-    #[serde(skip)]
-    pub dbg: crate::physics::hertz_edge::Dbg,
 }
 
 /// The part of a contact's state that only some laws use.
@@ -210,7 +207,6 @@ impl Default for ContactState {
             tdamp: Vec3::zeros(),
             ext: None,
             bridge: None,
-            dbg: Default::default(),
         }
     }
 }
@@ -233,7 +229,7 @@ impl ContactState {
     /// its rate).
     #[inline(always)]
     pub fn live(&self) -> bool {
-        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite() || self.dbg.flags != 0
+        self.touching || self.bridge.is_some() || self.damp_force != 0.0 || self.v_prev.is_finite()
     }
     /// Surface energy of the contact (0: Hertz).
     pub fn gamma(&self) -> f64 {
