@@ -57,13 +57,9 @@ impl Edge {
     /// below `h/2` (a pair pulled apart so that its approach nearly stops within the step),
     /// which a gas meets rarely but which would otherwise divide by a change near zero (a
     /// dense gas ran away at cycle 395,000 before this guard).
-    /// (Measurement build: `f` solves `k f²/2 − step f = E`, the leap-frog work of the
-    /// force's own kick `f² Δt²/(2 m*)` taken into account; `k = Δt²/m*` at a touch,
-    /// `−Δt²/m*` at a release.)
-    pub fn correction(&self, step: f64, k: f64) -> f64 {
-        let disc = step * step + 2.0 * k * self.excess;
-        if step >= 0.5 * self.h && disc > 0.0 {
-            -2.0 * self.excess / (step + disc.sqrt())
+    pub fn correction(&self, step: f64) -> f64 {
+        if step >= 0.5 * self.h {
+            -self.excess / step
         } else {
             0.0
         }
@@ -126,7 +122,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
                 return (0.0, f64::INFINITY);
             };
             let step = -v_n * dt + 0.5 * (c - force(e_star, r_star, alpha) * dt2);
-            (e.correction(step, dt2), f64::INFINITY)
+            (e.correction(step), f64::INFINITY)
         }
         // The first step without overlap: keep the rate (not after a single step).
         (true, false) => (0.0, if pending { f64::INFINITY } else { v_n }),
@@ -138,7 +134,7 @@ pub fn edge_step(e_star: f64, r_star: f64, x: &EdgeIn) -> (f64, f64) {
                 return (0.0, f64::INFINITY);
             };
             let step = e.h + c * (e.phi - 2.0);
-            (e.correction(step, -dt2), f64::INFINITY)
+            (e.correction(step), f64::INFINITY)
         }
         _ => (0.0, f64::INFINITY),
     }
