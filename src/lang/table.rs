@@ -424,7 +424,7 @@ pub const COMMANDS: &[CommandDef] = &[
                 },
             })
         },
-        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2, 0.1 with adhesion, times zeta(0.2)/zeta(e) when a pair's restitution e is below 0.1, e.g. 0.376 for e = 0.05, which PRint INFo says; at most 10). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
+        "Time step = f times the Rayleigh critical step pi Rmin sqrt(rho/G)/(0.1631 nu + 0.8766) (default 0.2; 0.1 with adhesion, and 0.1 in a scene that dissipates nothing: Hertz pairs without restitution, friction, adhesion, liquid or damping, whose energy then holds 1e-3 over 10^7 steps; times zeta(0.2)/zeta(e) when a pair's restitution e is below 0.1, e.g. 0.376 for e = 0.05, which PRint INFo says; at most 10). AUTO: at every rebuild of the candidate list the step is the smaller of that and 1/15 of the Hertz contact duration at the scene's largest approach speed (doc/timestep.md). Without AUTO a Cycle warns when its fastest contact gets fewer than 10 steps."
     ),
     def!(
         "FRiction",

@@ -326,6 +326,11 @@ pub const DEFAULT_FRACTION: f64 = 0.2;
 /// Default FRAction of a scene with adhesion: the JKR snap-in and detachment are force jumps
 /// that the explicit scheme resolves to O(Δt); 0.1 keeps the sticking threshold within ~1 %.
 pub const DEFAULT_FRACTION_ADHESIVE: f64 = 0.1;
+/// Default FRAction of a scene that dissipates nothing (`params::dissipation_free`: Hertz
+/// pairs without dashpot, friction, adhesion, liquid or damping): at 0.2 an elastic gas loses
+/// 1.2e-3 of its energy in 10⁷ steps, at 0.1 7e-4 (doc/limits.md, "Energy drift of an
+/// elastic gas"; issue 49 item 4).
+pub const DEFAULT_FRACTION_ELASTIC: f64 = 0.1;
 
 /// The FRAction a scene uses when the user gave none (doc/performance.md, time-step study).
 pub fn default_fraction(adhesive: bool) -> f64 {

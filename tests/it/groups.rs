@@ -500,7 +500,7 @@ fn shown(run: &Run) -> Vec<Vec<f64>> {
 fn a_fix_over_a_dynamic_group_fixes_the_particles_that_enter_it() {
     let (z0, top, bottom, g): (f64, f64, f64, f64) = (0.038, 0.032, 0.028, 9.81);
     let base = "start 0.01 0.01 0.04 10 10 1\nrad 2e-4 1\nymd 1e8 1\npra 0.3 1\n\
-        density 2500 1\ncreate 0.005 0.005 0.038 0 0 0 0 0 0 1 1\ngravity 0 0 -9.81\n\
+        density 2500 1\nfraction 0.2\ncreate 0.005 0.005 0.038 0 0 0 0 0 0 1 1\ngravity 0 0 -9.81\n\
         group zone dynamic box 0 0.01 0 0.01 0.028 0.032\nfix 1 1 1 1 1 1 group zone\n\
         let saved = 0\n";
     let straight =

@@ -34,7 +34,7 @@ fn balls(run: &Run) -> Vec<serde_json::Value> {
 fn a_moving_plane_strikes_a_resting_sphere() {
     let run = trubal_json(
         &format!(
-            "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}create 5e-4 5e-4 5e-4 0 0 0 0 0 0 1 1\n\
+            "start 1e-3 1e-3 1e-3 10 10 2\n{GLASS}fraction 0.2\ncreate 5e-4 5e-4 5e-4 0 0 0 0 0 0 1 1\n\
              dwall p 0 0 1 0.0003 v 0 0 1\ncycle 40000\nprint balls\n"
         ),
         &[],

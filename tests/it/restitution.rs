@@ -136,6 +136,47 @@ fn a_heavy_dashpot_holds_its_restitution_at_the_default_step() {
     assert_eq!(given, light);
 }
 
+/// A scene that dissipates nothing (Hertz, no restitution, friction, adhesion, liquid or
+/// damping) takes FRAction 0.1 by default, half the step of the same scene with any of them
+/// (issue 49 item 4: the elastic gas holds 1e-3 over 10⁷ steps at 0.1, not at 0.2;
+/// doc/limits.md), and `PRint INFo` says why; a FRAction given, or AUTO, keeps its own rule.
+#[test]
+fn a_scene_without_dissipation_takes_the_elastic_default_step() {
+    let g: f64 = 1e8 / 2.6;
+    let dt_r = std::f64::consts::PI * 0.01 * (2500.0f64 / g).sqrt() / (0.1631 * 0.3 + 0.8766);
+    let info = |extra: &str| {
+        let s = session(&format!(
+            "start 0.1 0.1 0.1 100 10 2\nset open all\n{MATERIAL}{extra}\
+             create 0.05 0.05 0.05 0 0 0 0 0 0 1 1\n"
+        ));
+        let (text, j) = trubal::output::print::item(
+            s.scene.as_ref().unwrap(),
+            trubal::lang::command::PrintItem::Info,
+        );
+        (j["dt"].as_f64().unwrap(), text)
+    };
+    let (elastic, text) = info("");
+    assert!(
+        (elastic / (0.1 * dt_r) - 1.0).abs() < 1e-6,
+        "{elastic} {dt_r}"
+    );
+    assert!(text.contains("dissipates nothing"), "{text}");
+    for dissipative in [
+        "fric 0.3 1\n",
+        "damping restitution 0.9\n",
+        "damping 0.01 100 0 0 0\n",
+    ] {
+        let (dt, text) = info(dissipative);
+        assert!(
+            (dt / (0.2 * dt_r) - 1.0).abs() < 1e-6,
+            "{dissipative}: {dt}"
+        );
+        assert!(!text.contains("dissipates nothing"), "{text}");
+    }
+    let (given, _) = info("fraction 0.2\n");
+    assert!((given / (0.2 * dt_r) - 1.0).abs() < 1e-6, "{given}");
+}
+
 /// The head-on impact of the test sphere's contact (E* = 1e8/(2(1 − 0.3²)), R* and m* of two
 /// like spheres, or of a sphere on a wall: R* = R, m* = m) with LIGGGHTS' dashpot, integrated
 /// here by RK4 independently of the program: `m* α'' = −(4/3)E* sqrt(R*) α^{3/2} − γ_n α'`,

@@ -146,7 +146,7 @@ fn a_particle_through_another_stops_the_run() {
 fn print_info_shows_the_auto_step() {
     let run = trubal_json(
         "start 0.01 0.01 0.01 10 10 6\nrad 1e-3 1\nymd 5e7 1\npra 0.3 1\ndensity 2500 1\n\
-         set open all\ncr 0.003 0.005 0.005 100 0 0 0 0 0 1 1\nprint info\nfraction auto\n\
+         set open all\nfraction 0.2\ncr 0.003 0.005 0.005 100 0 0 0 0 0 1 1\nprint info\nfraction auto\n\
          print info\ncycle 2\nprint info\n",
         &[],
     );
@@ -167,7 +167,8 @@ fn print_info_shows_the_auto_step() {
 /// the wall, and `SAve` after it writes the last good state.
 #[test]
 fn a_wall_crossed_in_a_step_stops_that_step() {
-    let head = "start 0.01 0.01 0.01 10 20 6\nset open all\nrad 1e-4 1\nymd 1e9 1\npra 0.3 1\ndensity 2500 1\n";
+    // (FRAction 0.2 given: the speeds are set so that one step of it crosses the wall.)
+    let head = "start 0.01 0.01 0.01 10 20 6\nset open all\nfraction 0.2\nrad 1e-4 1\nymd 1e9 1\npra 0.3 1\ndensity 2500 1\n";
     let layer = |z: f64, vz: f64| {
         let mut s = String::new();
         for i in 0..3 {
