@@ -656,10 +656,7 @@ impl ContactStore {
                                     olds[k_old / BLOCK][s_old as usize].row.is_some() as usize;
                             }
                         }
-                        let mut states = StateBlock {
-                            states: Vec::with_capacity(n + headroom(n)),
-                            rows: Vec::with_capacity(n_rows + headroom(n_rows)),
-                        };
+                        let mut states = StateBlock::with_room(n, n_rows);
                         for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
                             let slot = if m == u32::MAX {
                                 NO_STATE

@@ -53,6 +53,16 @@ impl StateBlock {
         }
     }
 
+    /// An empty block with room for `n` states and `n_rows` rows and their [`headroom`] (no
+    /// row list at all without rows: the other laws' blocks).
+    pub fn with_room(n: usize, n_rows: usize) -> StateBlock {
+        let room = |n: usize| if n > 0 { n + headroom(n) } else { 0 };
+        StateBlock {
+            states: Vec::with_capacity(n + headroom(n)),
+            rows: Vec::with_capacity(room(n_rows)),
+        }
+    }
+
     /// The spring row of state `slot`, if it has one in this block's list.
     #[inline(always)]
     pub fn row(&self, slot: usize) -> Option<&MdrRow> {

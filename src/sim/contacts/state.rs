@@ -166,7 +166,9 @@ pub struct ContactExt {
     pub laws: Option<Box<LawState>>,
     /// The spring row of `SET TANgential MDR` (`physics::mdr`; checkpoint format 9), behind
     /// a pointer of its own (288 bytes): the contacts of the other laws pay for the pointer
-    /// only.
+    /// only. A particle–wall contact keeps its row here; a particle pair keeps it in its
+    /// block's row list (`ContactState::row`, `StateBlock`) and has it here only in a
+    /// checkpoint.
     pub mdr: Option<Box<MdrRow>>,
     /// JKR: the last evaluated point of the last step's path (`physics::jkr::PathEnd`;
     /// checkpoint format 11), from which the next step's path starts.
