@@ -11,6 +11,7 @@ use crate::physics::bridge::{self, Bridge};
 use crate::physics::hertz_edge::{EdgeIn, edge_step};
 use crate::physics::jkr::{Jkr, LeapFrog, PathStart};
 use crate::physics::jkr_branch::{t_of_a, taylor_start};
+use crate::physics::mdr::MdrRow;
 use crate::physics::tangential::{self, TangentialInput};
 use crate::physics::walton::{self, WaltonInput};
 use crate::physics::{dashpot, hertz};
@@ -31,8 +32,22 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     s: &mut ContactState,
     acc: &mut Acc,
 ) -> Out {
+    interact_rows::<ADH, LIQ>(k, pc, laws, s, None, acc)
+}
+
+/// [`interact`] for a contact whose MDR spring row is kept in `rows` (a particle pair: the
+/// row list of its block, `contacts::StateBlock`) rather than in `ext.mdr` (`None`).
+#[inline(always)]
+pub fn interact_rows<const ADH: bool, const LIQ: bool>(
+    k: &Kin,
+    pc: &PairConst,
+    laws: &Laws,
+    s: &mut ContactState,
+    rows: Option<&mut Vec<MdrRow>>,
+    acc: &mut Acc,
+) -> Out {
     if !ADH && s.touching && s.needs_adhesive_kernel() {
-        return interact::<true, LIQ>(k, pc, laws, s, acc);
+        return interact_rows::<true, LIQ>(k, pc, laws, s, rows, acc);
     }
     let alpha = -k.gap;
     let dt = laws.dt;
@@ -118,7 +133,7 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     let mut ft_b = match lin_shear {
         // Pasha's linear laws: their own spring and limit (sim::elastoplastic).
         Some(ls) if ADH && laws.rotation => super::elastoplastic::shear(k, laws.dt, s, acc, ls),
-        _ => shear(k, pc, laws, s, acc, (p_old, pcrit, td_prev, v_n)),
+        _ => shear(k, pc, laws, (s, rows), acc, (p_old, pcrit, td_prev, v_n)),
     };
 
     // ---- liquid bridge: viscous forces and booking -------------------------------------
@@ -273,14 +288,14 @@ fn shear(
     k: &Kin,
     pc: &PairConst,
     laws: &Laws,
-    s: &mut ContactState,
+    (s, rows): (&mut ContactState, Option<&mut Vec<MdrRow>>),
     acc: &mut Acc,
     (p_old, pcrit, td_prev, v_n): (f64, f64, Vec3, f64),
 ) -> Vec3 {
     let dt = laws.dt;
     if s.touching {
         if laws.rotation && (pc.mu > 0.0 || pcrit > 0.0) {
-            return tangential_step(k, pc, laws, s, p_old, pcrit, acc);
+            return tangential_step(k, pc, laws, (s, rows), p_old, pcrit, acc);
         }
     } else if dt > 0.0 && td_prev != Vec3::zeros() {
         // The contact ended: book the second half of the last tangential dashpot force.
@@ -541,7 +556,7 @@ fn tangential_step(
     k: &Kin,
     pc: &PairConst,
     laws: &Laws,
-    s: &mut ContactState,
+    (s, rows): (&mut ContactState, Option<&mut Vec<MdrRow>>),
     p_old: f64,
     pcrit: f64,
     acc: &mut Acc,
@@ -570,7 +585,7 @@ fn tangential_step(
         }
         TangentialChoice::Mdr if pc.law == 0 && pcrit == 0.0 && s.gamma() == 0.0 => {
             // The MDR spring row of a Hertz contact (sim::mdr).
-            super::mdr::shear(k, pc, s, dd, acc);
+            super::mdr::shear(k, pc, s, rows, dd, acc);
         }
         TangentialChoice::Md | TangentialChoice::Mdr => {
             // (Under MDR: the pairs with a surface energy or a law of `SET NORmal`.)

@@ -385,6 +385,7 @@ mod tests {
                     },
                     ext: None,
                     bridge: None,
+                    row: crate::sim::contacts::RowSlot::NONE,
                 };
                 assert!(Batch::takes(&kin, &pc, &s));
                 assert_eq!(b.push(&kin, &pc, &s), l);

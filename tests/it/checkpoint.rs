@@ -232,8 +232,10 @@ fn facts(sc: &Scene) -> Value {
             "servo": w.servo.map(|s| fs(&[s.force, s.vmax, s.gain])),
             "force": fs(&w.force), "normal_force": f(w.normal_force), "disp": fs(&w.disp),
         })).collect::<Vec<_>>(),
-        "pairs": sc.contacts().iter().map(|c| json!({
-            "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb, "s": contact_facts(c.s),
+        // (A pair's MDR row in `ext.mdr`, the checkpoint's shape: `saved_state`.)
+        "pairs": sc.contacts().iter().enumerate().map(|(k, c)| json!({
+            "i": c.i, "j": c.j, "ida": c.ida, "idb": c.idb,
+            "s": contact_facts(&sc.contacts().saved_state(k)),
         })).collect::<Vec<_>>(),
         "wall_pairs": sc.contacts().wall_pairs().iter().map(|c| json!({
             "i": c.i, "id": c.id, "wall": c.wall, "s": contact_facts(&c.s),
@@ -493,7 +495,7 @@ fn the_whole_state_round_trips() {
     assert!(matches!(hist(1), NormalHistory::Linear { .. }));
     assert!(sc.contacts().wall_pairs()[0].s.ext().laws().roll.norm() > 0.0);
     assert!(sc.walls()[0].servo.is_some());
-    let pair = &sc.contacts().pair(0).s;
+    let pair = sc.contacts().saved_state(0);
     assert!(pair.touching && pair.bridge.is_some() && pair.tforce.norm() > 0.0);
     assert!(pair.ext().tang.t != 0.0 && pair.ext().tang.stored > 0.0);
     // Format 9: the MDR row of the sliding pair; the Thornton–Ning wall contact has none.

@@ -275,10 +275,7 @@ fn mdr_scene_continues_bitwise() {
     let sc = s.scene.as_ref().unwrap();
     assert!(
         sc.contacts().iter().any(|p| p.s.touching
-            && p.s
-                .ext()
-                .mdr
-                .as_ref()
+            && p.row
                 .is_some_and(|r| r.a_ref > 0.0 && r.u.iter().any(|u| u[0] != 0.0 && u[1] != 0.0)))
             && sc
                 .contacts()

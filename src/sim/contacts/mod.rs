@@ -16,11 +16,13 @@ type Vec3 = nalgebra::Vector3<f64>;
 
 mod keys;
 pub mod old;
+mod rows;
 mod serial;
 mod split;
 mod state;
 mod walls;
 pub use keys::*;
+pub use rows::*;
 pub use split::*;
 pub use state::*;
 pub use walls::*;
@@ -64,7 +66,9 @@ pub struct PairWithState {
     pub s: ContactState,
 }
 
-/// A pair and its contact state (the default state if none is allocated), read-only.
+/// A pair and its contact state (the default state if none is allocated), read-only, with
+/// its MDR spring row if its block keeps one for it ([`StateBlock`]; a pair's row is never
+/// in `s.ext`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairView<'a> {
     pub i: u32,
@@ -72,6 +76,7 @@ pub struct PairView<'a> {
     pub ida: u32,
     pub idb: u32,
     pub s: &'a ContactState,
+    pub row: Option<&'a MdrRow>,
 }
 
 static DEFAULT_STATE: std::sync::LazyLock<ContactState> =
@@ -132,8 +137,8 @@ pub struct StepParts<'a> {
     /// The hot list (indices, state slots, liveness), in pair order.
     pub hot: &'a mut [HotPair],
     pub pairs: &'a mut [Pair],
-    /// The contact states in blocks of `BLOCK` pairs.
-    pub blocks: &'a mut [Vec<ContactState>],
+    /// The contact states (and MDR rows) in blocks of `BLOCK` pairs.
+    pub blocks: &'a mut [StateBlock],
     /// Per-pair force slots of the shared particles (several threads).
     pub out: &'a mut Vec<PairForce>,
     /// Which particles are shared between tasks, and their pairs.
@@ -171,7 +176,7 @@ pub struct StepParts<'a> {
 #[derive(Default)]
 pub struct ContactStore {
     pairs: Vec<Pair>,
-    blocks: Vec<Vec<ContactState>>,
+    blocks: Vec<StateBlock>,
     pub(in crate::sim) wall_pairs: Vec<WallPair>,
     /// A command changed the scene: rebuild the candidate list and re-evaluate the contact
     /// states at the current positions (`cycle::prime`) before the next step.
@@ -414,6 +419,18 @@ impl ContactStore {
             ida: p.ida,
             idb: p.idb,
             s: self.state(k),
+            row: (p.slot != NO_STATE)
+                .then(|| self.blocks[k / BLOCK].row(p.slot as usize))
+                .flatten(),
+        }
+    }
+    /// The state of pair `k` in the checkpoint's shape (its MDR row in `ext.mdr`).
+    pub fn saved_state(&self, k: usize) -> std::borrow::Cow<'_, ContactState> {
+        let slot = self.pairs[k].slot;
+        if slot == NO_STATE {
+            std::borrow::Cow::Borrowed(&DEFAULT_STATE)
+        } else {
+            self.blocks[k / BLOCK].saved(slot as usize)
         }
     }
     /// All pairs with their states, in pair order.
@@ -460,14 +477,13 @@ impl ContactStore {
         let k = self.pairs.len();
         if k.is_multiple_of(BLOCK) {
             self.trim_last_block();
-            self.blocks.push(Vec::new());
+            self.blocks.push(StateBlock::default());
         }
         let b = &mut self.blocks[k / BLOCK];
         let slot = if pristine(&p.s) {
             NO_STATE
         } else {
-            b.push(p.s);
-            (b.len() - 1) as u32
+            b.push_saved(p.s)
         };
         self.pairs.push(Pair {
             i: p.i,
@@ -490,29 +506,30 @@ impl ContactStore {
             if p.slot == NO_STATE {
                 continue;
             }
-            let s = &self.blocks[k / BLOCK][p.slot as usize];
-            if pristine(s) {
+            let from = &self.blocks[k / BLOCK];
+            if pristine(&from[p.slot as usize]) {
                 continue;
             }
             let n = c.pairs.len();
             if n.is_multiple_of(BLOCK) {
                 if let Some(b) = c.blocks.last_mut() {
-                    b.shrink_to_fit();
+                    b.states.shrink_to_fit();
+                    b.rows.shrink_to_fit();
                 }
-                c.blocks.push(Vec::with_capacity(BLOCK));
+                c.blocks.push(StateBlock::of(Vec::with_capacity(BLOCK)));
             }
-            let b = &mut c.blocks[n / BLOCK];
-            b.push(s.clone());
+            let slot = c.blocks[n / BLOCK].push_copy(from, p.slot as usize);
             c.pairs.push(Pair {
                 i: p.i,
                 j: p.j,
                 ida: p.ida,
                 idb: p.idb,
-                slot: (b.len() - 1) as u32,
+                slot,
             });
         }
         if let Some(b) = c.blocks.last_mut() {
-            b.shrink_to_fit();
+            b.states.shrink_to_fit();
+            b.rows.shrink_to_fit();
         }
         c.pairs.shrink_to_fit();
         c.wall_pairs = self
@@ -531,7 +548,9 @@ impl ContactStore {
     /// doubling by [`ContactStore::push`] left (up to twice its states).
     fn trim_last_block(&mut self) {
         if let Some(b) = self.blocks.last_mut() {
-            b.shrink_to(b.len() + headroom(b.len()));
+            let (n, r) = (b.len(), b.rows.len());
+            b.shrink_to(n + headroom(n));
+            b.rows.shrink_to(r + headroom(r));
         }
     }
     /// Removes all particle–particle pairs.
@@ -550,7 +569,7 @@ impl ContactStore {
                 let s = if p.slot == NO_STATE {
                     ContactState::default()
                 } else {
-                    std::mem::take(&mut blocks[k / BLOCK][p.slot as usize])
+                    blocks[k / BLOCK].take_saved(p.slot as usize)
                 };
                 self.push(PairWithState {
                     i: p.i,
@@ -578,7 +597,8 @@ impl ContactStore {
         // The old states are cloned, not moved: a clone allocates the boxes of the
         // Mindlin–Deresiewicz, JKR and bridge states anew, in pair order, so the force loop
         // reads them in order too (moving them, which keeps the boxes where the contacts
-        // formed, made the merge 30 % cheaper and the JKR agglomerate 8–14 % slower).
+        // formed, made the merge 30 % cheaper and the JKR agglomerate 8–14 % slower); the
+        // MDR rows are copied into their new block's list in pair order (`StateBlock`).
         let old_blocks = std::mem::take(&mut self.blocks);
         let old_walls = std::mem::take(&mut self.wall_pairs);
         // The wall pairs are carried over beside the particle pairs (nothing shared).
@@ -608,8 +628,7 @@ impl ContactStore {
         ];
         let particle_pairs = || {
             let mut old_blocks = old_blocks;
-            let mut blocks: Vec<Vec<ContactState>> =
-                Vec::with_capacity(pairs.len().div_ceil(BLOCK));
+            let mut blocks: Vec<StateBlock> = Vec::with_capacity(pairs.len().div_ceil(BLOCK));
             // In stretches of whole blocks, in order; after each, the old blocks that no later
             // key can reach (all their pairs sort before the next key) are freed, so the old
             // and the new states are held at once only around the stretch being merged
@@ -618,7 +637,7 @@ impl ContactStore {
             let mut freed = 0;
             for (keys, out) in new_pairs.chunks(stretch).zip(pairs.chunks_mut(stretch)) {
                 let olds = &old_blocks;
-                let done: Vec<Vec<ContactState>> = keys
+                let done: Vec<StateBlock> = keys
                     .par_chunks(BLOCK)
                     .zip(out.par_chunks_mut(BLOCK))
                     .map(|(keys, out)| {
@@ -628,22 +647,23 @@ impl ContactStore {
                         // states copied in pair order into a block of the exact size.
                         let mut matched = old_states(&old_pairs, start);
                         let mut old_of = [u32::MAX; BLOCK];
-                        let mut n = 0;
+                        let (mut n, mut n_rows) = (0, 0);
                         for (key, m) in keys.iter().zip(old_of.iter_mut()) {
-                            if let Some((k_old, _)) = matched(key) {
+                            if let Some((k_old, s_old)) = matched(key) {
                                 *m = k_old as u32;
                                 n += 1;
+                                n_rows +=
+                                    olds[k_old / BLOCK][s_old as usize].row.is_some() as usize;
                             }
                         }
-                        let mut states = Vec::with_capacity(n + headroom(n));
+                        let mut states = StateBlock::with_room(n, n_rows);
                         for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
                             let slot = if m == u32::MAX {
                                 NO_STATE
                             } else {
                                 let k_old = m as usize;
                                 let s_old = old_pairs[k_old].slot as usize;
-                                states.push(olds[k_old / BLOCK][s_old].clone());
-                                (states.len() - 1) as u32
+                                states.push_copy(&olds[k_old / BLOCK], s_old)
                             };
                             *p = Pair {
                                 i: key.i,
@@ -1055,7 +1075,7 @@ mod tests {
     }
 
     fn allocated(c: &ContactStore) -> usize {
-        c.blocks.iter().map(Vec::len).sum()
+        c.blocks.iter().map(|b| b.len()).sum()
     }
 
     #[test]

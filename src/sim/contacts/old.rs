@@ -82,6 +82,7 @@ impl From<V1> for super::ContactState {
             tdamp: o.tdamp,
             ext: (ext != ContactExt::default()).then(|| Box::new(ext)),
             bridge: o.bridge,
+            row: super::RowSlot::NONE,
         }
     }
 }
@@ -167,6 +168,7 @@ impl<E: Into<ContactExt>> From<V3<E>> for super::ContactState {
             tdamp: o.tdamp,
             ext: o.ext.map(|e| Box::new((*e).into())),
             bridge: o.bridge,
+            row: super::RowSlot::NONE,
         }
     }
 }
@@ -185,6 +187,7 @@ impl From<V2> for super::ContactState {
             tdamp: o.tdamp,
             ext: ext_v3(o.ext),
             bridge: o.bridge,
+            row: super::RowSlot::NONE,
         }
     }
 }

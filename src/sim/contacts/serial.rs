@@ -22,7 +22,7 @@ pub(super) struct PairOut<'a> {
     pub(super) j: u32,
     pub(super) ida: u32,
     pub(super) idb: u32,
-    pub(super) s: &'a ContactState,
+    pub(super) s: std::borrow::Cow<'a, ContactState>,
 }
 
 impl Serialize for PairsOut<'_> {
@@ -34,7 +34,8 @@ impl Serialize for PairsOut<'_> {
                 j: v.j,
                 ida: v.ida,
                 idb: v.idb,
-                s: v.s,
+                // (An MDR row back in `ext.mdr`, where format 9 put it.)
+                s: self.0.saved_state(k),
             }
         }))
     }

@@ -92,6 +92,53 @@ pub struct ContactState {
     pub ext: Option<Box<ContactExt>>,
     /// Liquid bridge, if any.
     pub bridge: Option<Box<BridgeState>>,
+    /// Where the contact's spring row of `SET TANgential MDR` is kept, if in its block's row
+    /// list ([`RowSlot`]; a particle–wall contact keeps its row in `ext.mdr`).
+    #[serde(skip, default)]
+    pub row: RowSlot,
+}
+
+/// The place of a particle pair's MDR spring row (`physics::mdr::MdrRow`) in the row list
+/// of the pair's block (`StateBlock::rows`), or none. The rows sit beside the states, in
+/// pair order after each merge, so the force loop reads them as a forward stream (a row
+/// behind its own pointer, allocated where and when the contact formed, cost a cache miss
+/// a contact a step; doc/performance.md, "The default law's step"). Where a row is kept
+/// is not part of the contact's state: every two slots compare equal, the row itself is
+/// compared ([`PairView`]) and saved (in `ext.mdr`, the checkpoint's layout).
+#[derive(Clone, Copy)]
+pub struct RowSlot(pub(super) u32);
+
+impl RowSlot {
+    /// No row in the block's list.
+    pub const NONE: RowSlot = RowSlot(u32::MAX);
+    /// The contact has a row in its block's list.
+    #[inline(always)]
+    pub fn is_some(self) -> bool {
+        self.0 != u32::MAX
+    }
+    /// Its index in the block's list.
+    #[inline(always)]
+    pub fn index(self) -> Option<usize> {
+        self.is_some().then_some(self.0 as usize)
+    }
+}
+
+impl Default for RowSlot {
+    fn default() -> Self {
+        RowSlot::NONE
+    }
+}
+
+impl PartialEq for RowSlot {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for RowSlot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.is_some() { "kept" } else { "none" })
+    }
 }
 
 /// The part of a contact's state that only some laws use.
@@ -119,7 +166,9 @@ pub struct ContactExt {
     pub laws: Option<Box<LawState>>,
     /// The spring row of `SET TANgential MDR` (`physics::mdr`; checkpoint format 9), behind
     /// a pointer of its own (288 bytes): the contacts of the other laws pay for the pointer
-    /// only.
+    /// only. A particle–wall contact keeps its row here; a particle pair keeps it in its
+    /// block's row list (`ContactState::row`, `StateBlock`) and has it here only in a
+    /// checkpoint.
     pub mdr: Option<Box<MdrRow>>,
     /// JKR: the last evaluated point of the last step's path (`physics::jkr::PathEnd`;
     /// checkpoint format 11), from which the next step's path starts.
@@ -207,6 +256,7 @@ impl Default for ContactState {
             tdamp: Vec3::zeros(),
             ext: None,
             bridge: None,
+            row: RowSlot::NONE,
         }
     }
 }

@@ -281,7 +281,7 @@ pub(super) fn pair_forces<const ADH: bool, const LIQ: bool>(
     (hot, pairs, blocks, out, scatter): (
         &mut [HotPair],
         &mut [Pair],
-        &mut [Vec<ContactState>],
+        &mut [StateBlock],
         &mut Vec<PairForce>,
         &mut Incidence,
     ),
@@ -387,7 +387,7 @@ pub(super) fn pair_forces<const ADH: bool, const LIQ: bool>(
 /// (chosen here, once, so that the loop and its force closure are compiled once per choice
 /// and stay inlined).
 pub(super) fn serial_pairs<const ADH: bool, const LIQ: bool, const UNI: bool>(
-    (hot, pairs, blocks): (&mut [HotPair], &mut [Pair], &mut [Vec<ContactState>]),
+    (hot, pairs, blocks): (&mut [HotPair], &mut [Pair], &mut [StateBlock]),
     (force, moment): (&mut [Vec3], &mut [Vec3]),
     ctx: &PairCtx,
     rotation: bool,
@@ -482,7 +482,7 @@ pub(super) fn task_pairs<const ADH: bool, const LIQ: bool>(
     lists: (
         &mut [HotPair],
         &mut [Pair],
-        &mut [Vec<ContactState>],
+        &mut [StateBlock],
         &mut [PairForce],
     ),
     sums: (&mut [Vec3], &mut [Vec3], bool),
@@ -503,7 +503,7 @@ pub(super) fn task_pairs_of<const ADH: bool, const LIQ: bool, const UNI: bool>(
     (hots, pairs, blocks, outs): (
         &mut [HotPair],
         &mut [Pair],
-        &mut [Vec<ContactState>],
+        &mut [StateBlock],
         &mut [PairForce],
     ),
     (force, moment, zeroed): (&mut [Vec3], &mut [Vec3], bool),

@@ -30,7 +30,7 @@ use super::{
     PairForce, Scene, UniPair, Vec3, WallPair, WallPiece, WallShape, reach, split_if_needed,
     task_pairs, task_sums, wall_cuts, wall_forces,
 };
-use crate::sim::contacts::{ChunkPlan, ContactState, Pair, StepParts};
+use crate::sim::contacts::{ChunkPlan, Pair, StateBlock, StepParts};
 use crate::sim::scene::{Particles, Wall};
 use rayon::prelude::*;
 
@@ -313,7 +313,7 @@ type Fixed<'a> = (&'a [f64], &'a [u8], &'a [u8], &'a [f64]);
 type TaskLists<'a> = (
     usize,
     &'a mut [Pair],
-    &'a mut [Vec<ContactState>],
+    &'a mut [StateBlock],
     &'a mut [WallPair],
 );
 
@@ -421,7 +421,7 @@ pub(super) fn forces_and_moves<const ADH: bool, const LIQ: bool>(
 fn task_lists<'a>(
     inc: &Incidence,
     mut pairs: &'a mut [Pair],
-    mut blocks: &'a mut [Vec<ContactState>],
+    mut blocks: &'a mut [StateBlock],
     mut wall_rest: &'a mut [WallPair],
     wall_cut: &[usize],
 ) -> Vec<TaskLists<'a>> {
@@ -481,7 +481,7 @@ impl Region<'_> {
     fn task_forces<const ADH: bool, const LIQ: bool>(
         &self,
         t: usize,
-        (pairs, blocks, wp): (&mut [Pair], &mut [Vec<ContactState>], &mut [WallPair]),
+        (pairs, blocks, wp): (&mut [Pair], &mut [StateBlock], &mut [WallPair]),
         (ctx, wall_ctx, walls_of, zeroed): ForceInputs<'_, '_>,
     ) -> (Vec<Acc>, Vec<Acc>) {
         let inc = self.inc;
@@ -578,7 +578,7 @@ impl Region<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::contacts::PairRange;
+    use crate::sim::contacts::{ContactState, PairRange};
 
     fn wall_pair(i: u32) -> WallPair {
         WallPair {

@@ -24,9 +24,9 @@ use rayon::prelude::*;
 
 use super::contacts::{
     self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
-    StepParts, WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
+    StateBlock, StepParts, WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
 };
-use super::interact::{Acc, Kin, Laws, interact};
+use super::interact::{Acc, Kin, Laws, interact, interact_rows};
 use super::lanes;
 use super::leapfrog;
 use super::params::{self, Model};

@@ -132,7 +132,7 @@ impl UniPair {
 pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
     hots: &mut [HotPair],
     pairs: &mut [Pair],
-    block: &mut Vec<ContactState>,
+    block: &mut StateBlock,
     c: &PairCtx,
     acc: &mut Acc,
     sc: &mut Scratch,
@@ -140,6 +140,8 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
 ) {
     use lanes::SUB;
     let laws = c.laws;
+    // The states and the MDR rows (those of contacts that ended dropped if the list is full).
+    let (block, rows) = block.for_step(hots.iter().map(|h| h.slot));
     // (Read only when `UNI`.)
     let u = c.uni.unwrap_or_default();
     let batched = batches_steady::<ADH, LIQ>(c);
@@ -216,7 +218,7 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                 let kin = &kins[q];
                 let (i, j) = (h.i as usize, h.j as usize);
                 let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
-                let out = interact::<ADH, LIQ>(kin, pc, laws, s, acc);
+                let out = interact_rows::<ADH, LIQ>(kin, pc, laws, s, Some(&mut *rows), acc);
                 let live = s.live();
                 if h.live != live {
                     h.live = live;

@@ -157,6 +157,12 @@ impl Scene {
                 if let Some(e) = s.ext.as_deref_mut() {
                     e.mdr = None;
                 }
+                // A particle pair's row, kept in its block's list: the extension it stood
+                // for stays, at its defaults (as a row in `ext.mdr` left it).
+                if s.row.is_some() {
+                    s.row = crate::sim::contacts::RowSlot::NONE;
+                    s.ext_mut();
+                }
             };
             self.contacts.for_each_state_mut(|_, s| drop_row(s));
             for c in self.contacts.wall_pairs.iter_mut() {
