@@ -118,7 +118,7 @@ def main():
     note = "" if run.returncode == 0 else f" (interrupted after {done} steps)"
     with open(out, "w") as f:
         f.write(
-            f"# The elastic gas of tests/it/elastic_gas.rs (1000 spheres, FRAction 0.2), {steps} steps: "
+            f"# The elastic gas of tests/it/elastic_gas.rs (1000 spheres, the default step: FRAction 0.1 since 7655d24, 0.2 before), {steps} steps: "
             "energy residual over the input at each print.\n"
             f"# Made by: python3 scripts/elastic_gas.py {steps} {out} {binary}\n"
             f"# Build: worktree {describe}, binary sha256 {sha}..., started {started}, "
