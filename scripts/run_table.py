@@ -869,7 +869,8 @@ def main():
                     print("   ", run_name(r))
         return
     t = TABLES[a.table]
-    work = a.work or os.path.join(ROOT, "target", "experiments", t.get("work", a.table))
+    # Absolute: the derived --set values run helper scripts with the work directory as cwd.
+    work = os.path.abspath(a.work or os.path.join(ROOT, "target", "experiments", t.get("work", a.table)))
     if a.chart_only:
         os.makedirs(work, exist_ok=True)
         draw_table(a.table, t, work)
