@@ -102,7 +102,7 @@ pub struct ContactState {
 /// of the pair's block (`StateBlock::rows`), or none. The rows sit beside the states, in
 /// pair order after each merge, so the force loop reads them as a forward stream (a row
 /// behind its own pointer, allocated where and when the contact formed, cost a cache miss
-/// a contact a step; doc/performance.md, "The default law's step"). Where a row is kept
+/// a contact a step; doc/performance.md, "The figures", on the default law's step). Where a row is kept
 /// is not part of the contact's state: every two slots compare equal, the row itself is
 /// compared ([`PairView`]) and saved (in `ext.mdr`, the checkpoint's layout).
 #[derive(Clone, Copy)]
