@@ -210,7 +210,18 @@ def test_bitwise_equal_to_the_binary(tmp_path, monkeypatch, threads):
     assert (tmp_path / "bin.sav").read_bytes() == (tmp_path / "mod.sav").read_bytes()
 
 
-def test_ctrl_c_raises_keyboard_interrupt_with_a_shorter_cycles_state(tmp_path):
+def test_ctrl_c_raises_keyboard_interrupt_with_a_shorter_cycles_state():
+    # Python's own SIGINT handler, whatever the test runner inherited: a process started in
+    # the background by a shell without job control ignores SIGINT, and Python then installs
+    # no handler (the signal would be lost and the Cycle of 10^8 steps run to its end).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        ctrl_c_stops_the_cycle()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def ctrl_c_stops_the_cycle():
     s = session()
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
