@@ -307,8 +307,13 @@ fn pair_table(scene: &Scene, used: &[bool]) -> PairTable {
 /// (issue 49 item 4; doc/limits.md, "Energy drift of an elastic gas"). Such a scene takes
 /// the default FRAction [`DEFAULT_FRACTION_ELASTIC`](super::scene::DEFAULT_FRACTION_ELASTIC).
 fn dissipation_free(scene: &Scene, elastic_pairs: bool) -> bool {
-    elastic_pairs
-        && scene.liquid.is_none()
+    elastic_pairs && undamped_dry(scene)
+}
+
+/// The scene has no liquid and no Rayleigh or mass damping (its elastic Hertz contacts take
+/// the corrections of their edges, `interact::edges`).
+pub(super) fn undamped_dry(scene: &Scene) -> bool {
+    scene.liquid.is_none()
         && scene.damping_pp == Default::default()
         && scene.damping_pw == Default::default()
 }

@@ -61,10 +61,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
             .then_some(crate::sim::liquid::OLSSON_SHARE),
         goldman: scene.settings.goldman,
         pair_laws: &model.laws,
-        edges: dt > 0.0
-            && liquid.is_none()
-            && scene.damping_pp == Default::default()
-            && scene.damping_pw == Default::default(),
+        edges: dt > 0.0 && crate::sim::params::undamped_dry(scene),
         // (Only in a step, with the margins of its particles: not while priming.)
         margin: if dt > 0.0
             && scene.derived.reach_ext.len() == scene.particles.len().div_ceil(EXT_GROUP)
