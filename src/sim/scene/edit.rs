@@ -296,6 +296,14 @@ impl Scene {
     /// term, the same bits as the sum over all (`energy::kinetic_of`), and a run of `CReate`s
     /// keeps the total between them (`scene::CreateIndex`). `f` must change nothing when
     /// it fails.
+    ///
+    /// The kinetic energy is that of the half-step velocities; the energy of the scene at
+    /// the step holds also the work in flight, `½Δt Σ (F·v + M·ω)` with the last step's
+    /// forces (`cycle::in_flight`). A command that changes velocities (or removes particles)
+    /// while forces act changes that work too, by `½Δt Σ (F·Δv + M·Δω)`: it is booked as
+    /// the command's (and carried in `Carried::in_flight_end`), so that a `VELocity` inside a
+    /// contact leaves the books closed (`hard_cases`,
+    /// `a_velocity_set_inside_a_contact_is_booked_with_its_work_in_flight`).
     pub fn booked_edit<T>(
         &mut self,
         create: bool,
@@ -308,7 +316,11 @@ impl Scene {
             _ => None,
         }
         .unwrap_or_else(|| energy::kinetic(self));
+        let power_before = if create { 0.0 } else { self.force_power() };
         let out = f(self)?;
+        if !create {
+            self.book_flight_change(self.force_power() - power_before);
+        }
         let after = if create {
             let after = before + energy::kinetic_of(self, n0);
             if let Some(c) = self.derived.create_index.as_mut() {
@@ -320,6 +332,31 @@ impl Scene {
         };
         self.ledger.commands += after - before;
         Ok(out)
+    }
+
+    /// `Σ (F·v + M·ω)` with the forces the last step left (0 for a new scene).
+    fn force_power(&self) -> f64 {
+        let p = &self.particles;
+        (0..p.len())
+            .map(|i| p.force[i].dot(&p.vel[i]) + p.moment[i].dot(&p.spin[i]))
+            .sum()
+    }
+
+    /// Books `½Δt · d_power`, the change of the work in flight a command made
+    /// ([`Scene::booked_edit`]), at the step the next `Cycle` would take.
+    fn book_flight_change(&mut self, d_power: f64) {
+        if d_power == 0.0 || !d_power.is_finite() {
+            return;
+        }
+        if let Ok(model) = crate::sim::params::build(self) {
+            let w = 0.5 * model.dt * d_power;
+            if w.is_finite() {
+                self.ledger.commands += w;
+                if self.carried.in_flight_end != 0.0 {
+                    self.carried.in_flight_end += w;
+                }
+            }
+        }
     }
 
     /// `PLot SAve`: the reference state for displacement and bond plots. Contacts of a scene
