@@ -155,6 +155,21 @@ vtk file b raw
 print balls contacts walls grid clusters
 ";
 
+/// A periodic cell sheared the negative way (as `cell::a_small_negative_offset_prints_as_negative`):
+/// the cell file's `offset` is `PRint Grid`'s, a small negative number.
+const SHEARED_CELL: &str = "start 1e-3 1e-3 1e-3 400 1000 0
+rad 6e-5 1
+density 2600 1
+ymd 1e8 1
+pra 0.25 1
+rge 50 1 1 0
+grid 0 0 0 -3000 0 0
+set outdir \"out\"
+cycle 30
+vtk file s raw
+print balls contacts walls grid clusters
+";
+
 #[test]
 fn vtk_files_read_by_vtk_match_the_json_output() {
     for (name, script, prefix, frames) in [
@@ -165,6 +180,7 @@ fn vtk_files_read_by_vtk_match_the_json_output() {
             [1u64, 500, 1000, 1201].as_slice(),
         ),
         ("periodic", PERIODIC_BRIDGE, "b", [100].as_slice()),
+        ("sheared", SHEARED_CELL, "s", [30].as_slice()),
     ] {
         let dir = folder(name);
         let (ok, err) = run_in(&dir, script);

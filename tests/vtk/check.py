@@ -219,6 +219,10 @@ def check_cell(d, grid):
     b = d.GetBounds()
     same("cell bounds", [b[1], b[3], b[5]], grid["size"], f32=False)
     same("cell origin", [b[0], b[2], b[4]], [0, 0, 0], f32=False)
+    fd = arrays(d.GetFieldData())
+    same("cell size", fd["size"].ravel(), grid["size"], f32=False)
+    # The Lees–Edwards offset as PRint Grid prints it, in [−L_x/2, L_x/2).
+    same("cell offset", fd["offset"].ravel(), [grid["offset"]], f32=False)
 
 
 def check_field(path, fl):

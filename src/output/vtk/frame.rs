@@ -243,7 +243,8 @@ pub fn cell_box(scene: &Scene) -> PolyData {
     d.field_data.push(Array::new(
         "offset",
         1,
-        Values::F64(vec![scene.cell().shift]),
+        // The representative in [−L_x/2, L_x/2), as `PRint Grid` prints it.
+        Values::F64(vec![scene.cell().signed_offset(s[0])]),
     ));
     d
 }
