@@ -193,6 +193,17 @@ TABLES = {
         "x": "v", "group": ("eta", "wb"), "y": "damage_ratio", "logx": True,
         "progress": True,  # also doc/data/lian6_rest_progress.csv: every check in time
     },
+    # The worst case (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space of lian6_debris) with the
+    # wall's friction as the one factor changed (issue 53): Lian's wall has the particles'
+    # properties (mu = 0.3), against a frictionless one.
+    "lian6_wall": {
+        "title": "Lian ch. 6, 6.2 mm work-space, wall friction: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_wall.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": [dict(r, wmu=mu) for mu in ("0", "0.3") for r in lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N)],
+        "x": "v", "group": ("eta", "wmu"), "y": "damage_ratio", "logx": True,
+    },
     "lian6_small": {
         "title": "Lian ch. 6, reduced 983-sphere BCC: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
@@ -248,6 +259,25 @@ TABLES = {
         "derive": "approach",
         "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs()],
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
+    },
+    # The oblique series (lian7_oblique, 442 us) from Lian's preparation (lian7_lianprep's
+    # state, issue 53): does D_r = D_o cos^2 Theta close?
+    "lian7_oblique_lianprep": {
+        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "derive": "approach",
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # The same for 1.1 ms (as lian7_oblique_long): coalescence or separation.
+    "lian7_oblique_lianprep_long": {
+        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s, 1.1 ms",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "derive": "approach",
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
     # with it).
@@ -787,6 +817,7 @@ REFERENCES = {
 }
 REFERENCES["lian6_debris"] = REFERENCES["lian6_small"] = REFERENCES["lian6"]
 REFERENCES["lian7_lianprep"] = REFERENCES["lian7"]
+REFERENCES["lian7_oblique_lianprep"] = REFERENCES["lian7_oblique"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_dry"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_regime"] = REFERENCES["olsson_liggghts"] = REFERENCES["olsson"]
