@@ -285,7 +285,9 @@ TABLES = {
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
         "derive": "approach",
-        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")],
+        # (and the normal collision, Theta = 0: D_o of this state, by the same build)
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")]
+        + [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "state": "lian_ch7_lian.sav"}],
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # The same for 1.1 ms (as lian7_oblique_long): coalescence or separation.
