@@ -212,6 +212,17 @@ TABLES = {
         "x": "v", "group": ("eta", "wmu"), "y": "damage_ratio", "logx": True,
         "fit": False,  # (one velocity: no threshold fit)
     },
+    # The worst case with Lian's tangential law and his wall without bridges together
+    # (scripts/lian_ch6_impact_lian.tru), each of which lian6_debris_md / lian6_rest ran alone.
+    "lian6_lianway": {
+        "title": "Lian ch. 6, 6.2 mm work-space, MD and no wall bridges: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_lian.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+        "fit": False,
+    },
     "lian6_small": {
         "title": "Lian ch. 6, reduced 983-sphere BCC: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
@@ -296,7 +307,9 @@ TABLES = {
         "script": "lian_ch7_collision.tru",
         "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
         "derive": "approach",
-        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")],
+        # (and 30 and 45 deg with the speed perturbed by 1e-6: is the outcome one run's chance?)
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")]
+        + [dict(r, state="lian_ch7_lian.sav", v="2.000002") for r in lian7_oblique_long_runs() if r["theta"] in ("45", "30")],
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
