@@ -193,6 +193,36 @@ TABLES = {
         "x": "v", "group": ("eta", "wb"), "y": "damage_ratio", "logx": True,
         "progress": True,  # also doc/data/lian6_rest_progress.csv: every check in time
     },
+    # The worst case (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space of lian6_debris) with the
+    # wall's friction as the one factor changed (issue 53): Lian's wall has the particles'
+    # properties (mu = 0.3), against a frictionless one.
+    "lian6_wall": {
+        "title": "Lian ch. 6, 6.2 mm work-space, wall friction: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_wall.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        # The time step, which the thesis does not give: TRUBAL's default FRAction 1 (Lian 1994
+        # App. B; 4 x 5000 x 32 ns = 640 us) and 0.2, against 0.4. The scatter of one run:
+        # the impact speed perturbed by 1e-6 (as scripts/ci_tables.py's samples).
+        "runs": [dict(r, wmu=mu) for mu in ("0", "0.3") for r in lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N)]
+        + [{"state": "lian_ch6_big.sav", "v": "2", "eta": "0", "frac": f, "n": n, "wmu": "0.3", "step": f}
+           for f, n in (("1", "5000"), ("0.2", "25000"))]
+        + [{"state": "lian_ch6_big.sav", "v": v, "eta": "0", "frac": "0.4", "n": "12500", "wmu": "0.3"}
+           for v in ("2.000002", "1.999998")],
+        "x": "v", "group": ("eta", "wmu"), "y": "damage_ratio", "logx": True,
+        "fit": False,  # (one velocity: no threshold fit)
+    },
+    # The worst case with Lian's tangential law and his wall without bridges together
+    # (scripts/lian_ch6_impact_lian.tru), each of which lian6_debris_md / lian6_rest ran alone.
+    "lian6_lianway": {
+        "title": "Lian ch. 6, 6.2 mm work-space, MD and no wall bridges: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_lian.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+        "fit": False,
+    },
     "lian6_small": {
         "title": "Lian ch. 6, reduced 983-sphere BCC: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
@@ -218,6 +248,16 @@ TABLES = {
         "derive": "approach",
         "work": "lian7",  # shares the prepared state (and the log directory) with lian7
         "runs": lian7_oblique_runs(),
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # One run of lian7_oblique (60 deg) again, by the build that ran lian7_oblique_lianprep:
+    # the control that separates the preparation from the build.
+    "lian7_oblique_rerun": {
+        "title": "Lian ch. 7: oblique collision at 2 m/s, 60 deg, rerun",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "derive": "approach",
+        "runs": [r for r in lian7_oblique_runs() if r["theta"] == "60"],
         "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
@@ -248,6 +288,29 @@ TABLES = {
         "derive": "approach",
         "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs()],
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
+    },
+    # The oblique series (lian7_oblique, 442 us) from Lian's preparation (lian7_lianprep's
+    # state, issue 53): does D_r = D_o cos^2 Theta close?
+    "lian7_oblique_lianprep": {
+        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "derive": "approach",
+        # (and the normal collision, Theta = 0: D_o of this state, by the same build)
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")]
+        + [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "state": "lian_ch7_lian.sav"}],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    },
+    # The same for 1.1 ms (as lian7_oblique_long): coalescence or separation.
+    "lian7_oblique_lianprep_long": {
+        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s, 1.1 ms",
+        "script": "lian_ch7_collision.tru",
+        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "derive": "approach",
+        # (and 30 and 45 deg with the speed perturbed by 1e-6: is the outcome one run's chance?)
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")]
+        + [dict(r, state="lian_ch7_lian.sav", v="2.000002") for r in lian7_oblique_long_runs() if r["theta"] in ("45", "30")],
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
     },
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
     # with it).
@@ -787,6 +850,7 @@ REFERENCES = {
 }
 REFERENCES["lian6_debris"] = REFERENCES["lian6_small"] = REFERENCES["lian6"]
 REFERENCES["lian7_lianprep"] = REFERENCES["lian7"]
+REFERENCES["lian7_oblique_lianprep"] = REFERENCES["lian7_oblique"]
 REFERENCES["olsson_long"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_dry"] = REFERENCES["olsson"][:1]
 REFERENCES["olsson_regime"] = REFERENCES["olsson_liggghts"] = REFERENCES["olsson"]
@@ -973,7 +1037,7 @@ def main():
     for row in rows:
         label = "/".join(str(row[g]) for g in group)
         series.setdefault(label, []).append((float(row[t["x"]]), float(row[t["y"]])))
-    if t["x"] == "v" and t["y"] == "damage_ratio":
+    if t["x"] == "v" and t["y"] == "damage_ratio" and t.get("fit", True):
         fits = fit_thresholds(series)
         with open(os.path.join(DATA, a.table + "_fit.txt"), "w") as f:
             for line in fits:
