@@ -367,8 +367,8 @@ fn nearest_layer(scene: &Scene, w: usize) -> usize {
 
 /// Particles whose centre lies behind a wall's surface (gap < −R: behind a plane, outside a
 /// container, inside an obstacle), as (particle, wall) in particle order: every particle
-/// against every wall when `all`, else the wall pairs (candidates) only.
-pub(super) fn behind_walls(scene: &Scene, all: bool) -> Vec<(usize, usize)> {
+/// against every wall (the wall pairs alone: [`clearance::behind_with_clearance`]).
+pub(super) fn behind_walls(scene: &Scene) -> Vec<(usize, usize)> {
     let p = &scene.particles;
     let shapes: Vec<WallShape> = scene.walls.iter().map(|w| WallShape::of(&w.geom)).collect();
     let behind = |i: usize, w: usize| {
@@ -376,33 +376,21 @@ pub(super) fn behind_walls(scene: &Scene, all: bool) -> Vec<(usize, usize)> {
         // (NaN is not "behind": a non-finite state is the blow-up check's.)
         gap < -p.radius[i]
     };
-    if all {
-        let mut out: Vec<(usize, usize)> = p
-            .pos
-            .par_chunks(CHUNK)
-            .enumerate()
-            .flat_map_iter(|(c, xs)| {
-                let behind = &behind;
-                let nw = shapes.len();
-                (0..xs.len()).flat_map(move |l| {
-                    let i = c * CHUNK + l;
-                    (0..nw).filter(move |&w| behind(i, w)).map(move |w| (i, w))
-                })
+    let mut out: Vec<(usize, usize)> = p
+        .pos
+        .par_chunks(CHUNK)
+        .enumerate()
+        .flat_map_iter(|(c, xs)| {
+            let behind = &behind;
+            let nw = shapes.len();
+            (0..xs.len()).flat_map(move |l| {
+                let i = c * CHUNK + l;
+                (0..nw).filter(move |&w| behind(i, w)).map(move |w| (i, w))
             })
-            .collect();
-        out.sort_unstable();
-        out
-    } else {
-        let mut out: Vec<(usize, usize)> = scene
-            .contacts
-            .wall_pairs
-            .iter()
-            .filter(|c| behind(c.i as usize, c.wall as usize))
-            .map(|c| (c.i as usize, c.wall as usize))
-            .collect();
-        out.sort_unstable();
-        out
-    }
+        })
+        .collect();
+    out.sort_unstable();
+    out
 }
 
 /// What a crossing looks like: the particle, the wall, how far behind, the speeds against
@@ -521,7 +509,17 @@ pub(super) fn after_step(
             .iter()
             .any(|w| (Vec3::from(w.vel).norm() + w.vr.abs()) * dt > JUMP_FRACTION * rmin);
         let all = jumped || scene.contacts.is_stale() || scene.contacts.needs_remap();
-        let behind = behind_walls(scene, all);
+        // The wall pairs only while they may have reached their walls (`clearance`).
+        let behind = if all {
+            watch.clearance = None;
+            behind_walls(scene)
+        } else if clearance::wall_pairs_clear(scene, &mut watch.clearance, step, dt, rmin) {
+            Vec::new()
+        } else {
+            let (behind, c) = clearance::behind_with_clearance(scene);
+            watch.clearance = c;
+            behind
+        };
         let through = through_obstacles(scene, dt, step, rmin);
         if let Some(&(i, w)) = through.first() {
             return Err(passed_obstacle(scene, (i, w), dt));
@@ -673,7 +671,7 @@ fn pairs_through(scene: &Scene, dt: f64, reach: f64) -> Option<Blowup> {
 /// A particle whose centre lies behind a wall's surface (made so by commands: a Cycle never
 /// ends with one), described; `SAve` refuses such a state.
 pub fn behind_a_wall(scene: &Scene) -> Option<String> {
-    let (i, w) = *behind_walls(scene, true).first()?;
+    let (i, w) = *behind_walls(scene).first()?;
     let p = &scene.particles;
     let (gap, _) = WallShape::of(&scene.walls[w].geom).gap(&p.pos[i], p.radius[i]);
     Some(format!(
@@ -703,6 +701,8 @@ pub(super) struct StepWatch {
     /// Per wall: the servo's speed of the last two steps and how many consecutive steps it
     /// changed sign without decaying.
     servo: Vec<([f64; 2], u32)>,
+    /// The wall pairs' clearance at their last check ([`clearance`]).
+    clearance: Option<clearance::Clearance>,
 }
 
 /// A servo wall that hunts — its speed g (F − F_target), clipped to ±vmax, changing sign at

@@ -36,6 +36,7 @@ use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
 use crate::sim::model::{TangentialChoice, WallGeom};
 
 mod checks;
+mod clearance;
 mod distances;
 mod forces;
 mod fused;
@@ -525,7 +526,7 @@ pub fn one_step(
     // due for a re-mapping, `after_step`); before those that left the work-space are
     // removed (one may have left through the wall first).
     if !scene.walls.is_empty() && first {
-        let behind = behind_walls(scene, true);
+        let behind = behind_walls(scene);
         if !behind.is_empty() {
             match scene.settings.tunnel {
                 TunnelAction::Stop => return Err(tunnelled(scene, &behind, dt)),
