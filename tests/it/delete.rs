@@ -59,7 +59,10 @@ fn a_bed_cut_to_a_height_keeps_its_books_and_continues_across_a_restart() {
     let info = printed(&run, "info");
     assert!(num(&info[0], "touching") > num(&info[1], "touching"));
     assert!(num(&info[1], "touching") > 0.0);
-    // The cut takes kinetic and strain energy; the residual does not move.
+    // The cut takes kinetic and strain energy, booked as the command's; the residual moves
+    // only by the removed particles' work in flight, ½Δt Σ (F·v + M·ω) with the last step's
+    // forces (`Scene::booked_edit`: 7.7e-6 of the input here), two orders below what the
+    // cut takes (1e-2 of the input).
     let en = printed(&run, "energy");
     let (e0, e1) = (&en[0], &en[1]);
     let input = num(e0, "input");
@@ -69,7 +72,7 @@ fn a_bed_cut_to_a_height_keeps_its_books_and_continues_across_a_restart() {
     assert!(taken > 1e-3 * input, "taken {taken} of {input}");
     let moved = num(e1, "residual") - num(e0, "residual");
     assert!(
-        moved.abs() < 1e-9 * input,
+        moved.abs() < 1e-4 * input && moved.abs() < 1e-2 * taken,
         "the residual moved by {moved} (taken {taken}, input {input})"
     );
     assert!(num(&en[2], "residual").abs() < 2e-3 * input);
