@@ -113,6 +113,64 @@ fn two_fastest(vel: &[super::scene::Vec3]) -> (f64, usize, f64) {
     (v1, i1, v2)
 }
 
+/// The least `(1.25 m*/K)²` of the scene's particles (`shortest`'s key before its division by
+/// the approach speed), with a particle of their own kind and with any wall: fixed within a
+/// `Cycle` (no command runs; lost particles only raise it), so the rebuilds' check of the
+/// step ([`warning_bounded`]) needs only the fastest speeds.
+#[derive(Clone, Copy, Debug)]
+pub struct KeyBound {
+    pair: f64,
+    wall: f64,
+}
+
+/// The [`KeyBound`] of the scene now.
+pub fn key_bound(scene: &Scene, model: &Model) -> KeyBound {
+    let p = &scene.particles;
+    let key = |m_star: f64, r_star: f64, e_star: f64| {
+        let k = 4.0 / 3.0 * e_star * r_star.sqrt();
+        let q = 1.25 * m_star / k;
+        q * q
+    };
+    let (mut pair, mut wall) = (f64::INFINITY, f64::INFINITY);
+    for i in 0..p.len() {
+        let mat = p.material[i] as usize;
+        let (m, r) = (p.mass[i], p.radius[i]);
+        pair = pair.min(key(0.5 * m, 0.5 * r, model.pair(mat, mat).e_star));
+        for w in &scene.walls {
+            wall = wall.min(key(m, r, model.pair(mat, w.material).e_star));
+        }
+    }
+    KeyBound { pair, wall }
+}
+
+/// [`warning`], with the per-particle pass only when a lower bound of the shortest contact
+/// (the least key of [`KeyBound`] over the largest approach speeds: twice the fastest
+/// particle's speed, or it plus the fastest wall surface's) gives fewer than [`WARN_STEPS`]
+/// steps: the same warnings (the bound is one-sided, kept 1e-9 below), without a square root
+/// and two divisions per particle and wall at every rebuild (2.3 % of the S1 bed's
+/// instructions, doc/performance.md "Where the time went since b0b4c42").
+pub fn warning_bounded(
+    scene: &Scene,
+    model: &Model,
+    fraction: f64,
+    bound: &KeyBound,
+) -> Option<String> {
+    let v1 = scene
+        .particles
+        .vel
+        .iter()
+        .map(|v| v.norm_squared())
+        .fold(0.0f64, f64::max)
+        .sqrt();
+    let sw = scene.walls.iter().map(surface_speed).fold(0.0f64, f64::max);
+    let q = (bound.pair / (2.0 * v1)).min(bound.wall / (v1 + sw));
+    let tc_low = HERTZ_DURATION_FACTOR * q.powf(0.2) * (1.0 - 1e-9);
+    if tc_low / model.dt >= WARN_STEPS {
+        return None;
+    }
+    warning(scene, model, fraction)
+}
+
 /// The warning for a step that gives the fastest contact fewer than [`WARN_STEPS`] steps:
 /// the particle, its speed, the steps per contact and the FRAction that would give
 /// [`AUTO_STEPS`] (`fraction`: the one in use).

@@ -487,3 +487,69 @@ fn a_velocity_set_inside_a_contact_is_booked_with_its_work_in_flight() {
         );
     }
 }
+
+/// The rebuilds' check of the step against the fastest contact takes a one-sided bound first
+/// (`contact_time::warning_bounded`): it must give exactly the warning of the full pass
+/// (`contact_time::warning`) at every step, above and below the threshold of 10 steps per
+/// contact, for particles of two materials and sizes, resting and moving walls.
+#[test]
+fn the_bounded_step_warning_is_the_full_one() {
+    use trubal::sim::contact_time::{key_bound, warning, warning_bounded};
+    let mut rng = 12345u64;
+    let mut uniform = move || {
+        rng = rng
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (rng >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for wall_speed in [0.5, 2000.0] {
+        let mut deck = format!(
+            "start 0.1 0.1 0.1 100 100 2\nset open all\nrad 2e-3 1\nrad 3e-3 2\nymd 7e10 1\nymd 1e9 2\n\
+         pra 0.3 1\npra 0.25 2\ndensity 2650 1\ndensity 1200 2\n\
+         dwall p 0 0 1 0.001 v 0 0 {wall_speed}\ndwall p 1 0 0 0.001\n",
+        );
+        for k in 0..40 {
+            let (x, y, z) = (
+                0.01 + 0.02 * (k % 4) as f64,
+                0.01 + 0.02 * ((k / 4) % 4) as f64,
+                0.01 + 0.02 * (k / 16) as f64,
+            );
+            let v = [uniform() - 0.5, uniform() - 0.5, uniform() - 0.5]
+                .map(|c| c * 2.0 * (1 + k % 7) as f64);
+            deck += &format!(
+                "create {x} {y} {z} {} {} {} 0 0 0 1 {}\n",
+                v[0],
+                v[1],
+                v[2],
+                1 + k % 2
+            );
+        }
+        let mut s = crate::common::session_with(Box::new(std::io::sink()), false)
+            .with_diagnostics(Box::new(std::io::sink()));
+        for l in deck.lines() {
+            s.run_line(l)
+                .unwrap_or_else(|e| panic!("`{l}`: {}", e.message));
+        }
+        let sc = s.scene.as_ref().unwrap();
+        let mut model = trubal::sim::cycle::check(sc).unwrap();
+        let bound = key_bound(sc, &model);
+        let dt0 = model.dt;
+        let (mut warned, mut quiet) = (0, 0);
+        for j in 0..400 {
+            model.dt = dt0 * 10f64.powf(-1.0 + 3.0 * j as f64 / 400.0);
+            let full = warning(sc, &model, 0.2);
+            assert_eq!(
+                warning_bounded(sc, &model, 0.2, &bound),
+                full,
+                "dt {}",
+                model.dt
+            );
+            if full.is_some() {
+                warned += 1
+            } else {
+                quiet += 1
+            }
+        }
+        assert!(warned > 50 && quiet > 50, "{warned} warned, {quiet} quiet");
+    }
+}

@@ -140,6 +140,7 @@ fn run_steps(
     // warning, `warnings`.)
     let mut warned_step = scene.settings.auto_step.is_some()
         || super::contact_time::warning(scene, &model, model.fraction).is_some();
+    let mut key_bound = None;
     // Energy runaway: no energy may appear that the ledger did not put in. What commands
     // left unbooked is the reference; the energy cycling created since the scene was made
     // is checked against the energy the scene had or was given (`Audit`).
@@ -180,7 +181,12 @@ fn run_steps(
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             // At each rebuild: a step too long for the fastest contact (once a Cycle).
             if scene.settings.auto_step.is_none()
-                && let Some(w) = super::contact_time::warning(scene, &model, model.fraction)
+                && let Some(w) = super::contact_time::warning_bounded(
+                    scene,
+                    &model,
+                    model.fraction,
+                    key_bound.get_or_insert_with(|| super::contact_time::key_bound(scene, &model)),
+                )
             {
                 scene.derived.notes.push(w);
                 warned_step = true;
