@@ -179,18 +179,7 @@ fn run_steps(
             || until.is_some();
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
-            // At each rebuild: a step too long for the fastest contact (once a Cycle).
-            if scene.settings.auto_step.is_none()
-                && let Some(w) = super::contact_time::warning_bounded(
-                    scene,
-                    &model,
-                    model.fraction,
-                    key_bound.get_or_insert_with(|| super::contact_time::key_bound(scene, &model)),
-                )
-            {
-                scene.derived.notes.push(w);
-                warned_step = true;
-            }
+            warned_step = warn_step(scene, &model, &mut key_bound);
         }
         // A particle that leaves through an open side carrying far more energy than was
         // ever put in is a blow-up, not an exit.
@@ -572,6 +561,29 @@ pub fn one_step(
         super::liquid::settle(scene);
     }
     move_all(scene, model, xres, acc, keep)
+}
+
+/// At a rebuild: a step too long for the fastest contact (noted once a Cycle; not under
+/// `FRAction AUTO`, which follows it). `bound`: the Cycle's [`contact_time::KeyBound`], made
+/// at the first rebuild. Whether it warned.
+///
+/// [`contact_time::KeyBound`]: super::contact_time::KeyBound
+fn warn_step(
+    scene: &mut Scene,
+    model: &Model,
+    bound: &mut Option<super::contact_time::KeyBound>,
+) -> bool {
+    if scene.settings.auto_step.is_some() {
+        return false;
+    }
+    let bound = bound.get_or_insert_with(|| super::contact_time::key_bound(scene, model));
+    match super::contact_time::warning_bounded(scene, model, model.fraction, bound) {
+        Some(w) => {
+            scene.derived.notes.push(w);
+            true
+        }
+        None => false,
+    }
 }
 
 /// Primes the contact states if commands changed the scene (no-op otherwise, or when the
