@@ -50,12 +50,8 @@ pub fn shortest(scene: &Scene, model: &Model) -> Option<Fastest> {
         .enumerate()
         .map(|(w, wall)| (w, surface_speed(wall)))
         .collect();
-    // (1.25 m*/K)² / v, K = 4/3 E* √R*: t_c = factor · that^{1/5}; the smallest wins.
-    let key = |m_star: f64, r_star: f64, e_star: f64, v: f64| {
-        let k = 4.0 / 3.0 * e_star * r_star.sqrt();
-        let q = 1.25 * m_star / k;
-        q * q / v
-    };
+    // (1.25 m*/K)² / v: t_c = factor · that^{1/5}; the smallest wins.
+    let key = |m_star: f64, r_star: f64, e_star: f64, v: f64| key(m_star, r_star, e_star) / v;
     let mut best: Option<(f64, Fastest)> = None;
     let mut consider = |q: f64, f: Fastest| {
         if q > 0.0 && q.is_finite() && best.is_none_or(|(b, _)| q < b) {
@@ -98,6 +94,14 @@ pub fn shortest(scene: &Scene, model: &Model) -> Option<Fastest> {
     })
 }
 
+/// `(1.25 m*/K)²`, `K = 4/3 E* √R*`: [`shortest`]'s key before its division by the approach
+/// speed.
+fn key(m_star: f64, r_star: f64, e_star: f64) -> f64 {
+    let k = 4.0 / 3.0 * e_star * r_star.sqrt();
+    let q = 1.25 * m_star / k;
+    q * q
+}
+
 /// The largest speed, its particle, and the second largest (the fastest other particle of
 /// every particle but the fastest).
 fn two_fastest(vel: &[super::scene::Vec3]) -> (f64, usize, f64) {
@@ -113,8 +117,8 @@ fn two_fastest(vel: &[super::scene::Vec3]) -> (f64, usize, f64) {
     (v1, i1, v2)
 }
 
-/// The least `(1.25 m*/K)²` of the scene's particles (`shortest`'s key before its division by
-/// the approach speed), with a particle of their own kind and with any wall: fixed within a
+/// The least [`key`] of the scene's particles, with a particle of their own kind and with any
+/// wall: fixed within a
 /// `Cycle` (no command runs; lost particles only raise it), so the rebuilds' check of the
 /// step ([`warning_bounded`]) needs only the fastest speeds.
 #[derive(Clone, Copy, Debug)]
@@ -126,11 +130,6 @@ pub struct KeyBound {
 /// The [`KeyBound`] of the scene now.
 pub fn key_bound(scene: &Scene, model: &Model) -> KeyBound {
     let p = &scene.particles;
-    let key = |m_star: f64, r_star: f64, e_star: f64| {
-        let k = 4.0 / 3.0 * e_star * r_star.sqrt();
-        let q = 1.25 * m_star / k;
-        q * q
-    };
     let (mut pair, mut wall) = (f64::INFINITY, f64::INFINITY);
     for i in 0..p.len() {
         let mat = p.material[i] as usize;
@@ -148,20 +147,15 @@ pub fn key_bound(scene: &Scene, model: &Model) -> KeyBound {
 /// particle's speed, or it plus the fastest wall surface's) gives fewer than [`WARN_STEPS`]
 /// steps: the same warnings (the bound is one-sided, kept 1e-9 below), without a square root
 /// and two divisions per particle and wall at every rebuild (2.3 % of the S1 bed's
-/// instructions, doc/performance.md "Where the time went since b0b4c42").
+/// instructions, doc/performance.md "Where the time went since b0b4c42"). `v1`: the
+/// largest particle speed.
 pub fn warning_bounded(
     scene: &Scene,
     model: &Model,
     fraction: f64,
     bound: &KeyBound,
+    v1: f64,
 ) -> Option<String> {
-    let v1 = scene
-        .particles
-        .vel
-        .iter()
-        .map(|v| v.norm_squared())
-        .fold(0.0f64, f64::max)
-        .sqrt();
     let sw = scene.walls.iter().map(surface_speed).fold(0.0f64, f64::max);
     let q = (bound.pair / (2.0 * v1)).min(bound.wall / (v1 + sw));
     let tc_low = HERTZ_DURATION_FACTOR * q.powf(0.2) * (1.0 - 1e-9);

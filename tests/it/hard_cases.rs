@@ -533,13 +533,19 @@ fn the_bounded_step_warning_is_the_full_one() {
         let sc = s.scene.as_ref().unwrap();
         let mut model = trubal::sim::cycle::check(sc).unwrap();
         let bound = key_bound(sc, &model);
+        let v1 = sc
+            .particles()
+            .vel
+            .iter()
+            .map(|v| v.norm())
+            .fold(0.0f64, f64::max);
         let dt0 = model.dt;
         let (mut warned, mut quiet) = (0, 0);
         for j in 0..400 {
             model.dt = dt0 * 10f64.powf(-1.0 + 3.0 * j as f64 / 400.0);
             let full = warning(sc, &model, 0.2);
             assert_eq!(
-                warning_bounded(sc, &model, 0.2, &bound),
+                warning_bounded(sc, &model, 0.2, &bound, v1),
                 full,
                 "dt {}",
                 model.dt

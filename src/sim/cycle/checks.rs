@@ -507,7 +507,7 @@ pub(super) fn after_step(
         let jumped = scene
             .walls
             .iter()
-            .any(|w| (Vec3::from(w.vel).norm() + w.vr.abs()) * dt > JUMP_FRACTION * rmin);
+            .any(|w| surface_speed(w) * dt > JUMP_FRACTION * rmin);
         let all = jumped || scene.contacts.is_stale() || scene.contacts.needs_remap();
         // The wall pairs only while they may have reached their walls (`clearance`).
         let behind = if all {

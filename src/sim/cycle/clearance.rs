@@ -59,10 +59,7 @@ pub(super) fn wall_pairs_clear(
         *last = None;
         return false;
     }
-    let walls = scene
-        .walls
-        .iter()
-        .fold(0.0f64, |m, w| m.max(Vec3::from(w.vel).norm() + w.vr.abs()));
+    let walls = scene.walls.iter().map(surface_speed).fold(0.0f64, f64::max);
     c.travel += step + walls * dt;
     let clear = 2.0 * c.travel < c.least && c.least > 1e-6 * rmin;
     if !clear {

@@ -32,7 +32,7 @@ use super::leapfrog;
 use super::params::{self, Model};
 use super::scene::{Scene, TunnelAction, Vec3, Wall};
 use super::search;
-use super::walls::{self, WallShape, surface_velocity, wall_gap, wall_r_star};
+use super::walls::{self, WallShape, surface_speed, surface_velocity, wall_gap, wall_r_star};
 use crate::sim::model::{TangentialChoice, WallGeom};
 
 mod checks;
@@ -384,12 +384,7 @@ impl Audit {
 /// a residual of first order in Δt (2 % at FRAction 0.2), which this makes second order
 /// (1.4e-3, 3e-4, 8e-5 at FRAction 0.2, 0.1, 0.05; doc/limits.md).
 fn in_flight(scene: &Scene, dt: f64) -> f64 {
-    let p = &scene.particles;
-    0.5 * dt
-        * (0..p.len())
-            .map(|i| p.force[i].dot(&p.vel[i]) + p.moment[i].dot(&p.spin[i]))
-            .sum::<f64>()
-        - 0.5 * scene.carried.wall_step_work
+    0.5 * dt * scene.force_power() - 0.5 * scene.carried.wall_step_work
 }
 
 /// The blow-up snapshot: the scene without what a restore can make anew, the particles'
@@ -577,7 +572,8 @@ fn warn_step(
         return false;
     }
     let bound = bound.get_or_insert_with(|| super::contact_time::key_bound(scene, model));
-    match super::contact_time::warning_bounded(scene, model, model.fraction, bound) {
+    let v1 = largest_norm_squared(&scene.particles.vel).sqrt();
+    match super::contact_time::warning_bounded(scene, model, model.fraction, bound, v1) {
         Some(w) => {
             scene.derived.notes.push(w);
             true

@@ -334,8 +334,9 @@ impl Scene {
         Ok(out)
     }
 
-    /// `Σ (F·v + M·ω)` with the forces the last step left (0 for a new scene).
-    fn force_power(&self) -> f64 {
+    /// `Σ (F·v + M·ω)` with the forces the last step left (0 for a new scene): twice the
+    /// work in flight over Δt (`cycle::in_flight`).
+    pub(in crate::sim) fn force_power(&self) -> f64 {
         let p = &self.particles;
         (0..p.len())
             .map(|i| p.force[i].dot(&p.vel[i]) + p.moment[i].dot(&p.spin[i]))
@@ -343,7 +344,8 @@ impl Scene {
     }
 
     /// Books `½Δt · d_power`, the change of the work in flight a command made
-    /// ([`Scene::booked_edit`]), at the step the next `Cycle` would take.
+    /// ([`Scene::booked_edit`]), with the scene's FRAction step (`params::build`; under
+    /// `FRAction AUTO` the last Cycle's step may be shorter).
     fn book_flight_change(&mut self, d_power: f64) {
         if d_power == 0.0 || !d_power.is_finite() {
             return;
