@@ -160,6 +160,24 @@ OLSSON_PREPARE = [
     ("olsson_prepare_wet.tru", {"pvol": "1", "state": "olsson_1.sav"}, "olsson_1.sav"),
 ]
 
+# Lian ch. 7's agglomerates: ours (`lian_ch7_prepare.tru`) and prepared as his §7.2.1.
+LIAN7_PREPARE = [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")]
+LIAN7_PREPARE_LIAN = [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")]
+
+
+def lian7_oblique_table(title, runs, prepare=LIAN7_PREPARE, **more):
+    """A table of oblique collisions of lian_ch7_collision.tru: D_r against the angle, one
+    curve per (eta, v); `more` adds keys (work, figure)."""
+    return dict({
+        "title": title,
+        "script": "lian_ch7_collision.tru",
+        "prepare": list(prepare),
+        "derive": "approach",
+        "runs": runs,
+        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
+    }, **more)
+
+
 TABLES = {
     "lian6": {
         "figure": True,  # shown in doc/validation.md
@@ -235,89 +253,65 @@ TABLES = {
         "figure": True,  # shown in doc/validation.md
         "title": "Lian ch. 7: two 1000-sphere agglomerates, normal collision",
         "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "prepare": list(LIAN7_PREPARE),
         "derive": "approach",
         "runs": lian7_runs(),
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
-    "lian7_oblique": {
-        "figure": True,  # shown in doc/validation.md
-        "title": "Lian ch. 7: oblique collisions at 2 m/s",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
-        "derive": "approach",
-        "work": "lian7",  # shares the prepared state (and the log directory) with lian7
-        "runs": lian7_oblique_runs(),
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+    "lian7_oblique": lian7_oblique_table(
+        "Lian ch. 7: oblique collisions at 2 m/s", lian7_oblique_runs(),
+        figure=True,  # shown in doc/validation.md
+        work="lian7",  # shares the prepared state (and the log directory) with lian7
+    ),
     # One run of lian7_oblique (60 deg) again, by the build that ran lian7_oblique_lianprep:
     # the control that separates the preparation from the build.
-    "lian7_oblique_rerun": {
-        "title": "Lian ch. 7: oblique collision at 2 m/s, 60 deg, rerun",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
-        "derive": "approach",
-        "runs": [r for r in lian7_oblique_runs() if r["theta"] == "60"],
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+    "lian7_oblique_rerun": lian7_oblique_table(
+        "Lian ch. 7: oblique collision at 2 m/s, 60 deg, rerun",
+        [r for r in lian7_oblique_runs() if r["theta"] == "60"],
+    ),
     # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
-    "lian7_oblique5": {
-        "title": "Lian ch. 7: oblique collisions at 5 m/s",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
-        "derive": "approach",
-        "work": "lian7",
-        "runs": [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75"]],
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+    "lian7_oblique5": lian7_oblique_table(
+        "Lian ch. 7: oblique collisions at 5 m/s",
+        [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75"]],
+        work="lian7",
+    ),
     # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
-    "lian7_oblique_long": {
-        "title": "Lian ch. 7: oblique collisions at 2 m/s, 1.1 ms",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
-        "derive": "approach",
-        "runs": lian7_oblique_long_runs(),
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+    "lian7_oblique_long": lian7_oblique_table(
+        "Lian ch. 7: oblique collisions at 2 m/s, 1.1 ms", lian7_oblique_long_runs(),
+    ),
     # Table 7.1 from agglomerates prepared as Lian's §7.2.1 (issue 53 item 4): friction and
     # no damping but the bridges' viscosity, ~340,000 cycles (scripts/lian_ch7_prepare_lian.tru).
     "lian7_lianprep": {
         "title": "Lian ch. 7, Lian's preparation: two 1000-sphere agglomerates, normal collision",
         "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
+        "prepare": list(LIAN7_PREPARE_LIAN),
         "derive": "approach",
         "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs()],
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
     # The oblique series (lian7_oblique, 442 us) from Lian's preparation (lian7_lianprep's
     # state, issue 53): does D_r = D_o cos^2 Theta close?
-    "lian7_oblique_lianprep": {
-        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
-        "derive": "approach",
+    "lian7_oblique_lianprep": lian7_oblique_table(
+        "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s",
         # (and the normal collision, Theta = 0: D_o of this state, by the same build)
-        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")]
+        [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_runs() if r["theta"] in ("30", "45", "60", "75")]
         + [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "state": "lian_ch7_lian.sav"}],
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+        prepare=LIAN7_PREPARE_LIAN,
+    ),
     # The same for 1.1 ms (as lian7_oblique_long): coalescence or separation.
-    "lian7_oblique_lianprep_long": {
-        "title": "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s, 1.1 ms",
-        "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare_lian.tru", {"state": "lian_ch7_lian.sav"}, "lian_ch7_lian.sav")],
-        "derive": "approach",
+    "lian7_oblique_lianprep_long": lian7_oblique_table(
+        "Lian ch. 7, Lian's preparation: oblique collisions at 2 m/s, 1.1 ms",
         # (and 30 and 45 deg with the speed perturbed by 1e-6: is the outcome one run's chance?)
-        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")]
+        [dict(r, state="lian_ch7_lian.sav") for r in lian7_oblique_long_runs() if r["theta"] in ("30", "45", "60")]
         + [dict(r, state="lian_ch7_lian.sav", v="2.000002") for r in lian7_oblique_long_runs() if r["theta"] in ("45", "30")],
-        "x": "theta", "group": ("eta", "v"), "y": "damage_ratio", "logx": False,
-    },
+        prepare=LIAN7_PREPARE_LIAN,
+    ),
     # Sensitivity of the energy split to S_min: Lian's lower bound R/1000 (the step shrinks
     # with it).
     "lian7_smin": {
         "title": "Lian ch. 7: 2 m/s, S_min = 30 nm",
         "script": "lian_ch7_collision.tru",
-        "prepare": [("lian_ch7_prepare.tru", {"state": "lian_ch7.sav"}, "lian_ch7.sav")],
+        "prepare": list(LIAN7_PREPARE),
         "derive": "approach",
         "work": "lian7",
         # The step is 3.43 ns instead of 9.2: 4 x 32,200 steps = 442 us as the other runs.
