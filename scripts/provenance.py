@@ -106,6 +106,8 @@ def read(path):
 
 
 if __name__ == "__main__":
+    if {"-h", "--help"} & set(sys.argv[1:]):
+        sys.exit(print("usage: scripts/provenance.py FILE ...  (prints what made each data file)"))
     for p in sys.argv[1:]:
         d = read(p)
         print(p + ": " + (json.dumps(d) if d else "none"))

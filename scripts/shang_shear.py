@@ -104,4 +104,6 @@ def draw(rows):
     )
 
 if __name__ == "__main__":
+    if {"-h", "--help"} & set(sys.argv[1:]):
+        sys.exit(print(__doc__.strip()))  # the usage above, without running anything
     main()

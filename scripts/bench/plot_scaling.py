@@ -81,4 +81,6 @@ def draw(rows, out):
                     series, "number of particles N", "time per particle-step [ns]", logx=True)
 
 if __name__ == "__main__":
+    if {"-h", "--help"} & set(sys.argv[1:]):
+        sys.exit(print(__doc__.strip()))  # the usage above, without running anything
     main()
