@@ -344,14 +344,20 @@ impl Scene {
     }
 
     /// Books `½Δt · d_power`, the change of the work in flight a command made
-    /// ([`Scene::booked_edit`]), with the scene's FRAction step (`params::build`; under
-    /// `FRAction AUTO` the last Cycle's step may be shorter).
+    /// ([`Scene::booked_edit`]), with the step the last Cycle's forces were made with, the one
+    /// `cycle::in_flight` used: under `FRAction AUTO` the step kept since its last rebuild,
+    /// else the FRAction step (`params::build`; a FRAction changed between that Cycle and the
+    /// command is taken as the step).
     fn book_flight_change(&mut self, d_power: f64) {
         if d_power == 0.0 || !d_power.is_finite() {
             return;
         }
         if let Ok(model) = crate::sim::params::build(self) {
-            let w = 0.5 * model.dt * d_power;
+            let dt = match self.settings.auto_step {
+                Some(kept) if kept > 0.0 => kept,
+                _ => model.dt,
+            };
+            let w = 0.5 * dt * d_power;
             if w.is_finite() {
                 self.ledger.commands += w;
                 if self.carried.in_flight_end != 0.0 {
