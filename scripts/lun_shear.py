@@ -109,6 +109,14 @@ def option(argv, name, default):
     return default
 
 
+def no_other_options(argv):
+    """Stops with a message naming every option left in argv once the known ones are taken
+    (`option` removes them): a mistyped option must not run the defaults."""
+    unknown = [a for a in argv if a.startswith("--")]
+    if unknown:
+        sys.exit(f"unknown option(s): {' '.join(unknown)} (--help lists the options)")
+
+
 def main():
     argv = sys.argv[1:]
     strain = option(argv, "--strain", STRAIN)
@@ -120,6 +128,7 @@ def main():
         with open(os.path.join(ROOT, "doc", "data", "lun_shear.csv")) as fh:
             draw([{k: float(v) for k, v in r.items()} for r in csv.DictReader(fh)])
         return
+    no_other_options([x for x in argv if x != "--chart-only"])
     phis = [float(x) for x in argv] or PHIS
     documented = (strain, npart, seed, phis) == (STRAIN, NPART, 0, PHIS)
     exe = run_table.trubal_binary()

@@ -82,7 +82,7 @@ sys.path.insert(0, HERE)
 import provenance  # noqa: E402
 import run_table  # noqa: E402
 import trubal_session  # noqa: E402
-from lun_shear import option as arg  # noqa: E402
+from lun_shear import no_other_options, option as arg  # noqa: E402
 
 # Pasha 2013 Table 5.1: diameter (mm), number frequency (%).
 TABLE_5_1 = [(0.59, 0.33), (0.72, 3.84), (0.81, 11.24), (0.90, 21.00), (1.00, 27.75),
@@ -214,6 +214,7 @@ def main(argv=None):
     cut = arg(argv, "--cut", 0.0) * 1e-3
     wall_mu = arg(argv, "--wall-mu", 0.0)
     settle_cap_opt = arg(argv, "--settle-cap", 0)
+    no_other_options(argv)
     if from_unloaded and from_settled:
         sys.exit("--from and --from-settled exclude each other")
     if cut > 0 and not from_settled:

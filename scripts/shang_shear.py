@@ -69,6 +69,7 @@ def main():
     sweep = "--sweep" in argv
     record = "--record" in argv
     argv = [a for a in argv if a not in ("--sweep", "--record")]
+    lun_shear.no_other_options(argv)
     rates = [float(a) for a in argv] or ([12000, 8000, 6000, 4500, 3000] if sweep else [12000])
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "shang_shear")

@@ -22,7 +22,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import provenance  # noqa: E402
 import run_table  # noqa: E402
-from lun_shear import option as arg  # noqa: E402
+from lun_shear import no_other_options, option as arg  # noqa: E402
 
 R_MEAN = 1.1e-4
 E, NU, RHO = 1e9, 0.3, 2600.0
@@ -95,6 +95,7 @@ def main():
         return
     opts = {k: arg(argv, "--" + k, v) for k, v in OPTIONS.items()}
     tag = arg(argv, "--tag", "")
+    no_other_options(argv)
     exe = run_table.trubal_binary()
     work = os.path.join(ROOT, "target", "triaxial")
     os.makedirs(work, exist_ok=True)

@@ -21,7 +21,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.dirname(HERE))
 import run_table  # noqa: E402
-from lun_shear import option as arg  # noqa: E402
+from lun_shear import no_other_options, option as arg  # noqa: E402
 
 
 def session(work):
@@ -58,6 +58,7 @@ def main():
     n = arg(argv, "--n", 4000)
     d = arg(argv, "--d", 16.0) * 1e-3
     v = arg(argv, "--v", 0.15)
+    no_other_options(argv)
     work = os.path.join(ROOT, "target", "pasha_indent")
     out = {}
     for state in ["none", "held", "moving"]:
