@@ -437,6 +437,13 @@ impl ContactStore {
     pub fn iter(&self) -> impl ExactSizeIterator<Item = PairView<'_>> + '_ {
         (0..self.pairs.len()).map(|k| self.pair(k))
     }
+    /// Whether a stored state's overlap exceeds `limit`: every state of every block (a
+    /// superset of the pairs' states), read without a pair, radius or row lookup.
+    pub fn any_overlap_above(&self, limit: f64) -> bool {
+        self.blocks
+            .iter()
+            .any(|b| b.iter().any(|s| s.overlap > limit))
+    }
     /// Calls `f` on every pair that has a state, in pair order, with the state to change.
     pub fn for_each_state_mut(&mut self, mut f: impl FnMut(&Pair, &mut ContactState)) {
         for (k, p) in self.pairs.iter().enumerate() {

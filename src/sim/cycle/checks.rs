@@ -539,7 +539,7 @@ pub(super) fn after_step(
         }
     } else if watch.moved >= WATCH_FRACTION * rmin {
         watch.moved = 0.0;
-        if let Some(e) = deep_contacts(scene, dt) {
+        if let Some(e) = deep_contacts(scene, dt, rmin) {
             return Err(e);
         }
     }
@@ -635,8 +635,13 @@ fn pair_through(scene: &Scene, (i, j): (usize, usize), closest: f64, dt: f64) ->
     }
 }
 
-/// Stored contacts whose overlap exceeds the smaller radius.
-fn deep_contacts(scene: &Scene, dt: f64) -> Option<Blowup> {
+/// Stored contacts whose overlap exceeds the smaller radius. Such an overlap exceeds
+/// `rmin` (no larger than any radius: `ri.min(rj) ≥ rmin`, and `min` passes a NaN over),
+/// so the pairs are looked at only when a state's overlap does.
+fn deep_contacts(scene: &Scene, dt: f64, rmin: f64) -> Option<Blowup> {
+    if !scene.contacts.any_overlap_above(rmin) {
+        return None;
+    }
     let p = &scene.particles;
     scene.contacts.iter().find_map(|c| {
         let (i, j) = (c.i as usize, c.j as usize);

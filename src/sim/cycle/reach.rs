@@ -72,7 +72,7 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
     #[cfg(target_arch = "x86_64")]
     let mask = if vector {
         // SAFETY: `vector` says the processor has AVX2.
-        unsafe { mask_avx2(hots, c, radius, (ur, allow)) }
+        unsafe { four_lanes::<UNI>(hots, c, (ur, allow)) }
     } else {
         scalar()
     };
@@ -82,7 +82,9 @@ pub(super) fn evaluated<const ADH: bool, const LIQ: bool, const UNI: bool>(
         scalar()
     };
     let (mask, zone) = mask;
-    // Within the dashpot's margin only the pairs that may approach within half a step.
+    // Within the dashpot's margin only the pairs that may approach within half a step (the
+    // four lanes have tested their own candidates of the zone unless the scene has a
+    // periodic axis or a deforming cell).
     let mask = if zone != 0 {
         mask | approaching(hots, c, zone, (ur, allow), radius)
     } else {
@@ -136,16 +138,31 @@ pub(super) fn largest(ext: &[f64]) -> f64 {
     ext.iter().fold(0.0f64, |m, &e| if e > m { e } else { m })
 }
 
+/// Whether a candidate beyond the reach `r` (times `allow`) lies within its own zone
+/// `r + e` (`e`: the sum of its particles' margins `PairCtx::ext`, as [`reach2`] tests it)
+/// and may approach within half a step (`half` = Δt/2): the kernel treats a pair as
+/// approaching when `v_n < 0` and `gap < −v_n Δt/2` (`interact`). With `d` the separation,
+/// `R` the sum of the radii, `e` the margins and `dv` the relative velocity of the centres,
+/// `gap |d| = d² − R |d|`, and for `R ≤ |d| ≤ R + e`, `gap |d| ≥ R (d² − R²)/(2R + e)`; so a
+/// pair with `R (d² − R²) ≥ −(dv·d) Δt/2 (2R + e)` (plus a round-off allowance: the
+/// kernel's `v_n` has the spins' part too, zero up to round-off) cannot be approaching and
+/// is left out. No square root; `dv` is read only for a candidate in its own zone.
+#[inline(always)]
+fn may_approach(d: Vec3, dv: impl FnOnce() -> Vec3, r: f64, e: f64, half: f64) -> bool {
+    let z = r + e;
+    if !(d.norm_squared() <= z * z) {
+        return false;
+    }
+    let dv = dv();
+    let lhs = r * (d.norm_squared() - r * r);
+    let rhs = -dv.dot(&d) * half * (2.0 * r + e);
+    lhs < rhs + 1e-9 * r * r * r
+}
+
 /// Of the candidates in the dashpot's margin (bits of `zone`: beyond the reach, and within
 /// it plus the largest margin of all, `PairCtx::ext_max`, or within it plus the pair's
-/// particles' margins `PairCtx::ext`: here the pair's own margins are tested, as
-/// [`reach2`] tests them), the ones that may approach within half a step, as bits: the kernel treats a pair as approaching when `v_n < 0` and
-/// `gap < −v_n Δt/2` (`interact`). With `d` the separation, `R` the sum of the radii, `e`
-/// the margins and `dv` the relative velocity of the centres, `gap |d| = d² − R |d|`, and
-/// for `R ≤ |d| ≤ R + e`, `gap |d| ≥ R (d² − R²)/(2R + e)`; so a pair with
-/// `R (d² − R²) ≥ −(dv·d) Δt/2 (2R + e)` (plus a round-off allowance: the kernel's `v_n` has
-/// the spins' part too, zero up to round-off) cannot be approaching and is left out. No
-/// square root; the rare candidates in the margin only.
+/// particles' margins), the ones that may approach within half a step
+/// ([`may_approach`]), as bits. The rare candidates in the margin only.
 #[inline(never)]
 fn approaching(
     hots: &[HotPair],
@@ -169,19 +186,39 @@ fn approaching(
             None => ur + ur,
         } * allow;
         let e = ext[i / EXT_GROUP] + ext[j / EXT_GROUP];
-        // The pair's own zone, as `reach2` (the four-lane test took the largest margin).
-        let z = r + e;
-        if !(d.norm_squared() <= z * z) {
-            continue;
-        }
-        let dv = match c.cell {
+        let dv = || match c.cell {
             Some(cell) => c.vel[j] - c.vel[i] + cell.field(&d),
             None => c.vel[j] - c.vel[i],
         };
-        let lhs = r * (d.norm_squared() - r * r);
-        let rhs = -dv.dot(&d) * half * (2.0 * r + e);
-        if lhs < rhs + 1e-9 * r * r * r {
+        if may_approach(d, dv, r, e, half) {
             keep |= 1 << k;
+        }
+    }
+    keep
+}
+
+/// [`may_approach`] for the candidates of a group of four in the zone (bits of `zone`),
+/// in the four-lane test of a scene without a periodic axis or a deforming cell: the
+/// separation `pos[j] − pos[i]` (as [`separation`] gives it), `reach` each lane's.
+#[inline(always)]
+fn approaching_lanes(
+    four: &[HotPair],
+    zone: u32,
+    c: &PairCtx,
+    ext: &[f64],
+    reach: [f64; 4],
+) -> u32 {
+    let half = 0.5 * c.laws.dt;
+    let mut keep = 0u32;
+    let mut bits = zone;
+    while bits != 0 {
+        let l = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let (i, j) = (four[l].i as usize, four[l].j as usize);
+        let d = c.pos[j] - c.pos[i];
+        let e = ext[i / EXT_GROUP] + ext[j / EXT_GROUP];
+        if may_approach(d, || c.vel[j] - c.vel[i], reach[l], e, half) {
+            keep |= 1 << l;
         }
     }
     keep
@@ -211,7 +248,6 @@ fn reach2(
 /// The periodic axes of the four-lane reach test.
 #[cfg(target_arch = "x86_64")]
 struct Images {
-    any: bool,
     periodic: [bool; 3],
     size: [f64; 3],
     shift: f64,
@@ -221,7 +257,6 @@ struct Images {
 impl Images {
     fn of(c: &PairCtx) -> Images {
         Images {
-            any: c.periodic != [false; 3],
             periodic: c.periodic,
             size: c.size,
             shift: c.shift,
@@ -284,18 +319,59 @@ fn mask_scalar<const PER: bool>(
     (mask, zone)
 }
 
-/// [`mask_scalar`] without a periodic axis, four candidates at a time.
+/// The four-lane test without the dashpot's margin.
+const NO_ZONE: u8 = 0;
+/// The four-lane test returns its candidates in the dashpot's zone as bits, for
+/// [`approaching`] (a periodic axis or a deforming cell).
+const ZONE_BITS: u8 = 1;
+/// The four-lane test keeps its candidates of the zone that may approach
+/// ([`approaching_lanes`]).
+const ZONE_HERE: u8 = 2;
+
+/// [`mask_avx2`] made for the scene (radii, periodic axes, margins), so that its loop
+/// tests none of them per group.
+///
+/// # Safety
+/// The processor has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn four_lanes<const UNI: bool>(
+    hots: &[HotPair],
+    c: &PairCtx,
+    ur_allow: (f64, f64),
+) -> (u32, u32) {
+    let per = c.periodic != [false; 3];
+    let zone = match c.ext {
+        None => NO_ZONE,
+        Some(_) if per || c.cell.is_some() => ZONE_BITS,
+        Some(_) => ZONE_HERE,
+    };
+    // SAFETY: the caller's contract (AVX2).
+    unsafe {
+        match (per, zone) {
+            (false, NO_ZONE) => mask_avx2::<UNI, false, NO_ZONE>(hots, c, ur_allow),
+            (false, ZONE_BITS) => mask_avx2::<UNI, false, ZONE_BITS>(hots, c, ur_allow),
+            (false, _) => mask_avx2::<UNI, false, ZONE_HERE>(hots, c, ur_allow),
+            (true, NO_ZONE) => mask_avx2::<UNI, true, NO_ZONE>(hots, c, ur_allow),
+            (true, _) => mask_avx2::<UNI, true, ZONE_BITS>(hots, c, ur_allow),
+        }
+    }
+}
+
+/// [`mask_scalar`] four candidates at a time (`UNI`: every radius the common one; `PER`:
+/// the scene has a periodic axis; `ZONE`: what is done with the dashpot's zone), and with
+/// `ZONE_HERE` the candidates of the zone that may approach within half a step.
 ///
 /// # Safety
 /// The processor has AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn mask_avx2(
+unsafe fn mask_avx2<const UNI: bool, const PER: bool, const ZONE: u8>(
     hots: &[HotPair],
     c: &PairCtx,
-    radius: Option<&[f64]>,
     ur_allow: (f64, f64),
 ) -> (u32, u32) {
+    let radius = (!UNI).then_some(c.radius);
     let (base, len) = c.pos.parts();
     let base = base as *const f64;
     // x, y, z of a particle; the fourth lane is not read (so no neighbour's element is
@@ -305,8 +381,9 @@ unsafe fn mask_avx2(
     let uni_reach = (ur + ur) * allow;
     let uni_r2 = _mm256_set1_pd(uni_reach * uni_reach);
     // The dashpot's zone with the largest margin of all, for every pair: it holds every
-    // pair's own zone (`reach + (e_i + e_j)`, rounding is monotonic), which `approaching`
-    // then tests for the few candidates in it; so no margin is read per candidate here.
+    // pair's own zone (`reach + (e_i + e_j)`, rounding is monotonic), which
+    // `may_approach` then tests for the few candidates in it; so no margin is read per
+    // candidate here.
     let ext2 = c.ext_max + c.ext_max;
     let uni_zone = uni_reach + ext2;
     let uni_z2 = _mm256_set1_pd(uni_zone * uni_zone);
@@ -314,6 +391,8 @@ unsafe fn mask_avx2(
     let mut mask = 0u32;
     let mut zones = 0u32;
     let per = Images::of(c);
+    // (`ZONE_HERE` is chosen only with margins.)
+    let ext = c.ext.unwrap_or_default();
     for (g, four) in hots[..full].chunks_exact(4).enumerate() {
         let mut d = [_mm256_setzero_pd(); 4];
         let mut live = 0u32;
@@ -332,11 +411,11 @@ unsafe fn mask_avx2(
             };
             d[l] = _mm256_sub_pd(b, a);
             live |= (h.live as u32) << l;
-            if let Some(r) = radius {
-                reach[l] = (r[i] + r[j]) * allow;
+            if !UNI {
+                reach[l] = (c.radius[i] + c.radius[j]) * allow;
             }
         }
-        let (r2, z2) = if radius.is_some() {
+        let (r2, z2) = if !UNI {
             let r = _mm256_set_pd(reach[3], reach[2], reach[1], reach[0]);
             let z = _mm256_add_pd(r, _mm256_set1_pd(ext2));
             (_mm256_mul_pd(r, r), _mm256_mul_pd(z, z))
@@ -355,11 +434,7 @@ unsafe fn mask_avx2(
         // distance to the bit, but for a separation of exactly half the cell, where the two
         // images are equally far (rounding half to even here, away from zero there: the
         // sign of the component differs, its square does not).
-        let (x, y, z) = if per.any {
-            per.nearest(x, y, z)
-        } else {
-            (x, y, z)
-        };
+        let (x, y, z) = if PER { per.nearest(x, y, z) } else { (x, y, z) };
         // (x² + y²) + z², as nalgebra's norm_squared; no fused multiply-add.
         let d2 = _mm256_add_pd(
             _mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)),
@@ -368,12 +443,18 @@ unsafe fn mask_avx2(
         // !(d² > reach²): true for NaN too, as in the scalar test.
         let near = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_NGT_UQ>(d2, r2)) as u32 | live;
         mask |= near << (4 * g);
-        if c.ext.is_some() {
+        if ZONE != NO_ZONE {
             let inside = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, z2)) as u32;
-            zones |= (inside & !near & 0xf) << (4 * g);
+            let zone = inside & !near & 0xf;
+            if ZONE == ZONE_BITS {
+                zones |= zone << (4 * g);
+            } else if zone != 0 {
+                let reach = if UNI { [uni_reach; 4] } else { reach };
+                mask |= approaching_lanes(four, zone, c, ext, reach) << (4 * g);
+            }
         }
     }
-    let (rest, rest_zone) = if per.any {
+    let (rest, rest_zone) = if PER {
         mask_scalar::<true>(&hots[full..], c, radius, ur_allow)
     } else {
         mask_scalar::<false>(&hots[full..], c, radius, ur_allow)
