@@ -210,6 +210,7 @@ TABLES = {
                  for wb in ("off", "on")],
         "x": "v", "group": ("eta", "wb"), "y": "damage_ratio", "logx": True,
         "progress": True,  # also doc/data/lian6_rest_progress.csv: every check in time
+        "fit": False,  # (one velocity: no threshold fit)
     },
     # The worst case of lian6_debris alone (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space), the
     # same run drawing the pictures of doc/validation.md at its end (`pictures` below).
@@ -238,6 +239,19 @@ TABLES = {
         "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "frac": "0.4", "n": "12500", "pvol": "0.2"}
                  for v in ("2", "2.000002", "1.999998")],
         "x": "v", "group": ("eta", "pvol"), "y": "damage_ratio", "logx": True,
+        "fit": False,
+    },
+    # Lian's way (lian6_rest, no wall bridges, counted late) with the literal bridge volume.
+    "lian6_volume_rest": {
+        "title": "Lian ch. 6, twice the bridge volume, no wall bridges, counted at rest: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_rest.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol="0.2", state="lian_ch6_big_pvol0.2.sav"),
+                     "lian_ch6_big_pvol0.2.sav")],
+        "derive": "wall",
+        "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "wb": "off", "frac": "0.4", "n": "6250",
+                  "pvol": "0.2"} for v in ("2", "2.000002", "1.999998")],
+        "x": "v", "group": ("eta", "pvol"), "y": "damage_ratio", "logx": True,
+        "progress": True,
         "fit": False,
     },
     # The worst case (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space of lian6_debris) with the
