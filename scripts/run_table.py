@@ -210,6 +210,49 @@ TABLES = {
                  for wb in ("off", "on")],
         "x": "v", "group": ("eta", "wb"), "y": "damage_ratio", "logx": True,
         "progress": True,  # also doc/data/lian6_rest_progress.csv: every check in time
+        "fit": False,  # (one velocity: no threshold fit)
+    },
+    # The worst case of lian6_debris alone (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space), the
+    # same run drawing the pictures of doc/validation.md at its end (`pictures` below).
+    "lian6_worst": {
+        "title": "Lian ch. 6, 6.2 mm work-space, the worst case: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "derive": "wall",
+        "runs": [dict(r, pictures="1") for r in lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N)],
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
+        "fit": False,
+        # PLot's files of the run (plot_cNNNNNNNN_ITEMS.png, the last cycle) copied to
+        # doc/img/PREFIX_NAME.png; doc/data/TABLE_pictures.txt names the run and the files.
+        "pictures": ("validation_lian6_v2_eta0", {"lcluster": "lcluster", "lcnd": "lcnd",
+                                                  "bou_rdisp": "rdisp", "bou_lcluster": "lcluster_top"}),
+    },
+    # The worst case with Lian's App. B bridge volume read literally: "pvol % of the volume of
+    # the two spheres", twice ours (pvol = 0.2 for his 0.1), in the preparation and the impact,
+    # wall bridges as lian6_debris; the speed perturbed by 1e-6 for one run's scatter.
+    "lian6_volume": {
+        "title": "Lian ch. 6, 6.2 mm work-space, twice the bridge volume: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol="0.2", state="lian_ch6_big_pvol0.2.sav"),
+                     "lian_ch6_big_pvol0.2.sav")],
+        "derive": "wall",
+        "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "frac": "0.4", "n": "12500", "pvol": "0.2"}
+                 for v in ("2", "2.000002", "1.999998")],
+        "x": "v", "group": ("eta", "pvol"), "y": "damage_ratio", "logx": True,
+        "fit": False,
+    },
+    # Lian's way (lian6_rest, no wall bridges, counted late) with the literal bridge volume.
+    "lian6_volume_rest": {
+        "title": "Lian ch. 6, twice the bridge volume, no wall bridges, counted at rest: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_rest.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol="0.2", state="lian_ch6_big_pvol0.2.sav"),
+                     "lian_ch6_big_pvol0.2.sav")],
+        "derive": "wall",
+        "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "wb": "off", "frac": "0.4", "n": "6250",
+                  "pvol": "0.2"} for v in ("2", "2.000002", "1.999998")],
+        "x": "v", "group": ("eta", "pvol"), "y": "damage_ratio", "logx": True,
+        "progress": True,
+        "fit": False,
     },
     # The worst case (eta = 0, 2 m/s, 640 us, the 6.2 mm work-space of lian6_debris) with the
     # wall's friction as the one factor changed (issue 53): Lian's wall has the particles'
@@ -895,6 +938,34 @@ def draw_table(name, t, work):
     return png
 
 
+def copy_pictures(name, t, work, runs, exe):
+    """The pictures a table's run drew (`pictures` in TABLES: PREFIX and {ITEMS: NAME}):
+    PLot's last plot_cNNNNNNNN_ITEMS.png of each finished run that asked for them
+    (`pictures` = 1) copied to doc/img/PREFIX_NAME.png, and doc/data/TABLE_pictures.txt naming
+    the run, its files and their cycle (with its provenance)."""
+    prefix, items = t["pictures"]
+    lines = []
+    for r in runs:
+        if r.get("pictures") != "1" or finished(work, t["script"], r) is None:
+            continue
+        rundir = os.path.join(sweep_dir(work, t["script"]), "runs", run_name(r))
+        for item, suffix in items.items():
+            made = sorted(f for f in os.listdir(rundir)
+                          if re.fullmatch(r"plot_c\d{8}_" + item + r"\.png", f))
+            if not made:
+                print(f"  (no {item} picture in {rundir})")
+                continue
+            dest = f"{prefix}_{suffix}.png"
+            shutil.copyfile(os.path.join(rundir, made[-1]), os.path.join(ROOT, "doc", "img", dest))
+            lines.append(f"doc/img/{dest}: {made[-1]} of run {run_name(r)} ({t['script']})")
+    if lines:
+        out = os.path.join(DATA, name + "_pictures.txt")
+        with open(out, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        provenance.record(out, exe)
+        print("wrote", out)
+
+
 def fit_thresholds(series, lo=0.02, hi=0.95):
     """Lian's D_r = log10(v / v_o) per series: v_o with the slope fixed at 1 (mean of
     log10 v - D_r), and a free least-squares line D_r = s log10(v / v_o'), over the points
@@ -1011,6 +1082,8 @@ def main():
             w.writerows(steps)
         provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
         print("wrote", out)
+    if t.get("pictures"):
+        copy_pictures(a.table, t, work, runs, exe)
     if not rows:
         return
     keys = []
