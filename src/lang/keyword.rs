@@ -72,15 +72,29 @@ impl MatchError {
 
 /// Finds the keyword a word stands for.
 pub fn match_keyword<K: Copy>(word: &str, set: &[Keyword<K>]) -> Result<K, MatchError> {
-    let w = word.to_ascii_lowercase();
-    if let Some(k) = set.iter().find(|k| k.name.eq_ignore_ascii_case(&w)) {
+    if let Some(k) = set.iter().find(|k| k.name.eq_ignore_ascii_case(word)) {
         return Ok(k.value);
     }
+    // The one keyword the word abbreviates, found without allocating; anything else (no
+    // match, several, too short) is sorted out below.
+    let mut only = None;
+    for k in set {
+        if abbreviates(word, k.name) && word.len() >= minimal(k.name).len() {
+            if only.is_some() {
+                only = None;
+                break;
+            }
+            only = Some(k.value);
+        }
+    }
+    if let Some(v) = only {
+        return Ok(v);
+    }
+    let w = word.to_ascii_lowercase();
     let mut full = Vec::new();
     let mut short = Vec::new();
     for (i, k) in set.iter().enumerate() {
-        let name = k.name.to_ascii_lowercase();
-        if name.starts_with(&w) {
+        if abbreviates(&w, k.name) {
             if w.len() >= minimal(k.name).len() {
                 full.push(i);
             } else {
@@ -94,6 +108,14 @@ pub fn match_keyword<K: Copy>(word: &str, set: &[Keyword<K>]) -> Result<K, Match
         0 => Err(MatchError::Unknown(closest(&w, set))),
         _ => Err(MatchError::Ambiguous(full)),
     }
+}
+
+/// Whether `word` is a case-insensitive prefix of `name` (ASCII case folding, byte by byte:
+/// the same as comparing the two lower-cased strings).
+fn abbreviates(word: &str, name: &str) -> bool {
+    name.as_bytes()
+        .get(..word.len())
+        .is_some_and(|head| head.eq_ignore_ascii_case(word.as_bytes()))
 }
 
 /// The keyword a mistyped word most likely meant: among the keywords whose shortest form the
