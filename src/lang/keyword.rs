@@ -220,6 +220,41 @@ mod tests {
         );
     }
 
+    /// The rule of Lian 1994 Appendix B.1 written out plainly (lower-cased copies, every
+    /// keyword looked at): the allocation-free matcher must give what it gives for every
+    /// prefix, in three cases, of every command word, and for words that match nothing.
+    #[test]
+    fn matcher_agrees_with_the_rule_on_the_command_table() {
+        fn rule(word: &str, set: &[Keyword<usize>]) -> Option<usize> {
+            let w = word.to_lowercase();
+            if let Some(k) = set.iter().find(|k| k.name.to_lowercase() == w) {
+                return Some(k.value);
+            }
+            let full: Vec<usize> = set
+                .iter()
+                .filter(|k| {
+                    let n = k.name.to_lowercase();
+                    let upper = k.name.chars().take_while(|c| !c.is_lowercase()).count();
+                    n.starts_with(&w) && w.chars().count() >= upper.max(1)
+                })
+                .map(|k| k.value)
+                .collect();
+            (full.len() == 1).then(|| full[0])
+        }
+        let set = crate::lang::table::command_keywords();
+        let mut words = vec!["".to_string(), "zz".into(), "é".into(), "cré".into()];
+        for k in set {
+            for n in 1..=k.name.len() {
+                let p = &k.name[..n];
+                words.extend([p.to_string(), p.to_lowercase(), p.to_uppercase()]);
+            }
+            words.push(format!("{}x", k.name));
+        }
+        for w in &words {
+            assert_eq!(match_keyword(w, set).ok(), rule(w, set), "`{w}`");
+        }
+    }
+
     #[test]
     fn suggestions() {
         match match_keyword("prnt", SET) {

@@ -176,6 +176,31 @@ mod tests {
     }
 
     #[test]
+    fn first_token_is_the_first_of_the_line() {
+        for line in [
+            "",
+            "   ",
+            "; comment",
+            "  cr 1 2 3",
+            ",(/ if x > 1",
+            "[r/2] 1",
+            "\"a/b c\" d",
+            "end# c",
+            "\"unclosed",
+        ] {
+            assert_eq!(
+                first_token(line),
+                tokenize(line).into_iter().next(),
+                "{line:?}"
+            );
+        }
+        assert_eq!(
+            first_token("  cr 1").map(|t| (t.start, t.end)),
+            Some((2, 4))
+        );
+    }
+
+    #[test]
     fn numbers() {
         assert_eq!(parse_real("1"), Some(1.0));
         assert_eq!(parse_real("-2e-7"), Some(-2e-7));
@@ -186,6 +211,8 @@ mod tests {
         assert_eq!(parse_real("inf"), None);
         assert_eq!(parse_real("1e999"), None);
         assert_eq!(parse_real("1..2"), None);
+        assert_eq!(parse_real("2D+2"), Some(200.0));
+        assert_eq!(parse_real("d"), None);
     }
 
     #[test]
