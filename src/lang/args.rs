@@ -100,7 +100,11 @@ impl<'a> Args<'a> {
     /// A number's place read as an expression, not evaluated: a number, a word without
     /// separators (`2*r`, `ball_vz(3)` is not: its brackets separate), or `[...]`.
     pub fn expr(&mut self, name: &str) -> Result<Expr, ParseError> {
-        let t = self.next_tok(&format!("a number `{name}`"))?;
+        // (The message is formatted only when the number is missing.)
+        let Some(t) = self.toks.get(self.pos) else {
+            return Err(self.missing(&format!("a number `{name}`")));
+        };
+        self.pos += 1;
         if let Some(v) = parse_real(&t.text) {
             return Ok(Expr {
                 kind: Kind::Num(v),

@@ -18,9 +18,9 @@ pub fn help_index() -> String {
 /// (`help set outdir`, `help print energy`), the part of the help about that item.
 pub fn help_for(word: &str, item: Option<&str>) -> Result<String, String> {
     let keys = command_keywords();
-    let d = match super::table::find_command(word, &keys) {
+    let d = match super::table::find_command(word, keys) {
         Ok(i) => &COMMANDS[i],
-        Err(e) => return Err(e.describe(word, "command", &keys)),
+        Err(e) => return Err(e.describe(word, "command", keys)),
     };
     let Some(item) = item else {
         return Ok(help_entry(d));

@@ -72,15 +72,29 @@ impl MatchError {
 
 /// Finds the keyword a word stands for.
 pub fn match_keyword<K: Copy>(word: &str, set: &[Keyword<K>]) -> Result<K, MatchError> {
-    let w = word.to_ascii_lowercase();
-    if let Some(k) = set.iter().find(|k| k.name.eq_ignore_ascii_case(&w)) {
+    if let Some(k) = set.iter().find(|k| k.name.eq_ignore_ascii_case(word)) {
         return Ok(k.value);
     }
+    // The one keyword the word abbreviates, found without allocating; anything else (no
+    // match, several, too short) is sorted out below.
+    let mut only = None;
+    for k in set {
+        if abbreviates(word, k.name) && word.len() >= minimal(k.name).len() {
+            if only.is_some() {
+                only = None;
+                break;
+            }
+            only = Some(k.value);
+        }
+    }
+    if let Some(v) = only {
+        return Ok(v);
+    }
+    let w = word.to_ascii_lowercase();
     let mut full = Vec::new();
     let mut short = Vec::new();
     for (i, k) in set.iter().enumerate() {
-        let name = k.name.to_ascii_lowercase();
-        if name.starts_with(&w) {
+        if abbreviates(&w, k.name) {
             if w.len() >= minimal(k.name).len() {
                 full.push(i);
             } else {
@@ -94,6 +108,14 @@ pub fn match_keyword<K: Copy>(word: &str, set: &[Keyword<K>]) -> Result<K, Match
         0 => Err(MatchError::Unknown(closest(&w, set))),
         _ => Err(MatchError::Ambiguous(full)),
     }
+}
+
+/// Whether `word` is a case-insensitive prefix of `name` (ASCII case folding, byte by byte:
+/// the same as comparing the two lower-cased strings).
+fn abbreviates(word: &str, name: &str) -> bool {
+    name.as_bytes()
+        .get(..word.len())
+        .is_some_and(|head| head.eq_ignore_ascii_case(word.as_bytes()))
 }
 
 /// The keyword a mistyped word most likely meant: among the keywords whose shortest form the
@@ -196,6 +218,41 @@ mod tests {
             match_keyword("x", AMB),
             Err(MatchError::Ambiguous(vec![0, 1]))
         );
+    }
+
+    /// The rule of Lian 1994 Appendix B.1 written out plainly (lower-cased copies, every
+    /// keyword looked at): the allocation-free matcher must give what it gives for every
+    /// prefix, in three cases, of every command word, and for words that match nothing.
+    #[test]
+    fn matcher_agrees_with_the_rule_on_the_command_table() {
+        fn rule(word: &str, set: &[Keyword<usize>]) -> Option<usize> {
+            let w = word.to_lowercase();
+            if let Some(k) = set.iter().find(|k| k.name.to_lowercase() == w) {
+                return Some(k.value);
+            }
+            let full: Vec<usize> = set
+                .iter()
+                .filter(|k| {
+                    let n = k.name.to_lowercase();
+                    let upper = k.name.chars().take_while(|c| !c.is_lowercase()).count();
+                    n.starts_with(&w) && w.chars().count() >= upper.max(1)
+                })
+                .map(|k| k.value)
+                .collect();
+            (full.len() == 1).then(|| full[0])
+        }
+        let set = crate::lang::table::command_keywords();
+        let mut words = vec!["".to_string(), "zz".into(), "é".into(), "cré".into()];
+        for k in set {
+            for n in 1..=k.name.len() {
+                let p = &k.name[..n];
+                words.extend([p.to_string(), p.to_lowercase(), p.to_uppercase()]);
+            }
+            words.push(format!("{}x", k.name));
+        }
+        for w in &words {
+            assert_eq!(match_keyword(w, set).ok(), rule(w, set), "`{w}`");
+        }
     }
 
     #[test]

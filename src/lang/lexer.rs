@@ -49,69 +49,78 @@ fn comment(input: &str) -> IResult<&str, &str> {
 pub fn tokenize(line: &str) -> Vec<Token> {
     let mut out = Vec::new();
     let mut input = line;
-    while let Ok((after_sep, _)) = separators(input) {
-        input = after_sep;
-        if input.is_empty() {
-            break;
-        }
-        if input.starts_with(is_comment) {
-            let _ = comment(input);
-            break;
-        }
-        if input.starts_with('[') {
-            // An expression in square brackets is one word, separators and all
-            // (`rad [r/2] 1`); an unclosed one runs to the end of the line (or its comment).
-            let start = line.len() - input.len();
-            let len = match input.find(']') {
-                Some(k) => k + 1,
-                None => input.find(is_comment).unwrap_or(input.len()),
-            };
-            out.push(Token {
-                text: input[..len].to_string(),
-                start,
-                end: start + len,
-            });
-            input = &input[len..];
-            continue;
-        }
-        if let Some(rest) = input.strip_prefix('"') {
-            // A quoted word: everything up to the closing quote (file names with `/`).
-            let start = line.len() - input.len();
-            let (text, after) = match rest.find('"') {
-                Some(k) => (&rest[..k], &rest[k + 1..]),
-                None => (rest, ""),
-            };
-            out.push(Token {
-                text: text.to_string(),
-                start,
-                end: line.len() - after.len(),
-            });
-            input = after;
-            continue;
-        }
-        match word(input) {
-            Ok((after, w)) => {
-                let start = line.len() - input.len();
-                out.push(Token {
-                    text: w.to_string(),
-                    start,
-                    end: start + w.len(),
-                });
-                input = after;
-            }
-            Err(_) => break,
-        }
+    while let Some((t, after)) = next_token(line, input) {
+        out.push(t);
+        input = after;
     }
     out
+}
+
+/// The first token of a line (what [`tokenize`] gives first), without reading the rest.
+pub fn first_token(line: &str) -> Option<Token> {
+    next_token(line, line).map(|(t, _)| t)
+}
+
+/// The token that starts `input` (the rest of `line`) after its separators, and what
+/// follows it; `None` at the end of the line or at a comment.
+fn next_token<'a>(line: &str, input: &'a str) -> Option<(Token, &'a str)> {
+    let (input, _) = separators(input).ok()?;
+    if input.is_empty() {
+        return None;
+    }
+    if input.starts_with(is_comment) {
+        let _ = comment(input);
+        return None;
+    }
+    let start = line.len() - input.len();
+    if input.starts_with('[') {
+        // An expression in square brackets is one word, separators and all
+        // (`rad [r/2] 1`); an unclosed one runs to the end of the line (or its comment).
+        let len = match input.find(']') {
+            Some(k) => k + 1,
+            None => input.find(is_comment).unwrap_or(input.len()),
+        };
+        let t = Token {
+            text: input[..len].to_string(),
+            start,
+            end: start + len,
+        };
+        return Some((t, &input[len..]));
+    }
+    if let Some(rest) = input.strip_prefix('"') {
+        // A quoted word: everything up to the closing quote (file names with `/`).
+        let (text, after) = match rest.find('"') {
+            Some(k) => (&rest[..k], &rest[k + 1..]),
+            None => (rest, ""),
+        };
+        let t = Token {
+            text: text.to_string(),
+            start,
+            end: line.len() - after.len(),
+        };
+        return Some((t, after));
+    }
+    let (after, w) = word(input).ok()?;
+    let t = Token {
+        text: w.to_string(),
+        start,
+        end: start + w.len(),
+    };
+    Some((t, after))
 }
 
 /// Parses a real number in Rust or Fortran style (`1`, `-2e-7`, `1.2E+3`, `1.d-3`).
 /// Returns `None` for anything else (including `inf` and `nan`, which a user never means).
 pub fn parse_real(text: &str) -> Option<f64> {
-    let t: String = text
-        .chars()
-        .map(|c| if c == 'd' || c == 'D' { 'e' } else { c })
-        .collect();
+    // Fortran's exponent letter `d` is read as `e` (a copy only when there is one).
+    let t: std::borrow::Cow<str> = if text.contains(['d', 'D']) {
+        text.chars()
+            .map(|c| if c == 'd' || c == 'D' { 'e' } else { c })
+            .collect::<String>()
+            .into()
+    } else {
+        text.into()
+    };
     let first = t.chars().next()?;
     if !(first.is_ascii_digit() || first == '.' || first == '-' || first == '+') {
         return None;
@@ -167,6 +176,31 @@ mod tests {
     }
 
     #[test]
+    fn first_token_is_the_first_of_the_line() {
+        for line in [
+            "",
+            "   ",
+            "; comment",
+            "  cr 1 2 3",
+            ",(/ if x > 1",
+            "[r/2] 1",
+            "\"a/b c\" d",
+            "end# c",
+            "\"unclosed",
+        ] {
+            assert_eq!(
+                first_token(line),
+                tokenize(line).into_iter().next(),
+                "{line:?}"
+            );
+        }
+        assert_eq!(
+            first_token("  cr 1").map(|t| (t.start, t.end)),
+            Some((2, 4))
+        );
+    }
+
+    #[test]
     fn numbers() {
         assert_eq!(parse_real("1"), Some(1.0));
         assert_eq!(parse_real("-2e-7"), Some(-2e-7));
@@ -177,6 +211,8 @@ mod tests {
         assert_eq!(parse_real("inf"), None);
         assert_eq!(parse_real("1e999"), None);
         assert_eq!(parse_real("1..2"), None);
+        assert_eq!(parse_real("2D+2"), Some(200.0));
+        assert_eq!(parse_real("d"), None);
     }
 
     #[test]

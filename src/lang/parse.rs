@@ -34,10 +34,10 @@ pub fn parse_line_in(
     let mut pos = 0;
     while pos < toks.len() {
         let t = &toks[pos];
-        let def = match super::table::find_command(&t.text, &keywords) {
+        let def = match super::table::find_command(&t.text, keywords) {
             Ok(i) => &COMMANDS[i],
             Err(e) => {
-                let mut msg = e.describe(&t.text, "command", &keywords);
+                let mut msg = e.describe(&t.text, "command", keywords);
                 if !out.is_empty() {
                     // (Invariant: checked non-empty just above.)
                     let prev: &Parsed = out.last().expect("non-empty");
@@ -65,7 +65,7 @@ pub fn parse_line_in(
         });
         pos = args.pos;
         if let Some(next) = toks.get(pos)
-            && match_keyword(&next.text, &keywords).is_err()
+            && match_keyword(&next.text, keywords).is_err()
         {
             // A slash separates words (TRUBAL's syntax), so a path must be quoted.
             let between = line.get(toks[pos - 1].end..next.start).unwrap_or("");

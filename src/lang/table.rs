@@ -861,12 +861,16 @@ pub fn find_command(
     }
 }
 
-pub fn command_keywords() -> Vec<Keyword<usize>> {
-    COMMANDS
-        .iter()
-        .enumerate()
-        .map(|(i, d)| kw(d.name, i))
-        .collect()
+/// The command words as keywords (their index in [`COMMANDS`]), built once.
+pub fn command_keywords() -> &'static [Keyword<usize>] {
+    static KEYS: std::sync::LazyLock<Vec<Keyword<usize>>> = std::sync::LazyLock::new(|| {
+        COMMANDS
+            .iter()
+            .enumerate()
+            .map(|(i, d)| kw(d.name, i))
+            .collect()
+    });
+    &KEYS
 }
 
 /// A script word without parameters.

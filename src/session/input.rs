@@ -293,7 +293,7 @@ pub fn completions(prefix_line: &str, word: &str, first: bool) -> Vec<Pair> {
     } else {
         let cmd = prefix_line.split_whitespace().next().unwrap_or("");
         let keys = crate::lang::table::command_keywords();
-        if let Ok(i) = crate::lang::keyword::match_keyword(cmd, &keys) {
+        if let Ok(i) = crate::lang::keyword::match_keyword(cmd, keys) {
             for k in COMMANDS[i].keywords {
                 if k.to_ascii_lowercase().starts_with(&w) {
                     out.push(Pair {

@@ -158,7 +158,7 @@ fn own_names(t: &Text) -> HashSet<String> {
     for line in t.text.lines() {
         let toks = crate::lang::lexer::tokenize(line);
         let Some(first) = toks.first() else { continue };
-        let all = match crate::lang::table::find_command(&first.text, &keys) {
+        let all = match crate::lang::table::find_command(&first.text, keys) {
             Ok(i) if matches!(crate::lang::table::COMMANDS[i].name, "LET" | "LOOP") => false,
             Ok(i) if crate::lang::table::COMMANDS[i].name == "DEFine" => true,
             _ => continue,

@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::{Flow, LineError, Session, Source, format_error};
-use crate::lang::lexer::tokenize;
+use crate::lang::lexer::{first_token, tokenize};
 use crate::lang::table::{COMMANDS, command_keywords, find_command};
 
 pub use cycle::{Hooks, Until};
@@ -119,12 +119,11 @@ enum Opener {
 
 /// The block role of a line (by its first word, without substitution).
 fn word_of(text: &str) -> Word {
-    let toks = tokenize(text);
-    let Some(t) = toks.first() else {
+    let Some(t) = first_token(text) else {
         return Word::Other;
     };
     let keys = command_keywords();
-    match find_command(&t.text, &keys).map(|i| COMMANDS[i].name) {
+    match find_command(&t.text, keys).map(|i| COMMANDS[i].name) {
         Ok("IF") => Word::Open(Opener::If),
         Ok("LOOP") => Word::Open(Opener::Loop),
         Ok("WHILE") => Word::Open(Opener::While),
