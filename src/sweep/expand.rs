@@ -407,9 +407,13 @@ fn check_usage(spec: &Spec, inputs: &Inputs, names: &Names, errors: &mut Vec<Str
             ));
         }
     }
-    if inputs.prepare.is_some() {
+    if let Some(prep) = &inputs.prepare {
+        // A name the prepare file gives itself (`LET`, `LOOP`, `DEFine`) needs no --set.
+        let own_prep = own_names(prep);
         for (n, at) in &used_prep {
-            if !spec.sets.iter().any(|s| s.value.0 == *n) {
+            if !spec.sets.iter().any(|s| s.value.0 == *n)
+                && !own_prep.contains(&n.to_ascii_lowercase())
+            {
                 errors.push(format!(
                     "{at}: `${n}`: the prepare file gets only the --set values, and `{n}` is not one"
                 ));
