@@ -1009,7 +1009,8 @@ def main():
     ap.add_argument("table", nargs="?")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--work")
-    ap.add_argument("--only", action="append", default=[], help="key=value (run only matching runs)")
+    ap.add_argument("--only", action="append", default=[],
+                    help="key=value (run only matching runs; the CSV still gets every run finished in the work directory)")
     ap.add_argument("--force", action="store_true")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--plot-only", action="store_true", help="only collect the logs and plot")
@@ -1072,8 +1073,13 @@ def main():
         provenance.record(os.path.join(DATA, a.table + "_states.txt"), exe)
     rows = []
     steps = []
-    for r in runs:
+    # The table's rows are every run finished in the work directory, not only those `--only`
+    # selected this time: a run of one row must not drop the others from doc/data.
+    selected = [run_name(r) for r in runs]
+    for r in t["runs"]:
         got = finished(work, t["script"], r)
+        if got is None and run_name(r) not in selected:
+            continue
         if t.get("progress"):
             # A run still going (or stopped) gives its checks so far, marked unfinished.
             objs = got[0] if got else json_lines(os.path.join(sweep_dir(work, t["script"]), "runs",
@@ -1093,7 +1099,7 @@ def main():
             w = csv.DictWriter(f, fieldnames=list(steps[0]))
             w.writeheader()
             w.writerows(steps)
-        provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
+        provenance.record(out, exe, runs=len(rows), of_runs=len(t["runs"]))
         print("wrote", out)
     if t.get("pictures"):
         copy_pictures(a.table, t, work, runs, exe)
@@ -1110,7 +1116,7 @@ def main():
         w.writeheader()
         for row in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    provenance.record(out, exe, runs=len(rows), of_runs=len(runs))
+    provenance.record(out, exe, runs=len(rows), of_runs=len(t["runs"]))
     print("wrote", out)
     group = t["group"] if isinstance(t["group"], tuple) else (t["group"],)
     series = {}

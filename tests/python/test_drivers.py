@@ -54,3 +54,25 @@ def test_driver_session_module_and_pipe_agree(tmp_path, monkeypatch):
         out[way] = (e, np.asarray(b["pos"]).tolist(), np.asarray(b["radius"]).tolist(), w)
     assert out["module"] == out["pipe"]
     assert (tmp_path / "module" / "end.sav").read_bytes() == (tmp_path / "pipe" / "end.sav").read_bytes()
+
+
+def test_run_table_only_keeps_the_other_finished_rows(tmp_path, monkeypatch):
+    """`--only` runs the selected rows; the table's CSV still holds every run finished in the
+    work directory (it used to be overwritten with the selected rows alone)."""
+    runs = [{"v": v, "eta": 0} for v in (1, 2, 3)]
+    monkeypatch.setitem(run_table.TABLES, "fake", {
+        "script": "fake.tru", "prepare": [], "runs": runs, "group": "eta", "x": "v", "y": "damage_ratio",
+        "fit": False})
+    done = {"v1_eta0", "v2_eta0"}  # v3 never ran
+    monkeypatch.setattr(run_table, "DATA", str(tmp_path))
+    monkeypatch.setattr(run_table, "finished",
+                        lambda work, script, r: ([{"print": "info"}], 1.0) if run_table.run_name(r) in done else None)
+    monkeypatch.setattr(run_table, "measures", lambda objs, r: {"damage_ratio": 0.1 * r["v"]})
+    monkeypatch.setattr(run_table, "draw_table", lambda *a: None)
+    monkeypatch.setattr(run_table.provenance, "record", lambda *a, **k: None)
+    monkeypatch.setattr(sys, "argv", ["run_table.py", "fake", "--plot-only", "--only", "v=2",
+                                      "--work", str(tmp_path / "work")])
+    run_table.main()
+    with open(tmp_path / "fake.csv") as f:
+        vs = [line.split(",")[0] for line in f.read().splitlines()[1:]]
+    assert vs == ["1", "2"]
