@@ -697,6 +697,7 @@ def derive(kind, exe, work, run, cache):
         sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n,
                 "dashpot": run.get("dashpot", "trubal")}
         if kind == "olsson_regime":
+            del sets["wall"]  # (olsson_regime.tru places its wall from the state itself)
             sets["n"] = run.get("n", "4300" if run["liquid"] == "dry" else "125000")
             sets["smin"] = run.get("smin", "default")
             sets["law"] = run.get("law", "hertz")
