@@ -95,6 +95,15 @@ BIG_BOX = {"box": "6.2e-3", "nbox": "300000", "centre": "2.98778764305631e-3"}
 LIAN6_N = {"0": "12500", "0.01": "12500", "0.1": "21000"}
 
 
+def lian6_big_prepare(pvol=None):
+    """The preparation of the agglomerate in the 6.2 mm work-space (BIG_BOX), with the bridge
+    volume pvol (lian_ch6_prepare.tru's default when None)."""
+    if pvol is None:
+        return [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")]
+    state = f"lian_ch6_big_pvol{pvol}.sav"
+    return [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol=pvol, state=state), state)]
+
+
 def lian7_runs():
     runs = []
     for eta, gam, vs in [
@@ -193,7 +202,7 @@ TABLES = {
     "lian6_debris": {
         "title": "Lian ch. 6, 6.2 mm work-space: damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "prepare": lian6_big_prepare(),
         "derive": "wall",
         "runs": lian6_runs([("0", ["2"]), ("0.01", ["2", "3"]), ("0.1", ["8"])], "lian_ch6_big.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
@@ -204,7 +213,7 @@ TABLES = {
     "lian6_rest": {
         "title": "Lian ch. 6, 6.2 mm work-space, counted at rest: damage ratio against velocity",
         "script": "lian_ch6_impact_rest.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "prepare": lian6_big_prepare(),
         "derive": "wall",
         "runs": [{"state": "lian_ch6_big.sav", "v": "2", "eta": "0", "wb": wb, "frac": "0.4", "n": "6250"}
                  for wb in ("off", "on")],
@@ -217,7 +226,7 @@ TABLES = {
     "lian6_worst": {
         "title": "Lian ch. 6, 6.2 mm work-space, the worst case: damage ratio at 2 m/s",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "prepare": lian6_big_prepare(),
         "derive": "wall",
         "runs": [dict(r, pictures="1") for r in lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N)],
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
@@ -233,8 +242,7 @@ TABLES = {
     "lian6_volume": {
         "title": "Lian ch. 6, 6.2 mm work-space, twice the bridge volume: damage ratio at 2 m/s",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol="0.2", state="lian_ch6_big_pvol0.2.sav"),
-                     "lian_ch6_big_pvol0.2.sav")],
+        "prepare": lian6_big_prepare(pvol="0.2"),
         "derive": "wall",
         "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "frac": "0.4", "n": "12500", "pvol": "0.2"}
                  for v in ("2", "2.000002", "1.999998")],
@@ -245,8 +253,7 @@ TABLES = {
     "lian6_volume_rest": {
         "title": "Lian ch. 6, twice the bridge volume, no wall bridges, counted at rest: damage ratio at 2 m/s",
         "script": "lian_ch6_impact_rest.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol="0.2", state="lian_ch6_big_pvol0.2.sav"),
-                     "lian_ch6_big_pvol0.2.sav")],
+        "prepare": lian6_big_prepare(pvol="0.2"),
         "derive": "wall",
         "runs": [{"state": "lian_ch6_big_pvol0.2.sav", "v": v, "eta": "0", "wb": "off", "frac": "0.4", "n": "6250",
                   "pvol": "0.2"} for v in ("2", "2.000002", "1.999998")],
@@ -260,7 +267,7 @@ TABLES = {
     "lian6_wall": {
         "title": "Lian ch. 6, 6.2 mm work-space, wall friction: damage ratio at 2 m/s",
         "script": "lian_ch6_impact_wall.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "prepare": lian6_big_prepare(),
         "derive": "wall",
         # The time step, which the thesis does not give: TRUBAL's default FRAction 1 (Lian 1994
         # App. B; 4 x 5000 x 32 ns = 640 us) and 0.2, against 0.4. The scatter of one run:
@@ -278,7 +285,7 @@ TABLES = {
     "lian6_lianway": {
         "title": "Lian ch. 6, 6.2 mm work-space, MD and no wall bridges: damage ratio at 2 m/s",
         "script": "lian_ch6_impact_lian.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", state="lian_ch6_big.sav"), "lian_ch6_big.sav")],
+        "prepare": lian6_big_prepare(),
         "derive": "wall",
         "runs": lian6_runs([("0", ["2"])], "lian_ch6_big.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
@@ -689,15 +696,16 @@ def derive(kind, exe, work, run, cache):
         )
     elif kind in ("olsson", "olsson_regime"):
         state = "olsson_dry.sav" if run["liquid"] == "dry" else f"olsson_{run['liquid']}.sav"
-        key = ("wall", state)
-        if key not in cache:
-            cache[key] = wall_height(exe, work, state)
         # ~600 us: 4 x 4300 x 35 ns dry, 4 x 12500 x 12 ns wet.
         n = run.get("n", "4300" if run["liquid"] == "dry" else "12500")
-        sets = {"state": state, "wall": f"{cache[key]:.8e}", "v": run["v"], "n": n,
-                "dashpot": run.get("dashpot", "trubal")}
+        sets = {"state": state}
+        if kind == "olsson":  # (olsson_regime.tru places its wall from the state itself)
+            key = ("wall", state)
+            if key not in cache:
+                cache[key] = wall_height(exe, work, state)
+            sets["wall"] = f"{cache[key]:.8e}"
+        sets.update({"v": run["v"], "n": n, "dashpot": run.get("dashpot", "trubal")})
         if kind == "olsson_regime":
-            del sets["wall"]  # (olsson_regime.tru places its wall from the state itself)
             sets["n"] = run.get("n", "4300" if run["liquid"] == "dry" else "125000")
             sets["smin"] = run.get("smin", "default")
             sets["law"] = run.get("law", "hertz")
