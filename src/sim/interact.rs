@@ -354,23 +354,7 @@ fn normal_law<const ADH: bool>(
             gamma,
         };
         if !s.touching && alpha >= 0.0 {
-            // Snap-in at first touch: a = a0, P = −8/9 Pc (doc/spec/DECISIONS.md). The separation
-            // radius a_s (3.117) is computed once here.
-            s.touching = true;
-            s.a = j.a0();
-            let e = s.ext_mut();
-            e.gamma = gamma;
-            e.a_s = j.a_s();
-            e.laws = None;
-            e.end = None;
-            let row = JkrRow::of(e);
-            if let Some(rows) = rows.as_deref_mut() {
-                new_jkr_row(s, rows, row);
-            }
-            if dt == 0.0 {
-                // Snapped in while priming: its force has not acted yet (see below).
-                s.v_prev = f64::NEG_INFINITY;
-            }
+            snap_in(&j, (s, rows.as_deref_mut()), dt);
         }
         if s.touching {
             // The contact's separation radius and path end: its row's (a particle pair's),
@@ -446,6 +430,27 @@ fn normal_law<const ADH: bool>(
     }
     s.overlap = alpha;
     (gamma, kn, pcrit)
+}
+
+/// JKR snap-in at first touch: a = a0, P = −8/9 Pc (doc/spec/DECISIONS.md). The separation
+/// radius a_s (3.117) is computed once here, and a particle pair gets its JKR row (`rows`).
+#[inline(always)]
+fn snap_in(j: &Jkr, (s, rows): (&mut ContactState, Option<&mut Vec<JkrRow>>), dt: f64) {
+    s.touching = true;
+    s.a = j.a0();
+    let e = s.ext_mut();
+    e.gamma = j.gamma;
+    e.a_s = j.a_s();
+    e.laws = None;
+    e.end = None;
+    let row = JkrRow::of(e);
+    if let Some(rows) = rows {
+        new_jkr_row(s, rows, row);
+    }
+    if dt == 0.0 {
+        // Snapped in while priming: its force has not acted yet (`normal_law`).
+        s.v_prev = f64::NEG_INFINITY;
+    }
 }
 
 /// The liquid bridge at this step: formed on solid contact, ruptured beyond S_c (its work
