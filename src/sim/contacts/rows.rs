@@ -34,6 +34,17 @@ pub struct Rows<'r> {
     pub jkr: &'r mut Vec<JkrRow>,
 }
 
+impl Rows<'_> {
+    /// The same lists, for one contact's law.
+    #[inline(always)]
+    pub fn reborrow(&mut self) -> Rows<'_> {
+        Rows {
+            mdr: &mut *self.mdr,
+            jkr: &mut *self.jkr,
+        }
+    }
+}
+
 impl std::ops::Deref for StateBlock {
     type Target = Vec<ContactState>;
     fn deref(&self) -> &Vec<ContactState> {

@@ -24,7 +24,7 @@ use rayon::prelude::*;
 
 use super::contacts::{
     self, BLOCK, Balance, ContactState, HotPair, Incidence, NO_STATE, Pair, PairForce, PairRange,
-    Rows, StateBlock, StepParts, WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
+    StateBlock, StepParts, WALL_BLOCK, WallForce, WallOut, WallPair, WallPiece,
 };
 use super::interact::{Acc, Kin, Laws, interact, interact_rows};
 use super::lanes;
