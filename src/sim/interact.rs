@@ -2,7 +2,7 @@
 //! contact damping, tangential law, and the liquid bridge. Lian §5.6.2 (with the sign
 //! corrections of doc/spec/physics-lian1994.md §2.4) and §5.7.
 
-use super::contacts::{BridgeState, ContactState};
+use super::contacts::{BridgeState, ContactState, JkrRow, Rows, new_jkr_row};
 use super::kinematics::reset_solid;
 pub use super::kinematics::{Acc, Kin, Laws, Out};
 use super::params::PairConst;
@@ -35,20 +35,25 @@ pub fn interact<const ADH: bool, const LIQ: bool>(
     interact_rows::<ADH, LIQ>(k, pc, laws, s, None, acc)
 }
 
-/// [`interact`] for a contact whose MDR spring row is kept in `rows` (a particle pair: the
-/// row list of its block, `contacts::StateBlock`) rather than in `ext.mdr` (`None`).
+/// [`interact`] for a contact whose MDR spring row and JKR row are kept in `rows` (a
+/// particle pair: the row lists of its block, `contacts::StateBlock`) rather than in its
+/// `ext` (`None`).
 #[inline(always)]
 pub fn interact_rows<const ADH: bool, const LIQ: bool>(
     k: &Kin,
     pc: &PairConst,
     laws: &Laws,
     s: &mut ContactState,
-    rows: Option<&mut Vec<MdrRow>>,
+    rows: Option<Rows<'_>>,
     acc: &mut Acc,
 ) -> Out {
     if !ADH && s.touching && s.needs_adhesive_kernel() {
         return interact_rows::<true, LIQ>(k, pc, laws, s, rows, acc);
     }
+    let (rows, jkr_rows) = match rows {
+        Some(r) => (Some(r.mdr), Some(r.jkr)),
+        None => (None, None),
+    };
     let alpha = -k.gap;
     let dt = laws.dt;
     let v_n = k.v_rel.dot(&k.n); // separation rate (positive = opening)
@@ -69,7 +74,7 @@ pub fn interact_rows<const ADH: bool, const LIQ: bool>(
         let o = super::elastoplastic::normal(k, pc, laws, s, acc, v_n);
         (o.gamma, o.kn, o.pcrit, o.linear, false)
     } else {
-        let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, s, acc, v_n);
+        let (g, kn, pcrit) = normal_law::<ADH>(k, pc, laws, (s, jkr_rows), acc, v_n);
         (g, kn, pcrit, None, ADH && g > 0.0 && s.touching)
     };
 
@@ -311,12 +316,14 @@ fn shear(
 /// (3.114)–(3.119); `Jkr::step_force`) or Hertz (3.14)–(3.15); books the peeling work W_p
 /// lost at detachment. Returns the surface energy in use, the normal
 /// stiffness (for Rayleigh's β k_n) and the pull-off force P_c (0 without adhesion).
+/// `rows`: the JKR row list of a particle pair's block (`contacts::JkrRow`), where a touching
+/// JKR pair keeps its γ, a_s and path end; `None` for a particle–wall contact (`ext`).
 #[inline(always)]
 fn normal_law<const ADH: bool>(
     k: &Kin,
     pc: &PairConst,
     laws: &Laws,
-    s: &mut ContactState,
+    (s, mut rows): (&mut ContactState, Option<&mut Vec<JkrRow>>),
     acc: &mut Acc,
     v_n: f64,
 ) -> (f64, f64, f64) {
@@ -329,7 +336,10 @@ fn normal_law<const ADH: bool>(
     let gamma = if !ADH {
         0.0
     } else if s.touching {
-        s.gamma()
+        match s.row.jkr().and_then(|r| rows.as_deref()?.get(r)) {
+            Some(row) => row.gamma,
+            None => s.gamma(),
+        }
     } else if laws.impact {
         pc.gamma_base
     } else {
@@ -344,22 +354,17 @@ fn normal_law<const ADH: bool>(
             gamma,
         };
         if !s.touching && alpha >= 0.0 {
-            // Snap-in at first touch: a = a0, P = −8/9 Pc (doc/spec/DECISIONS.md). The separation
-            // radius a_s (3.117) is computed once here.
-            s.touching = true;
-            s.a = j.a0();
-            let e = s.ext_mut();
-            e.gamma = gamma;
-            e.a_s = j.a_s();
-            e.laws = None;
-            e.end = None;
-            if dt == 0.0 {
-                // Snapped in while priming: its force has not acted yet (see below).
-                s.v_prev = f64::NEG_INFINITY;
-            }
+            snap_in(&j, (s, rows.as_deref_mut()), dt);
         }
         if s.touching {
-            let b = j.branch(s.ext().a_s);
+            // The contact's separation radius and path end: its row's (a particle pair's),
+            // or its extension's.
+            let slot = s.row.jkr();
+            let (a_s, path_end) = match slot.and_then(|r| rows.as_deref()?.get(r)) {
+                Some(row) => (row.a_s, row.end),
+                None => (s.ext().a_s, s.ext().end),
+            };
+            let b = j.branch(a_s);
             // The step's path starts at α_{n−1/2} = α + v Δt/2 (α itself while priming).
             let lo = alpha + 0.5 * v_n * dt;
             if was_touching && lo < b.alpha_s {
@@ -392,11 +397,14 @@ fn normal_law<const ADH: bool>(
                         v_prev: s.v_prev,
                         f_damp: s.damp_force,
                         from,
-                        end: s.ext().end,
+                        end: path_end,
                     };
                     let (p, end) = j.leap_frog_force(&b, t, &x);
                     s.normal_force = p;
-                    s.ext_mut().end = end;
+                    match slot.and_then(|r| rows?.get_mut(r)) {
+                        Some(row) => row.end = end,
+                        None => s.ext_mut().end = end,
+                    }
                 }
                 if laws.beta > 0.0 {
                     kn = b.stiffness(t).abs();
@@ -422,6 +430,27 @@ fn normal_law<const ADH: bool>(
     }
     s.overlap = alpha;
     (gamma, kn, pcrit)
+}
+
+/// JKR snap-in at first touch: a = a0, P = −8/9 Pc (doc/spec/DECISIONS.md). The separation
+/// radius a_s (3.117) is computed once here, and a particle pair gets its JKR row (`rows`).
+#[inline(always)]
+fn snap_in(j: &Jkr, (s, rows): (&mut ContactState, Option<&mut Vec<JkrRow>>), dt: f64) {
+    s.touching = true;
+    s.a = j.a0();
+    let e = s.ext_mut();
+    e.gamma = j.gamma;
+    e.a_s = j.a_s();
+    e.laws = None;
+    e.end = None;
+    let row = JkrRow::of(e);
+    if let Some(rows) = rows {
+        new_jkr_row(s, rows, row);
+    }
+    if dt == 0.0 {
+        // Snapped in while priming: its force has not acted yet (`normal_law`).
+        s.v_prev = f64::NEG_INFINITY;
+    }
 }
 
 /// The liquid bridge at this step: formed on solid contact, ruptured beyond S_c (its work

@@ -133,7 +133,7 @@ pub(super) fn reset_solid(s: &mut ContactState, acc: &mut Acc) {
     s.a = 0.0;
     s.tang_energy = 0.0;
     s.tforce = Vec3::zeros();
-    // (A particle pair's MDR row, kept in its block's list, is left unused there.)
+    // (A particle pair's MDR or JKR row, kept in its block's list, is left unused there.)
     s.row = super::contacts::RowSlot::NONE;
     if let Some(e) = s.ext.as_deref_mut() {
         e.delta = Vec3::zeros();

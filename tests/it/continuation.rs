@@ -223,8 +223,8 @@ fn adhesive_scene_continues_bitwise() {
     assert!(
         sc.contacts()
             .iter()
-            .any(|p| p.s.touching && p.s.gamma() > 0.0),
-        "the adhesive scene must have JKR contacts"
+            .any(|p| p.s.touching && p.s.gamma() > 0.0 && p.jkr.is_some_and(|r| r.end.is_some())),
+        "the adhesive scene must have JKR contacts, with a JKR row and its path's end"
     );
     let _ = std::fs::remove_dir_all(&dir);
     let stale = check_continuation("adh", ADHESIVE, 6000, &[1, 1234, 2999, 4500, 5999]);
@@ -238,6 +238,15 @@ fn adhesive_scene_continues_bitwise() {
         stale + short > 0,
         "no split point fell on a step before a re-mapping"
     );
+}
+
+/// The adhesive agglomerate under the no-slip law (the benchmark's S2 has it): the JKR rows
+/// (`contacts::JkrRow`, the γ, a_s and path end the pair loop reads) are all the law state
+/// its pairs carry across SAve/RESTart.
+#[test]
+fn adhesive_noslip_scene_continues_bitwise() {
+    let setup = format!("{ADHESIVE}\nset tangential noslip");
+    check_continuation("adh-noslip", &setup, 3000, &[1, 1234, 2999]);
 }
 
 /// Walton's law (`SET TANgential WALTON`): the adhesive agglomerate, hitting the floor

@@ -60,6 +60,9 @@ fn a_settling_bed_saves_the_same_bytes_with_one_and_two_threads() {
     for (name, w, n, extra, steps) in [
         ("dry", 0.02, 1500, "", 3000),
         ("moist", 0.02, 1500, "liquid 0.1 0.025 0 0.01\n", 3000),
+        // JKR contacts, whose γ, a_s and path end the pair loop keeps in its blocks' JKR
+        // rows (`contacts::JkrRow`) and the checkpoint in their extension.
+        ("adhesive", 0.02, 1500, "cohesion 0.05 1\n", 3000),
         // A spherical indenter that moves down through the settling particles (the
         // update adds the wall forces of each chunk's particles with several threads).
         (

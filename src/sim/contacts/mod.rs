@@ -67,8 +67,8 @@ pub struct PairWithState {
 }
 
 /// A pair and its contact state (the default state if none is allocated), read-only, with
-/// its MDR spring row if its block keeps one for it ([`StateBlock`]; a pair's row is never
-/// in `s.ext`).
+/// its MDR spring row or JKR row if its block keeps one for it ([`StateBlock`]; a pair's
+/// MDR row is never in `s.ext`, nor is its JKR row's path end).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairView<'a> {
     pub i: u32,
@@ -77,6 +77,7 @@ pub struct PairView<'a> {
     pub idb: u32,
     pub s: &'a ContactState,
     pub row: Option<&'a MdrRow>,
+    pub jkr: Option<&'a JkrRow>,
 }
 
 static DEFAULT_STATE: std::sync::LazyLock<ContactState> =
@@ -422,9 +423,13 @@ impl ContactStore {
             row: (p.slot != NO_STATE)
                 .then(|| self.blocks[k / BLOCK].row(p.slot as usize))
                 .flatten(),
+            jkr: (p.slot != NO_STATE)
+                .then(|| self.blocks[k / BLOCK].jkr_row(p.slot as usize))
+                .flatten(),
         }
     }
-    /// The state of pair `k` in the checkpoint's shape (its MDR row in `ext.mdr`).
+    /// The state of pair `k` in the checkpoint's shape (its MDR row in `ext.mdr`, its JKR
+    /// row's path end in `ext.end`).
     pub fn saved_state(&self, k: usize) -> std::borrow::Cow<'_, ContactState> {
         let slot = self.pairs[k].slot;
         if slot == NO_STATE {
@@ -520,8 +525,7 @@ impl ContactStore {
             let n = c.pairs.len();
             if n.is_multiple_of(BLOCK) {
                 if let Some(b) = c.blocks.last_mut() {
-                    b.states.shrink_to_fit();
-                    b.rows.shrink_to_fit();
+                    b.shrink_to_fit();
                 }
                 c.blocks.push(StateBlock::of(Vec::with_capacity(BLOCK)));
             }
@@ -535,8 +539,7 @@ impl ContactStore {
             });
         }
         if let Some(b) = c.blocks.last_mut() {
-            b.states.shrink_to_fit();
-            b.rows.shrink_to_fit();
+            b.shrink_to_fit();
         }
         c.pairs.shrink_to_fit();
         c.wall_pairs = self
@@ -555,9 +558,7 @@ impl ContactStore {
     /// doubling by [`ContactStore::push`] left (up to twice its states).
     fn trim_last_block(&mut self) {
         if let Some(b) = self.blocks.last_mut() {
-            let (n, r) = (b.len(), b.rows.len());
-            b.shrink_to(n + headroom(n));
-            b.rows.shrink_to(r + headroom(r));
+            b.trim();
         }
     }
     /// Removes all particle–particle pairs.
@@ -605,7 +606,8 @@ impl ContactStore {
         // Mindlin–Deresiewicz, JKR and bridge states anew, in pair order, so the force loop
         // reads them in order too (moving them, which keeps the boxes where the contacts
         // formed, made the merge 30 % cheaper and the JKR agglomerate 8–14 % slower); the
-        // MDR rows are copied into their new block's list in pair order (`StateBlock`).
+        // MDR and JKR rows are copied into their new block's lists in pair order
+        // (`StateBlock`).
         let old_blocks = std::mem::take(&mut self.blocks);
         let old_walls = std::mem::take(&mut self.wall_pairs);
         // The wall pairs are carried over beside the particle pairs (nothing shared).
@@ -654,16 +656,17 @@ impl ContactStore {
                         // states copied in pair order into a block of the exact size.
                         let mut matched = old_states(&old_pairs, start);
                         let mut old_of = [u32::MAX; BLOCK];
-                        let (mut n, mut n_rows) = (0, 0);
+                        let (mut n, mut n_rows, mut n_jkr) = (0, 0, 0);
                         for (key, m) in keys.iter().zip(old_of.iter_mut()) {
                             if let Some((k_old, s_old)) = matched(key) {
                                 *m = k_old as u32;
                                 n += 1;
-                                n_rows +=
-                                    olds[k_old / BLOCK][s_old as usize].row.is_some() as usize;
+                                let row = olds[k_old / BLOCK][s_old as usize].row;
+                                n_rows += row.mdr().is_some() as usize;
+                                n_jkr += row.jkr().is_some() as usize;
                             }
                         }
-                        let mut states = StateBlock::with_room(n, n_rows);
+                        let mut states = StateBlock::with_room(n, n_rows, n_jkr);
                         for ((key, p), &m) in keys.iter().zip(out.iter_mut()).zip(old_of.iter()) {
                             let slot = if m == u32::MAX {
                                 NO_STATE

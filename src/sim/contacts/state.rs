@@ -92,34 +92,81 @@ pub struct ContactState {
     pub ext: Option<Box<ContactExt>>,
     /// Liquid bridge, if any.
     pub bridge: Option<Box<BridgeState>>,
-    /// Where the contact's spring row of `SET TANgential MDR` is kept, if in its block's row
-    /// list ([`RowSlot`]; a particle–wall contact keeps its row in `ext.mdr`).
+    /// Where the contact's row is kept in its block's lists, if it has one there
+    /// ([`RowSlot`]): the spring row of `SET TANgential MDR`, or the JKR row of a touching
+    /// JKR pair ([`JkrRow`]); a particle–wall contact keeps both in `ext`.
     #[serde(skip, default)]
     pub row: RowSlot,
 }
 
-/// The place of a particle pair's MDR spring row (`physics::mdr::MdrRow`) in the row list
-/// of the pair's block (`StateBlock::rows`), or none. The rows sit beside the states, in
-/// pair order after each merge, so the force loop reads them as a forward stream (a row
-/// behind its own pointer, allocated where and when the contact formed, cost a cache miss
-/// a contact a step; doc/performance.md, "The figures", on the default law's step). Where a row is kept
-/// is not part of the contact's state: every two slots compare equal, the row itself is
-/// compared ([`PairView`]) and saved (in `ext.mdr`, the checkpoint's layout).
+/// The place of a particle pair's row in its block's lists (`StateBlock::rows`, the MDR
+/// spring rows `physics::mdr::MdrRow`; `StateBlock::jkr`, the JKR rows [`JkrRow`]), or none.
+/// The rows sit beside the states, in pair order after each merge, so the force loop reads
+/// them as a forward stream (a row behind its own pointer, allocated where and when the
+/// contact formed, cost a cache miss a contact a step; doc/performance.md, "The figures", on
+/// the default law's step). A contact has at most one: an MDR row while a Hertz contact
+/// touches, a JKR row while a JKR contact touches. Where a row is kept is not part of the
+/// contact's state: every two slots compare equal, the row itself is compared
+/// ([`PairView`]) and saved (in `ext.mdr` and `ext.end`, the checkpoint's layout).
 #[derive(Clone, Copy)]
 pub struct RowSlot(pub(super) u32);
 
 impl RowSlot {
-    /// No row in the block's list.
+    /// No row in the block's lists.
     pub const NONE: RowSlot = RowSlot(u32::MAX);
-    /// The contact has a row in its block's list.
+    /// The mark of a JKR row's index.
+    const JKR: u32 = 1 << 31;
+    /// Row `i` of the MDR list.
+    #[inline(always)]
+    pub(super) fn mdr_at(i: usize) -> RowSlot {
+        RowSlot(i as u32 & !Self::JKR)
+    }
+    /// Row `i` of the JKR list.
+    #[inline(always)]
+    pub(super) fn jkr_at(i: usize) -> RowSlot {
+        RowSlot(i as u32 | Self::JKR)
+    }
+    /// The contact has a row in one of its block's lists.
     #[inline(always)]
     pub fn is_some(self) -> bool {
         self.0 != u32::MAX
     }
-    /// Its index in the block's list.
+    /// Its index in the block's MDR list, if it has a row there.
     #[inline(always)]
-    pub fn index(self) -> Option<usize> {
-        self.is_some().then_some(self.0 as usize)
+    pub fn mdr(self) -> Option<usize> {
+        (self.0 & Self::JKR == 0).then_some(self.0 as usize)
+    }
+    /// Its index in the block's JKR list, if it has a row there.
+    #[inline(always)]
+    pub fn jkr(self) -> Option<usize> {
+        (self.is_some() && self.0 & Self::JKR != 0).then_some((self.0 & !Self::JKR) as usize)
+    }
+}
+
+/// The JKR state a touching particle pair reads and writes at every step (`sim::interact`'s
+/// normal law, Lian 1994 (3.29), (3.117); `physics::jkr::Jkr::leap_frog_force`), kept in its
+/// block's list (`StateBlock::jkr`) beside the states. `gamma` and `a_s` are copies of the
+/// extension's (`ContactExt`, which every other reader of the contact uses; both are set at
+/// snap-in only); `end` is the contact's own while it has a row, and goes back to
+/// `ContactExt::end` in a checkpoint.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JkrRow {
+    /// Surface energy of the contact (J/m²).
+    pub gamma: f64,
+    /// JKR separation radius a_s (3.117).
+    pub a_s: f64,
+    /// The last evaluated point of the last step's path (`physics::jkr::PathEnd`).
+    pub end: Option<crate::physics::jkr::PathEnd>,
+}
+
+impl JkrRow {
+    /// The row of a contact's extension.
+    pub fn of(e: &ContactExt) -> JkrRow {
+        JkrRow {
+            gamma: e.gamma,
+            a_s: e.a_s,
+            end: e.end,
+        }
     }
 }
 
@@ -171,7 +218,9 @@ pub struct ContactExt {
     /// checkpoint.
     pub mdr: Option<Box<MdrRow>>,
     /// JKR: the last evaluated point of the last step's path (`physics::jkr::PathEnd`;
-    /// checkpoint format 11), from which the next step's path starts.
+    /// checkpoint format 11), from which the next step's path starts. A touching particle
+    /// pair keeps it in its block's JKR row ([`JkrRow`], `ContactState::row`) and has it
+    /// here only in a checkpoint.
     pub end: Option<crate::physics::jkr::PathEnd>,
 }
 

@@ -140,8 +140,9 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
 ) {
     use lanes::SUB;
     let laws = c.laws;
-    // The states and the MDR rows (those of contacts that ended dropped if the list is full).
-    let (block, rows) = block.for_step(hots.iter().map(|h| h.slot));
+    // The states and the MDR and JKR rows (those of contacts that ended dropped if a list is
+    // full).
+    let (block, mut rows) = block.for_step(hots.iter().map(|h| h.slot));
     // (Read only when `UNI`.)
     let u = c.uni.unwrap_or_default();
     let batched = batches_steady::<ADH, LIQ>(c);
@@ -218,7 +219,7 @@ pub(super) fn block_forces<const ADH: bool, const LIQ: bool, const UNI: bool>(
                 let kin = &kins[q];
                 let (i, j) = (h.i as usize, h.j as usize);
                 let pc = c.model.pair(c.material[i] as usize, c.material[j] as usize);
-                let out = interact_rows::<ADH, LIQ>(kin, pc, laws, s, Some(&mut *rows), acc);
+                let out = interact_rows::<ADH, LIQ>(kin, pc, laws, s, Some(rows.reborrow()), acc);
                 let live = s.live();
                 if h.live != live {
                     h.live = live;

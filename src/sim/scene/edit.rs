@@ -159,7 +159,7 @@ impl Scene {
                 }
                 // A particle pair's row, kept in its block's list: the extension it stood
                 // for stays, at its defaults (as a row in `ext.mdr` left it).
-                if s.row.is_some() {
+                if s.row.mdr().is_some() {
                     s.row = crate::sim::contacts::RowSlot::NONE;
                     s.ext_mut();
                 }
