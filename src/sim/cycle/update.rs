@@ -72,7 +72,7 @@ pub(super) fn move_all(
 }
 
 /// One chunk's sums of the update, added over the chunks in chunk order.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct ChunkSums {
     /// Work of gravity m g·v̄ Δt.
     pub(super) w_grav: f64,
@@ -90,21 +90,6 @@ pub(super) struct ChunkSums {
     /// component after the update ([`Speeds`]; finite velocities only).
     pub(super) speed2: f64,
     pub(super) groups: [f64; CHUNK / EXT_GROUP],
-}
-
-impl Default for ChunkSums {
-    fn default() -> Self {
-        ChunkSums {
-            w_grav: 0.0,
-            d_mass: 0.0,
-            max_disp: 0.0,
-            bad: None,
-            outside: false,
-            w_fix: 0.0,
-            speed2: 0.0,
-            groups: [0.0; CHUNK / EXT_GROUP],
-        }
-    }
 }
 
 /// A chunk's particle arrays.
@@ -247,11 +232,15 @@ impl Mover {
         let hi = lo + vel.len();
         let n = vel.len();
         // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
-        // mass damping): the component update, bitwise the same as the loop below.
+        // mass damping): the component update, bitwise the same as the loop below. A chunk
+        // without aggregates and fixed components is plain: that first, as an OR over the
+        // bytes (which the compiler vectorises), then the test per particle.
+        let bits = |b: &[u8]| b.iter().fold(0u8, |m, &x| m | x);
         let plain_chunk = plain.is_some()
-            && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
-                fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
-            });
+            && ((bits(&agg[lo..hi]) == 0 && bits(&fixed[lo..hi]) & 0x3f == 0)
+                || agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
+                    fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
+                }));
         // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
         // the compiler vectorises (the divisions then do not stall the update below); not
         // needed by the plain update of alike particles (`Plain::uniform`), which then
