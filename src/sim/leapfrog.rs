@@ -70,14 +70,20 @@ pub struct UniformSteps {
 
 /// Sums of a run: the work of gravity, the largest displacement component since the last
 /// rebuild, whether every position and velocity is finite, whether some particle is beyond
-/// an open side.
+/// an open side, the largest |v|² (nalgebra's `norm_squared`; finite velocities only).
 #[derive(Clone, Copy, Debug)]
 pub struct RunSums {
     pub w_grav: f64,
     pub max_disp: f64,
     pub finite: bool,
     pub outside: bool,
+    pub speed2: f64,
 }
+
+/// Particles per entry of [`Run::groups`] (the reach margins' groups, `cycle::EXT_GROUP`;
+/// a run of [`RUN`] particles holds whole groups).
+pub const GROUP: usize = 64;
+const _: () = assert!(RUN.is_multiple_of(GROUP));
 
 /// The particle arrays of a run, sliced alike (`step_v` = Δt/m, `step_w` = Δt/I, each
 /// already divided by 1 + α Δt/2; `mass`, `step_v` and `step_w` may be empty when
@@ -93,6 +99,10 @@ pub struct Run<'a> {
     pub disp: &'a mut [Vec3],
     pub spin: &'a mut [Vec3],
     pub rot: &'a mut [Vec3],
+    /// Out: the largest velocity component of each group of [`GROUP`] particles (the
+    /// reach margins' table, `cycle::set_margins`), `vel.len().div_ceil(GROUP)` entries
+    /// (finite velocities only).
+    pub groups: &'a mut [f64],
 }
 
 /// Updates plain particles (the work of gravity summed particle by particle, from zero).
@@ -124,6 +134,7 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
         max_disp: 0.0,
         finite: true,
         outside: false,
+        speed2: 0.0,
     };
     let force: &[f64] = bytemuck::cast_slice(r.force);
     let moment: &[f64] = bytemuck::cast_slice(r.moment);
@@ -197,6 +208,10 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
         }
         // The run's largest displacement component, finiteness, escape through an open side.
         let (dmax, zero, out) = run_checks(&d[..q], &x[..q], &v[..q], (&lo[..q], &hi[..q]));
+        // Its fastest particles while they are in the cache (the passes over the velocities
+        // that the margins and the check after the step would make).
+        let s2 = run_speeds(&v[..q], &mut r.groups[start / GROUP..]);
+        sums.speed2 = if s2 > sums.speed2 { s2 } else { sums.speed2 };
         // The work of gravity m g·v̄ Δt, particle by particle (the dot product summed as
         // nalgebra's: (x + y) + z).
         for l in 0..m {
@@ -258,6 +273,43 @@ fn run_checks(
     (dmax, zero, out)
 }
 
+/// The largest `|v_k|` of each group of [`GROUP`] particles of a run (`v`: its components,
+/// the run starting at a group's start) into `groups`, and the run's largest `|v|²`, summed
+/// as nalgebra's `norm_squared` sums it (`0 + ((x·x + y·y) + z·z)`, the `0 +` changing
+/// nothing). For finite velocities these are the largest of a set, whatever the order they
+/// are taken in (the update's callers use them only then): those of the folds of
+/// `cycle::set_margins` and `cycle::after_step`. Four lanes, then the rest in lane 0.
+#[inline(always)]
+fn run_speeds(v: &[f64], groups: &mut [f64]) -> f64 {
+    let larger = |a: f64, m: f64| if a > m { a } else { m };
+    let fold = |m: [f64; 4]| m.iter().fold(0.0f64, |a, &b| larger(b, a));
+    for (g, e) in v.chunks(3 * GROUP).zip(groups.iter_mut()) {
+        let mut m = [0.0f64; 4];
+        let mut fours = g.chunks_exact(4);
+        for c in &mut fours {
+            for k in 0..4 {
+                m[k] = larger(c[k].abs(), m[k]);
+            }
+        }
+        for c in fours.remainder() {
+            m[0] = larger(c.abs(), m[0]);
+        }
+        *e = fold(m);
+    }
+    let mut m = [0.0f64; 4];
+    let mut fours = v.chunks_exact(12);
+    for c in &mut fours {
+        for k in 0..4 {
+            let x = &c[3 * k..3 * k + 3];
+            m[k] = larger(x[0] * x[0] + x[1] * x[1] + x[2] * x[2], m[k]);
+        }
+    }
+    for x in fours.remainder().chunks_exact(3) {
+        m[0] = larger(x[0] * x[0] + x[1] * x[1] + x[2] * x[2], m[0]);
+    }
+    fold(m)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -277,7 +329,7 @@ mod tests {
     }
 
     fn check_against_vector_update(alike: bool) {
-        let n = 301; // more than two runs, not a multiple of 4
+        let n: usize = 301; // more than two runs, not a multiple of 4
         let mut s = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = || {
             s ^= s << 13;
@@ -325,6 +377,7 @@ mod tests {
             rot0.clone(),
         );
         let per_particle = if alike { 0 } else { n };
+        let mut groups = vec![f64::NAN; n.div_ceil(GROUP)];
         let got = update(
             &c,
             Run {
@@ -338,6 +391,7 @@ mod tests {
                 disp: &mut disp,
                 spin: &mut spin,
                 rot: &mut rot,
+                groups: &mut groups,
             },
         );
         let g = Vec3::from(c.g);
@@ -367,6 +421,14 @@ mod tests {
         assert!(got.finite);
         assert_eq!(got.outside, outside);
         assert!(outside, "the random positions leave the box on some side");
+        // The fastest particles as the folds over the particles give them (the passes of
+        // `cycle::set_margins` and `cycle::after_step`).
+        let speed2 = vel.iter().fold(0.0f64, |m, v| m.max(v.norm_squared()));
+        assert_eq!(got.speed2.to_bits(), speed2.to_bits());
+        for (k, g) in vel.chunks(GROUP).enumerate() {
+            let a = g.iter().fold(0.0f64, |m, v| m.max(v.amax()));
+            assert_eq!(groups[k].to_bits(), a.to_bits(), "group {k}");
+        }
     }
 
     #[test]
@@ -394,6 +456,7 @@ mod tests {
             let [vel, disp, spin, rot] = &mut z[..] else {
                 unreachable!()
             };
+            let mut groups = [0.0];
             update(
                 &c,
                 Run {
@@ -407,6 +470,7 @@ mod tests {
                     disp,
                     spin,
                     rot,
+                    groups: &mut groups,
                 },
             )
         };

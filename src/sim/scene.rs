@@ -432,6 +432,9 @@ pub struct Derived {
     /// dashpot (`physics::dashpot`); empty without a dashpot (derived, not saved: set by
     /// `cycle::one_step`).
     pub reach_ext: Vec<f64>,
+    /// The velocities' largest values as the last step's update left them
+    /// ([`Speeds`]; derived, not saved).
+    pub speeds: Speeds,
     /// The particles the last command placed, if it was an AGEnerate (derived, not saved;
     /// any other command forgets them, SAve included, so a RESTart sees the same): the next
     /// AGEnerate into the same agglomerate orders them with its own (a BCC lattice is two
@@ -449,10 +452,25 @@ impl Default for Derived {
             maybe_outside: true,
             notes: Vec::new(),
             reach_ext: Vec::new(),
+            speeds: Default::default(),
             lattice_run: None,
             create_index: None,
         }
     }
+}
+
+/// The velocities' largest values as the last step's update left them (`cycle::move_all`, the
+/// fused step: each chunk while it is in the cache), so that neither the next step's margins
+/// (`cycle::set_margins`) nor the check after the step (`after_step`) passes over the velocities
+/// again: per group of `cycle::EXT_GROUP` particles the largest velocity component, and the
+/// largest `|v|²`. `fresh` from the end of a step whose update left finite velocities that
+/// nothing changed since (not with `zero_always`, the deforming cell or its servo) until the
+/// next update, a deletion or the end of the `Cycle` (derived, not saved).
+#[derive(Clone, Debug, Default)]
+pub struct Speeds {
+    pub groups: Vec<f64>,
+    pub speed2: f64,
+    pub fresh: bool,
 }
 
 /// A run of particles placed by AGEnerate: `start..` of the particle list, agglomerate

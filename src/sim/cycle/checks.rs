@@ -498,7 +498,12 @@ pub(super) fn after_step(
         return Ok(());
     }
     // The largest distance a particle moved in this step.
-    let vmax = largest_norm_squared(&p.vel).sqrt();
+    let vmax = scene
+        .derived
+        .speeds
+        .fastest()
+        .unwrap_or_else(|| largest_norm_squared(&p.vel))
+        .sqrt();
     let step = vmax * dt;
     if !scene.walls.is_empty() {
         // Every particle when the candidates are due for a re-mapping or a wall jumped by

@@ -192,8 +192,9 @@ pub fn rebuild(scene: &mut Scene, tol: f64) -> search::GridInfo {
 
 /// Particles per entry of [`Scene::reach_ext`]: the margin of reach is kept per group of
 /// consecutive particles (neighbours in space, the numbering follows it), so that the reach
-/// tests read it from a table that stays in the cache.
-pub const EXT_GROUP: usize = 64;
+/// tests read it from a table that stays in the cache (the update keeps each group's
+/// largest velocity component, [`Speeds`]).
+pub const EXT_GROUP: usize = leapfrog::GROUP;
 
 /// Each group's margin of reach `Δt × its particles' largest velocity component` into `ext`
 /// ([`EXT_GROUP`]); the largest velocity component (any thread count: the same value).
@@ -211,6 +212,32 @@ pub(super) fn reach_margins(vel: &[Vec3], dt: f64, ext: &mut Vec<f64>) -> f64 {
             vmax
         })
         .reduce(|| 0.0, f64::max)
+}
+
+/// The fastest particles as the update leaves them ([`Speeds`]): kept by [`finish_move`]
+/// from the chunks' sums, read by [`set_margins`] and `after_step`.
+impl Speeds {
+    /// From the chunks' sums of an update of `n` particles (chunk order).
+    pub(super) fn set(&mut self, parts: &[ChunkSums], n: usize) {
+        let per = CHUNK / EXT_GROUP;
+        self.groups.clear();
+        self.speed2 = 0.0;
+        for (c, s) in parts.iter().enumerate() {
+            let k = n.div_ceil(EXT_GROUP).saturating_sub(c * per).min(per);
+            self.groups.extend_from_slice(&s.groups[..k]);
+            self.speed2 = if s.speed2 > self.speed2 {
+                s.speed2
+            } else {
+                self.speed2
+            };
+        }
+        self.fresh = true;
+    }
+
+    /// The largest `|v|²` if fresh.
+    pub(super) fn fastest(&self) -> Option<f64> {
+        self.fresh.then_some(self.speed2)
+    }
 }
 
 /// The largest of `f(x)` over `v` (0 for none) as `v.iter().fold(0.0, |m, x| m.max(f(x)))`
@@ -279,7 +306,19 @@ pub(super) fn set_margins(scene: &mut Scene, model: &Model, dt: f64) -> bool {
         scene.derived.reach_ext = Vec::new();
         return true;
     }
-    let v = reach_margins(&scene.particles.vel, dt, &mut scene.derived.reach_ext);
+    let n = scene.particles.len();
+    let v = match &scene.derived.speeds {
+        // (The same values as the pass: the largest of the same sets.)
+        s if s.fresh && s.groups.len() == n.div_ceil(EXT_GROUP) => {
+            let ext = &mut scene.derived.reach_ext;
+            ext.clear();
+            ext.extend(s.groups.iter().map(|a| a * dt));
+            s.groups
+                .iter()
+                .fold(0.0f64, |m, &a| if a > m { a } else { m })
+        }
+        _ => reach_margins(&scene.particles.vel, dt, &mut scene.derived.reach_ext),
+    };
     let d = max_disp(scene);
     let walls = scene
         .walls

@@ -30,7 +30,7 @@ use super::interact::{Acc, Kin, Laws, interact, interact_rows};
 use super::lanes;
 use super::leapfrog;
 use super::params::{self, Model};
-use super::scene::{Scene, TunnelAction, Vec3, Wall};
+use super::scene::{Scene, Speeds, TunnelAction, Vec3, Wall};
 use super::search;
 use super::walls::{self, WallShape, surface_speed, surface_velocity, wall_gap, wall_r_star};
 use crate::sim::model::{TangentialChoice, WallGeom};
@@ -105,6 +105,7 @@ pub fn run_until(
     });
     // (Derived per step; not kept between commands.)
     scene.derived.reach_ext = Vec::new();
+    scene.derived.speeds = Speeds::default();
     scene.contacts.step.margins = [0.0; 2];
     r
 }

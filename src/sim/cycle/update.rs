@@ -86,6 +86,10 @@ pub(super) struct ChunkSums {
     pub(super) outside: bool,
     /// Work of the velocity constraints (`Fix`, 2-D).
     pub(super) w_fix: f64,
+    /// The largest |v|² and, per group of [`EXT_GROUP`] particles, the largest velocity
+    /// component after the update ([`Speeds`]; finite velocities only).
+    pub(super) speed2: f64,
+    pub(super) groups: [f64; CHUNK / EXT_GROUP],
 }
 
 /// A chunk's particle arrays.
@@ -228,11 +232,15 @@ impl Mover {
         let hi = lo + vel.len();
         let n = vel.len();
         // Plain particles (no aggregate gravity, nothing fixed, no 2-D constraint, no
-        // mass damping): the component update, bitwise the same as the loop below.
+        // mass damping): the component update, bitwise the same as the loop below. A chunk
+        // without aggregates and fixed components is plain: that first, as an OR over the
+        // bytes (which the compiler vectorises), then the test per particle.
+        let bits = |b: &[u8]| b.iter().fold(0u8, |m, &x| m | x);
         let plain_chunk = plain.is_some()
-            && agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
-                fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
-            });
+            && ((bits(&agg[lo..hi]) == 0 && bits(&fixed[lo..hi]) & 0x3f == 0)
+                || agg[lo..hi].iter().zip(&fixed[lo..hi]).all(|(&a, &fx)| {
+                    fx & 0x3f == 0 && (a == 0 || cg.get(a as usize - 1).is_none_or(|&g| !(g > 0.0)))
+                }));
         // The step factors Δt/m and Δt/I of the chunk first, in a loop of their own that
         // the compiler vectorises (the divisions then do not stall the update below); not
         // needed by the plain update of alike particles (`Plain::uniform`), which then
@@ -255,6 +263,7 @@ impl Mover {
             factors = Some((&step_v, &step_w));
         }
         if let (Some(c), true) = (&plain, plain_chunk) {
+            let mut groups = [0.0; CHUNK / EXT_GROUP];
             let (mass, step_v, step_w) = match factors {
                 None => (&[][..], &[][..], &[][..]),
                 Some((v, w)) => (&mass[lo..hi], &v[..n], &w[..n]),
@@ -272,6 +281,7 @@ impl Mover {
                     disp: &mut *disp,
                     spin: &mut *spin,
                     rot: &mut *rot,
+                    groups: &mut groups[..n.div_ceil(EXT_GROUP)],
                 },
             );
             if !s.finite {
@@ -286,6 +296,8 @@ impl Mover {
                 bad,
                 outside: s.outside,
                 w_fix: 0.0,
+                speed2: s.speed2,
+                groups,
             };
         }
         let Some(factors) = factors else {
@@ -403,6 +415,10 @@ impl Mover {
                 bad = Some(i);
             }
         }
+        let mut groups = [0.0; CHUNK / EXT_GROUP];
+        for (g, e) in vel.chunks(EXT_GROUP).zip(groups.iter_mut()) {
+            *e = largest_component(g);
+        }
         ChunkSums {
             w_grav,
             d_mass,
@@ -410,6 +426,8 @@ impl Mover {
             bad,
             outside,
             w_fix,
+            speed2: largest_norm_squared(vel),
+            groups,
         }
     }
 }
@@ -451,6 +469,7 @@ pub(super) fn finish_move(
     dt: f64,
 ) -> Result<(), Blowup> {
     scene.contacts.step.zeroed = !keep && parts.iter().all(|s| s.bad.is_none());
+    scene.derived.speeds.fresh = false;
     let mut w_grav = 0.0;
     let mut d_mass = 0.0;
     let mut max_disp = 0.0f64;
@@ -537,6 +556,12 @@ pub(super) fn finish_move(
     l.rupture += acc.rupture;
     scene.cycle += 1;
     scene.time += dt;
+    // The velocities' largest values as the update left them (unless the cell or
+    // `zero_always` changed the velocities since): for the check after the step and the
+    // next step's margins.
+    if !scene.zero_always && !scene.cell.needs_stress() && scene.derived.servo.is_none() {
+        scene.derived.speeds.set(parts, scene.particles.len());
+    }
     Ok(())
 }
 
@@ -759,4 +784,5 @@ pub(super) fn remove_where(scene: &mut Scene, gone: &[bool]) {
             None => false,
         });
     scene.contacts.clear_derived();
+    scene.derived.speeds.fresh = false;
 }
