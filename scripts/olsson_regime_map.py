@@ -128,6 +128,16 @@ def olsson_cells(liquid, v):
     return "– (not run)", "–"
 
 
+def outside(hit, border, vs, pcts):
+    """A border's cell: the velocity, or the side of the velocities run it lies on ("< 3":
+    the slowest run is already beyond it; "> 5.2": the fastest is not yet; "–": no runs)."""
+    if hit is not None:
+        return f"{hit:.2f}"
+    if not vs:
+        return "–"
+    return f"< {vs[0]:g}" if pcts[0] >= border else f"> {vs[-1]:g}"
+
+
 def print_table(rows):
     """doc/validation.md's results table and regime borders, from the CSV's rows."""
     print("| liquid | v (m/s) | fragmented (%) | Olsson (Table 4:1) | regime ours / his "
@@ -151,15 +161,14 @@ def print_table(rows):
         mine = borders_in([r["v"] for r in ours], [r["fragmented_pct"] for r in ours])
         vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
         his = borders_in(vs, [olsson_pct(liq, v) for v in vs])
-        top = max([r["v"] for r in ours], default=0.0)
+        ours_v, ours_p = [r["v"] for r in ours], [r["fragmented_pct"] for r in ours]
         cells = []
-        for m, h in zip(mine, his):
-            if m is None and h is None:
+        for b, m, h in zip(BORDERS, mine, his):
+            if m is None and h is None and max(ours_p + [0.0]) < b:
                 cells.append("–")
             else:
-                a = f"{m:.2f}" if m is not None else f"> {top:g}"
-                b = f"{h:.2f}" if h is not None else f"> {vs[-1]:g}"
-                cells.append(f"{a} / {b} m/s")
+                cells.append(f"{outside(m, b, ours_v, ours_p)} / "
+                             f"{outside(h, b, vs, [olsson_pct(liq, v) for v in vs])} m/s")
         name = "dry" if liq == "dry" else f"{liq} %"
         print(f"| {name}, ours / Olsson | " + " | ".join(cells) + " |")
 
