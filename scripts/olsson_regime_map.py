@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Olsson 2017's regime map (Fig. 4:7) from a run of scripts/sweeps/olsson_regime.sweep.
 
-usage: olsson_regime_map.py SWEEP_DIR [--chart-only] [--png doc/img/olsson_regime_map.png] [--csv doc/data/olsson_regime.csv]
+usage: olsson_regime_map.py SWEEP_DIR [--chart-only] [--table] [--png doc/img/olsson_regime_map.png] [--csv doc/data/olsson_regime.csv]
 
 Reads every finished run's output (SWEEP_DIR/runs/*/output.jsonl, the last printout) and
 writes, per run: Olsson's total fragmentation (4000 - the largest DBSCAN fragment, particles
@@ -13,7 +13,9 @@ incident kinetic energy over the summed bond energy of the initial contacts). Tw
 with the regime borders 3, 20 and 50 % (PNG_fragmentation.png); and the regime map (PNG):
 fragmentation against Delta (log), one line per liquid content, the borders as grey lines,
 his Table 4:1 placed on our Delta axis (Delta is proportional to v^2 for one agglomerate).
---chart-only draws both again from the CSV (SWEEP_DIR is then not read).
+--chart-only draws both again from the CSV (SWEEP_DIR is then not read). --table prints
+doc/validation.md's results table and regime borders from the CSV (SWEEP_DIR not read).
+The CSV's provenance file names the sweep's runs (those finished, those missing, threads).
 """
 import argparse
 import csv
@@ -100,18 +102,88 @@ def read_runs(sweep):
     return rows
 
 
-def borders_in(xs, pcts):
-    """Where the fragmentation crosses 3, 20, 50 % by linear interpolation in x (None: not
-    crossed)."""
+def borders_in(vs, pcts):
+    """The velocities at which the fragmentation crosses 3, 20, 50 %, interpolated linearly in
+    v^2 (in Delta, as Olsson drew Fig. 4:7: Delta is proportional to v^2 for one agglomerate)
+    between the velocities run (None: not crossed)."""
     out = []
     for b in BORDERS:
         hit = None
-        for (x0, p0), (x1, p1) in zip(zip(xs, pcts), zip(xs[1:], pcts[1:])):
+        for (v0, p0), (v1, p1) in zip(zip(vs, pcts), zip(vs[1:], pcts[1:])):
             if p0 < b <= p1:
-                hit = x0 + (b - p0) * (x1 - x0) / (p1 - p0)
+                hit = math.sqrt(v0 * v0 + (b - p0) * (v1 * v1 - v0 * v0) / (p1 - p0))
                 break
         out.append(hit)
     return out
+
+
+def olsson_cells(liquid, v):
+    """Olsson's Table 4:1 (count (%)) and 4:2 (fragments (singles + binaries)) cells."""
+    if v in OLSSON_FRAG[liquid]:
+        n = OLSSON_FRAG[liquid][v]
+        f, s = OLSSON_FRAGMENTS[liquid][v]
+        return f"{n} ({100.0 * n / N:.2f})", f"{f} ({s})"
+    if v in OLSSON_ZERO[liquid]:
+        return "0 (0.00)", "0 (0)"
+    return "– (not run)", "–"
+
+
+def outside(hit, border, vs, pcts):
+    """A border's cell: the velocity, or the side of the velocities run it lies on ("< 3":
+    the slowest run is already beyond it; "> 5.2": the fastest is not yet; "–": no runs)."""
+    if hit is not None:
+        return f"{hit:.2f}"
+    if not vs:
+        return "–"
+    return f"< {vs[0]:g}" if pcts[0] >= border else f"> {vs[-1]:g}"
+
+
+def print_table(rows):
+    """doc/validation.md's results table and regime borders, from the CSV's rows."""
+    print("| liquid | v (m/s) | fragmented (%) | Olsson (Table 4:1) | regime ours / his "
+          "| fragments (singles + binaries) | Olsson (Table 4:2) | largest cluster | capture % "
+          "| D_r | net D_r − n_r | Δ | wall (s) |")
+    print("|---" * 13 + "|")
+    for r in rows:
+        v = r["v"]
+        his, his2 = olsson_cells(r["liquid"], v)
+        p = olsson_pct(r["liquid"], v)
+        print(f"| {r['liquid']} | {v:g} | {int(r['fragmented'])} ({r['fragmented_pct']:.2f}) | {his} "
+              f"| {regime(r['fragmented_pct']) + 1} / {'–' if p is None else regime(p) + 1} "
+              f"| {int(r['fragments'])} ({int(r['singles_binaries'])}) | {his2} | {int(r['largest'])} "
+              f"| {r['capture_pct']:.1f} | {r['damage_ratio']:.3f} | {r['net_damage']:.3f} "
+              f"| {r['delta']:.3g} | {r['wall_s']:.0f} |")
+    print()
+    print("| | 3 % | 20 % | 50 % |")
+    print("|---|---|---|---|")
+    for liq in LIQUIDS:
+        ours = [r for r in rows if r["liquid"] == liq]
+        mine = borders_in([r["v"] for r in ours], [r["fragmented_pct"] for r in ours])
+        vs = sorted(set(OLSSON_FRAG[liq]) | set(OLSSON_ZERO[liq]))
+        his = borders_in(vs, [olsson_pct(liq, v) for v in vs])
+        ours_v, ours_p = [r["v"] for r in ours], [r["fragmented_pct"] for r in ours]
+        cells = []
+        for b, m, h in zip(BORDERS, mine, his):
+            if m is None and h is None and max(ours_p + [0.0]) < b:
+                cells.append("–")
+            else:
+                cells.append(f"{outside(m, b, ours_v, ours_p)} / "
+                             f"{outside(h, b, vs, [olsson_pct(liq, v) for v in vs])} m/s")
+        name = "dry" if liq == "dry" else f"{liq} %"
+        print(f"| {name}, ours / Olsson | " + " | ".join(cells) + " |")
+
+
+def sweep_runs(sweep, rows):
+    """What the provenance file says of the sweep: its runs finished and missing, threads."""
+    try:
+        with open(os.path.join(sweep, "sweep.json")) as fh:
+            m = json.load(fh)
+    except (OSError, ValueError):
+        return {"runs": len(rows)}
+    done = {f"{r['liquid']}_v{r['v']:g}" for r in rows}
+    names = [r["name"] for r in m.get("runs", [])]
+    return {"runs": len(rows), "of_runs": len(names), "missing": [n for n in names if n not in done],
+            "threads_per_run": m.get("threads"), "sets": m.get("sets")}
 
 
 def main():
@@ -120,12 +192,16 @@ def main():
     ap.add_argument("--png", default="doc/img/olsson_regime_map.png")
     ap.add_argument("--csv", default="doc/data/olsson_regime.csv")
     ap.add_argument("--chart-only", action="store_true", help="draw the charts again from the CSV")
+    ap.add_argument("--table", action="store_true", help="print the doc's tables from the CSV")
     a = ap.parse_args()
-    if a.chart_only:
+    if a.chart_only or a.table:
         with open(a.csv) as fh:
             rows = [{k: (v if k == "liquid" else float(v) if v else 0.0) for k, v in r.items()}
                     for r in csv.DictReader(fh)]
-        draw(rows, a.png)
+        if a.table:
+            print_table(rows)
+        else:
+            draw(rows, a.png)
         return
     rows = read_runs(a.sweep)
     if not rows:
@@ -137,7 +213,7 @@ def main():
         w.writeheader()
         for r in rows:
             w.writerow({k: (round(x, 4) if isinstance(x, float) else x) for k, x in r.items()})
-    provenance.record(a.csv, rt.trubal_binary(), sweep=a.sweep)
+    provenance.record(a.csv, rt.trubal_binary(), sweep=a.sweep, **sweep_runs(a.sweep, rows))
     print(",".join(keys))
     for r in rows:
         print(",".join(str(round(r[k], 4) if isinstance(r[k], float) else r[k]) for k in keys))
