@@ -118,6 +118,7 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
         w.force = *f;
     }
     scene.contacts.step.deferred = parts.is_none();
+    scene.contacts.step.scattered = parts.is_none() && model.plan.threads > 1;
     (acc, parts)
 }
 
@@ -248,7 +249,7 @@ pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
     }
     let contacts = &scene.contacts;
     let left = Left {
-        scatter: Some((
+        scatter: contacts.step.scattered.then_some((
             &contacts.step.scatter,
             &contacts.step.hot,
             &contacts.step.out,

@@ -154,6 +154,7 @@ fn run_steps(
     // (`after_step`: the smallest radius, and the relative travel since the last check.)
     let rmin = scene.min_radius();
     let mut step_watch = StepWatch::default();
+    let threads = model.plan.threads;
     for step in 0..n {
         // An interrupt makes this step the last, as if the Cycle had been this long.
         let last = watch(scene, step);
@@ -178,6 +179,9 @@ fn run_steps(
             || snapshot_before(step + 1)
             || records_a_group(scene)
             || until.is_some();
+        // With the pollers asleep the step runs on this thread alone: the one-thread plan
+        // (the same bits; `Pacer::asleep`).
+        model.plan.threads = if pacer.asleep() { 1 } else { threads };
         let mut result = one_step(scene, &mut model, (tol, xres), (keep, step == 0));
         if result.is_ok() && scene.contacts.rebuilds() != rebuilds_before && !warned_step {
             warned_step = warn_step(scene, &model, &mut key_bound);
@@ -221,6 +225,7 @@ fn run_steps(
             break;
         }
     }
+    model.plan.threads = threads;
     // The end of the Cycle is audited too (a Cycle shorter than the snapshot interval).
     if let Some(e) = audit.check(scene, &model) {
         return Err(stop(scene, snapshot, e));

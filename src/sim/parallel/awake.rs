@@ -18,7 +18,7 @@
 //! one on S1 with a busy loop on the other core). So the pollers note the time the system
 //! took them off the core while they spun ([`Pacer`]); when that is more than a few per cent
 //! of a window, the Cycle's thread times one window with the pollers asleep on a condition
-//! variable — it then runs every task itself, in the same order — and keeps whichever way
+//! variable — it then runs the step on the one-thread plan ([`Pacer::asleep`]) — and keeps whichever way
 //! made more steps per second, for a hold that doubles while the choice stays the same. The
 //! two mistakes are not alike (pollers awake beside another program: several times slower;
 //! asleep on an idle machine: the second thread's gain lost), so awake must beat the asleep
@@ -214,6 +214,16 @@ impl<'a> Pacer<'a> {
             steps: 0,
             off_start: 0,
         }
+    }
+
+    /// Whether the pollers sleep now: the Cycle's thread is alone, so the next step runs
+    /// the one-thread plan (no split of the pair list, no region) — the same bits as the
+    /// split step, without the split's shared particles and late chunks to pay for. Beside a
+    /// one-thread trubal on the other core (S1 10k), two threads whose pollers slept through
+    /// 97 % of the Cycle still ran the split step and took 1.06–1.11 × one thread's time.
+    pub fn asleep(&self) -> bool {
+        self.shared
+            .is_some_and(|sh| sh.asleep.load(Ordering::Relaxed))
     }
 
     /// Called after every step: at the end of a window, lets [`Pace`] decide whether the
