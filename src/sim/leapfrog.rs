@@ -173,8 +173,8 @@ impl Factors {
     }
 }
 
-/// One component's translation, Lian (5.9)–(5.14): v = v_old·damp + (F + m g fmm)·Δt/m,
-/// x += v Δt (and the displacement since the last rebuild); returns the component of the work of gravity
+/// One component's translation: v = v_old·damp + (F + m g fmm)·Δt/m, x += v Δt (and the
+/// displacement since the last rebuild); returns the component of the work of gravity
 /// m g fmm·(v + v_old)/2 (times Δt per particle by the caller).
 #[inline(always)]
 fn translate(
@@ -215,8 +215,8 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
     let lo = [pattern(c.lo); RUN / 4];
     let hi = [pattern(c.hi); RUN / 4];
     let (lo, hi) = (lo.as_flattened(), hi.as_flattened());
-    // Alike particles: the body force m g fmm as a pattern (the same operations as
-    // `Factors::translate` per particle), Δt/m and Δt/I as two numbers. Other particles: per-component arrays
+    // Alike particles: the body force m g fmm as a pattern (the same operations as per
+    // particle below), Δt/m and Δt/I as two numbers. Other particles: per-component arrays
     // filled per run (cleared only then).
     let alike = c.uniform.map(|u| {
         let s = u.mass * c.fmm;
