@@ -187,13 +187,12 @@ pub(super) fn contact_forces<const ADH: bool, const LIQ: bool>(
 /// particles' sums from their pairs' slots, in pair order; the moments (summed per unit
 /// radius) times the radius; then each particle's wall forces in pair order. The same sums
 /// in the same order for any number of threads, done where the update reads the chunk
-/// anyway (one pass over the moments less per step). `common`: the particles' common
-/// radius (`Model::uniform`), which every `radius` is bit for bit.
+/// anyway (one pass over the moments less per step).
 pub(super) fn finish_chunk(
     left: Left<'_>,
     c: usize,
     (force, moment): (&mut [Vec3], &mut [Vec3]),
-    (radius, common): (&[f64], Option<f64>),
+    radius: &[f64],
     rotation: bool,
 ) {
     let lo = c * CHUNK;
@@ -225,17 +224,8 @@ pub(super) fn finish_chunk(
         }
     }
     if rotation {
-        match common {
-            // The same products, over the components as one flat loop.
-            Some(r) => {
-                let m: &mut [f64] = bytemuck::cast_slice_mut(&mut *moment);
-                m.iter_mut().for_each(|m| *m *= r);
-            }
-            None => {
-                for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
-                    *m *= *r;
-                }
-            }
+        for (m, r) in moment.iter_mut().zip(&radius[lo..hi]) {
+            *m *= *r;
         }
     }
     for o in WallOut::of_chunk(left.walls, c) {
@@ -273,7 +263,7 @@ pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
         .par_chunks_mut(CHUNK)
         .zip(p.moment.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(c, (f, m))| finish_chunk(left, c, (f, m), (radius, None), rotation));
+        .for_each(|(c, (f, m))| finish_chunk(left, c, (f, m), radius, rotation));
 }
 
 /// The particle–particle forces (see [`forces_with`]): each pair's force goes onto its two

@@ -138,8 +138,6 @@ pub(super) struct Mover {
     pub(super) size: [f64; 3],
     pub(super) periodic: [bool; 3],
     pub(super) plain: Option<leapfrog::Plain>,
-    /// The particles' common radius (`Model::uniform`).
-    pub(super) radius: Option<f64>,
 }
 
 impl Mover {
@@ -195,7 +193,6 @@ impl Mover {
             size,
             periodic,
             plain,
-            radius: model.uniform.as_ref().map(|u| u.radius),
         }
     }
 
@@ -227,8 +224,7 @@ impl Mover {
         // First what the force step left (`finish_chunk`): with several threads the shared
         // particles' sums; the moments times the radius; the wall forces.
         if let Some(left) = left {
-            let radii = (radius, self.radius);
-            finish_chunk(left, chunk, (&mut *force, &mut *moment), radii, rotation);
+            finish_chunk(left, chunk, (&mut *force, &mut *moment), radius, rotation);
         }
         let (force, moment) = (&*force, &*moment);
         let mut bad: Option<usize> = None;
