@@ -126,73 +126,6 @@ fn update_avx2(c: &Plain, r: Run<'_>) -> RunSums {
     update_impl(c, r)
 }
 
-/// A per-axis value repeated over the components of four particles (x, y, z four times).
-#[inline(always)]
-fn pattern(a: [f64; 3]) -> [f64; 12] {
-    std::array::from_fn(|q| a[q % 3])
-}
-
-/// The per-particle factors of a run whose particles are not alike (body force m g fmm,
-/// Δt/m, Δt/I per component) and the work of gravity per component.
-struct Factors {
-    fb: [f64; 3 * RUN],
-    sv: [f64; 3 * RUN],
-    sw: [f64; 3 * RUN],
-    work: [f64; 3 * RUN],
-}
-
-impl Factors {
-    /// Fills the factors of a run's particles (`mass`, `step_v`, `step_w`: theirs) and
-    /// translates them (`translate`); returns the work of gravity's components.
-    #[inline(always)]
-    fn translate(
-        &mut self,
-        c: &Plain,
-        (mass, step_v, step_w): (&[f64], &[f64], &[f64]),
-        (v, x, d, f): (&mut [f64], &mut [f64], &mut [f64], &[f64]),
-    ) -> &[f64] {
-        let q = v.len();
-        for (l, ((m, sv), sw)) in mass.iter().zip(step_v).zip(step_w).enumerate() {
-            let s = m * c.fmm;
-            for k in 0..3 {
-                self.fb[3 * l + k] = c.g[k] * s;
-                self.sv[3 * l + k] = *sv;
-                self.sw[3 * l + k] = *sw;
-            }
-        }
-        for ((((v, x), d), (f, fbq)), (svq, w)) in v
-            .iter_mut()
-            .zip(x.iter_mut())
-            .zip(d.iter_mut())
-            .zip(f.iter().zip(&self.fb[..q]))
-            .zip(self.sv[..q].iter().zip(&mut self.work[..q]))
-        {
-            *w = translate(v, x, d, (*f, *fbq, *svq), c);
-        }
-        &self.work[..q]
-    }
-}
-
-/// One component's translation: v = v_old·damp + (F + m g fmm)·Δt/m, x += v Δt (and the
-/// displacement since the last rebuild); returns the component of the work of gravity
-/// m g fmm·(v + v_old)/2 (times Δt per particle by the caller).
-#[inline(always)]
-fn translate(
-    v: &mut f64,
-    x: &mut f64,
-    d: &mut f64,
-    (f, fb, sv): (f64, f64, f64),
-    c: &Plain,
-) -> f64 {
-    let v_old = *v;
-    let vn = velocity(v_old, c.damp, f + fb, sv);
-    *v = vn;
-    let dx = vn * c.dt;
-    *x += dx;
-    *d += dx;
-    fb * ((vn + v_old) * 0.5)
-}
-
 #[inline(always)]
 fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
     let n = r.vel.len();
@@ -210,71 +143,68 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
     let disp: &mut [f64] = bytemuck::cast_slice_mut(r.disp);
     let spin: &mut [f64] = bytemuck::cast_slice_mut(r.spin);
     let rot: &mut [f64] = bytemuck::cast_slice_mut(r.rot);
-    // Bounds of the work-space per component, copied from a pattern of four particles
-    // (not cleared first).
-    let lo = [pattern(c.lo); RUN / 4];
-    let hi = [pattern(c.hi); RUN / 4];
-    let (lo, hi) = (lo.as_flattened(), hi.as_flattened());
-    // Alike particles: the body force m g fmm as a pattern (the same operations as per
-    // particle below), Δt/m and Δt/I as two numbers. Other particles: per-component arrays
-    // filled per run (cleared only then).
-    let alike = c.uniform.map(|u| {
+    // Per-component factors of a run: body force m g fmm, Δt/m; bounds of the work-space.
+    let mut fb = [0.0; 3 * RUN];
+    let mut sv = [0.0; 3 * RUN];
+    let mut sw = [0.0; 3 * RUN];
+    let mut lo = [0.0; 3 * RUN];
+    let mut hi = [0.0; 3 * RUN];
+    for l in 0..RUN {
+        for k in 0..3 {
+            lo[3 * l + k] = c.lo[k];
+            hi[3 * l + k] = c.hi[k];
+        }
+    }
+    let mut work = [0.0; 3 * RUN];
+    // Alike particles: the factors once (the same operations as per particle below).
+    if let Some(u) = c.uniform {
         let s = u.mass * c.fmm;
-        (
-            pattern([c.g[0] * s, c.g[1] * s, c.g[2] * s]),
-            u.step_v,
-            u.step_w,
-        )
-    });
-    let mut per = match alike {
-        Some(_) => None,
-        None => Some(Factors {
-            fb: [0.0; 3 * RUN],
-            sv: [0.0; 3 * RUN],
-            sw: [0.0; 3 * RUN],
-            work: [0.0; 3 * RUN],
-        }),
-    };
+        for l in 0..RUN {
+            for k in 0..3 {
+                fb[3 * l + k] = c.g[k] * s;
+                sv[3 * l + k] = u.step_v;
+                sw[3 * l + k] = u.step_w;
+            }
+        }
+    }
     let mut start = 0;
     while start < n {
         let m = (n - start).min(RUN);
         let (a, b) = (3 * start, 3 * (start + m));
-        let q = 3 * m;
+        if c.uniform.is_none() {
+            for l in 0..m {
+                let s = r.mass[start + l] * c.fmm;
+                for k in 0..3 {
+                    fb[3 * l + k] = c.g[k] * s;
+                    sv[3 * l + k] = r.step_v[start + l];
+                    sw[3 * l + k] = r.step_w[start + l];
+                }
+            }
+        }
+        // Translation, component by component: v = v_old·damp + (F + m g fmm)·Δt/m,
+        // x += v Δt (and the displacement since the last rebuild).
         let (f, v, x, d) = (
             &force[a..b],
             &mut vel[a..b],
             &mut pos[a..b],
             &mut disp[a..b],
         );
-        // Translation, component by component, and the work of gravity's components.
-        let mut alike_work;
-        let work: &[f64] = match (&alike, &mut per) {
-            (Some((fb, sv, _)), _) => {
-                // Each component's body force, overwritten by its work.
-                alike_work = [*fb; RUN / 4];
-                let w = &mut alike_work.as_flattened_mut()[..q];
-                for ((((v, x), d), f), w) in v
-                    .iter_mut()
-                    .zip(x.iter_mut())
-                    .zip(d.iter_mut())
-                    .zip(f)
-                    .zip(w.iter_mut())
-                {
-                    *w = translate(v, x, d, (*f, *w, *sv), c);
-                }
-                w
-            }
-            (None, Some(p)) => {
-                let e = start + m;
-                let factors = (&r.mass[start..e], &r.step_v[start..e], &r.step_w[start..e]);
-                p.translate(c, factors, (v, x, d, f))
-            }
-            (None, None) => unreachable!("the factors' arrays exist unless alike"),
-        };
-        // The work of gravity m g·v̄ Δt, particle by particle (the dot product summed as
-        // nalgebra's: (x + y) + z).
-        for w in work.chunks_exact(3) {
-            sums.w_grav += (w[0] + w[1] + w[2]) * c.dt;
+        let q = 3 * m;
+        for (((((v, x), d), (f, fbq)), svq), w) in v
+            .iter_mut()
+            .zip(x.iter_mut())
+            .zip(d.iter_mut())
+            .zip(f.iter().zip(&fb[..q]))
+            .zip(&sv[..q])
+            .zip(&mut work[..q])
+        {
+            let v_old = *v;
+            let vn = velocity(v_old, c.damp, f + fbq, *svq);
+            *v = vn;
+            *w = fbq * ((vn + v_old) * 0.5);
+            let dx = vn * c.dt;
+            *x += dx;
+            *d += dx;
         }
         // The run's largest displacement component, finiteness, escape through an open side.
         let (dmax, zero, out) = run_checks(&d[..q], &x[..q], &v[..q], (&lo[..q], &hi[..q]));
@@ -282,20 +212,18 @@ fn update_impl(c: &Plain, r: Run<'_>) -> RunSums {
         // that the margins and the check after the step would make).
         let s2 = run_speeds(&v[..q], &mut r.groups[start / GROUP..]);
         sums.speed2 = if s2 > sums.speed2 { s2 } else { sums.speed2 };
+        // The work of gravity m g·v̄ Δt, particle by particle (the dot product summed as
+        // nalgebra's: (x + y) + z).
+        for l in 0..m {
+            let w = &work[3 * l..3 * l + 3];
+            sums.w_grav += (w[0] + w[1] + w[2]) * c.dt;
+        }
         if c.rotation {
             let (mo, w, th) = (&moment[a..b], &mut spin[a..b], &mut rot[a..b]);
-            let spin = |(w, th): (&mut f64, &mut f64), mo: f64, sw: f64| {
-                let wn = velocity(*w, c.damp, mo, sw);
-                *w = wn;
-                *th += wn * c.dt;
-            };
-            let wth = w.iter_mut().zip(th.iter_mut());
-            match (&alike, &per) {
-                (Some((_, _, sw)), _) => wth.zip(mo).for_each(|(p, mo)| spin(p, *mo, *sw)),
-                (None, Some(p)) => wth
-                    .zip(mo.iter().zip(&p.sw[..q]))
-                    .for_each(|(p, (mo, sw))| spin(p, *mo, *sw)),
-                (None, None) => unreachable!("the factors' arrays exist unless alike"),
+            for q in 0..3 * m {
+                let wn = velocity(w[q], c.damp, mo[q], sw[q]);
+                w[q] = wn;
+                th[q] += wn * c.dt;
             }
         }
         for lane in 0..4 {
