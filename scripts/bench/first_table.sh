@@ -10,8 +10,11 @@
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 OUT=${1:-$PWD/bench-out}
+# The binary every part times (the harness reads TRUBAL too; default: this tree's release build).
+TRUBAL=${TRUBAL:-$(cd "$here/../.." && pwd)/target/release/trubal}
+export TRUBAL
 OUT=$OUT REPS=${REPS:-3} BUSY=1 S1_STEPS=5000 S1_STEPS_50000=3000 S2_STEPS=4000 \
   "$here/run_bench.sh"
-python3 "$here/equal_error.py" --bed "$OUT" --reps "${EQ_REPS:-2}"
-python3 "$here/equal_error_agg_speed.py" --bed "$OUT" --reps "${EQ_REPS:-2}"
+python3 "$here/equal_error.py" --trubal "$TRUBAL" --bed "$OUT" --reps "${EQ_REPS:-2}"
+python3 "$here/equal_error_agg_speed.py" --trubal "$TRUBAL" --bed "$OUT" --reps "${EQ_REPS:-2}"
 python3 "$here/first_table.py" "$OUT/results.tsv"
