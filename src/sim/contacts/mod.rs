@@ -209,11 +209,6 @@ pub struct StepBuffers {
     /// the moments' scaling by the radius, the wall forces (`cycle::finish_chunk`; derived,
     /// not saved).
     pub deferred: bool,
-    /// The force step was split among tasks (several threads): the shared particles' sums
-    /// are in the pairs' slots (`out`), for the update to add. A step the Cycle's thread
-    /// runs alone on the one-thread plan (`Pacer::asleep`) leaves the slots of the last
-    /// split step in place, which it must not read (derived, not saved).
-    pub scattered: bool,
     /// The particles' force and moment arrays are zero: the update cleared each chunk's
     /// after using them, so the next force step need not (derived, not saved; a step
     /// whose forces are kept, the last of a `Cycle` or one before a blow-up snapshot,
@@ -726,7 +721,6 @@ impl ContactStore {
         self.step.out.clear();
         self.step.wall_out = WallOut::default();
         self.step.deferred = false;
-        self.step.scattered = false;
         self.step.zeroed = false;
         self.clear_hot();
     }

@@ -118,7 +118,6 @@ pub(super) fn forces_with<const ADH: bool, const LIQ: bool>(
         w.force = *f;
     }
     scene.contacts.step.deferred = parts.is_none();
-    scene.contacts.step.scattered = parts.is_none() && model.plan.threads > 1;
     (acc, parts)
 }
 
@@ -242,14 +241,16 @@ pub(super) fn finish_chunk(
     }
 }
 
-/// The deferred part of the force step without the update (after `prime`).
-pub(super) fn finish_deferred(scene: &mut Scene, rotation: bool) {
+/// The deferred part of the force step without the update (after `prime`, whose force step
+/// ran `model`'s plan).
+pub(super) fn finish_deferred(scene: &mut Scene, model: &Model) {
+    let rotation = model.rotation;
     if !std::mem::take(&mut scene.contacts.step.deferred) {
         return;
     }
     let contacts = &scene.contacts;
     let left = Left {
-        scatter: contacts.step.scattered.then_some((
+        scatter: split_step(model).then_some((
             &contacts.step.scatter,
             &contacts.step.hot,
             &contacts.step.out,
@@ -547,4 +548,12 @@ pub(super) fn task_pairs_of<const ADH: bool, const LIQ: bool, const UNI: bool>(
         accs.push(a);
     }
     accs
+}
+
+/// Whether the step's force step was split among tasks (its plan has several threads): the
+/// shared particles' sums are then in the pairs' slots, for the update to add. A step the
+/// Cycle's thread runs alone on the one-thread plan (`Pacer::asleep`) leaves the slots of
+/// the last split step in place, which the update must not read.
+pub(super) fn split_step(model: &Model) -> bool {
+    model.plan.threads > 1
 }

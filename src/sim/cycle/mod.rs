@@ -615,7 +615,7 @@ pub fn prime(scene: &mut Scene, model: &Model, tol: f64) {
     let before = super::energy::stored(scene).total();
     rebuild(scene, tol);
     let _ = forces(scene, model, 0.0);
-    finish_deferred(scene, model.rotation);
+    finish_deferred(scene, model);
     let after = super::energy::stored(scene).total();
     let behind = std::mem::take(&mut scene.carried.in_flight_end);
     scene.ledger.commands += after - before + 2.0 * behind;

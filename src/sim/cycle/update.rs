@@ -20,7 +20,7 @@ pub(super) fn move_all(
     let deferred = std::mem::take(&mut scene.contacts.step.deferred);
     let contacts = &scene.contacts;
     let left = deferred.then_some(Left {
-        scatter: contacts.step.scattered.then_some((
+        scatter: split_step(model).then_some((
             &contacts.step.scatter,
             &contacts.step.hot,
             &contacts.step.out,
