@@ -104,15 +104,25 @@ def lian6_big_prepare(pvol=None):
     return [("lian_ch6_prepare.tru", dict(BIG_BOX, ra="575e-6", pvol=pvol, state=state), state)]
 
 
-def lian7_runs():
+def lian7_runs(full=True):
+    """Lian's Table 7.1, normal collisions (cases-lian1994.md: 26 runs); `full=False` the ten
+    of the earlier reduced table (the runs `lian7_lianprep` repeats from his preparation).
+    At eta = 0.1 the bridges' dashpots limit the step to 2.2 ns (9.2 ns otherwise): 4 x 50,100
+    steps keep the 442 us of the other runs."""
+    series = [
+        ("0.01", "0.025", ["0.5", "1", "2", "3", "5"], ["1.5", "2.5", "4"]),
+        ("0.001", "0.025", ["0.5", "1", "2"], ["0.2", "1.2", "1.5"]),
+        ("0.01", "0.05", ["2", "5"], ["0.5", "1", "3", "4"]),
+        ("0.1", "0.025", [], ["2", "5", "6", "7", "10", "15"]),
+    ]
     runs = []
-    for eta, gam, vs in [
-        ("0.01", "0.025", ["0.5", "1", "2", "3", "5"]),
-        ("0.001", "0.025", ["0.5", "1", "2"]),
-        ("0.01", "0.05", ["2", "5"]),
-    ]:
+    for eta, gam, reduced, rest in series:
+        vs = sorted(reduced + rest, key=float) if full else reduced
         for v in vs:
-            runs.append({"v": v, "theta": "0", "eta": eta, "gamma": gam})
+            run = {"v": v, "theta": "0", "eta": eta, "gamma": gam}
+            if eta == "0.1":
+                run["n"] = "50100"
+            runs.append(run)
     return runs
 
 
@@ -322,7 +332,13 @@ TABLES = {
     # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
     "lian7_oblique5": lian7_oblique_table(
         "Lian ch. 7: oblique collisions at 5 m/s",
-        [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75"]],
+        [{"v": "5", "theta": t, "eta": "0.01", "gamma": "0.025"} for t in ["30", "45", "60", "15", "75", "85"]],
+        work="lian7",
+    ),
+    # The third oblique series of Table 7.1: eta = 0.001 at 2 m/s.
+    "lian7_oblique001": lian7_oblique_table(
+        "Lian ch. 7: oblique collisions at 2 m/s, eta = 0.001",
+        [{"v": "2", "theta": t, "eta": "0.001", "gamma": "0.025"} for t in ["15", "30", "45", "60", "75", "85"]],
         work="lian7",
     ),
     # The grazing collisions need longer to end: 4 x 30,000 x 9.2 ns = 1.1 ms.
@@ -336,7 +352,7 @@ TABLES = {
         "script": "lian_ch7_collision.tru",
         "prepare": list(LIAN7_PREPARE_LIAN),
         "derive": "approach",
-        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs()],
+        "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs(full=False)],
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
     # The oblique series (lian7_oblique, 442 us) from Lian's preparation (lian7_lianprep's
@@ -518,7 +534,7 @@ def run_sweep(exe, work, script, todo, jobs):
     used = script_names(script)
     keys = [k for k in todo[0][1] if k in used]
     for r, sets in todo:
-        if [k for k in sets if k in used] != keys:
+        if sorted(k for k in sets if k in used) != sorted(keys):
             sys.exit(f"run {run_name(r)}: other parameters than the first run ({keys})")
     rows = sweep_dir(work, script) + ".rows.csv"
     with open(rows, "w") as f:
@@ -893,13 +909,17 @@ def lian_fit(vo, grid, vmax):
 # The theses' results drawn dashed, by the key of the group of our runs they belong to
 # ("/".join of the group's values): Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
 LIAN6_GRID = (0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)
-LIAN7_GRID = (0.7, 1, 1.2, 1.5, 2, 3, 4, 5)
+LIAN7_GRID = (0.7, 1, 1.2, 1.5, 2, 3, 4, 5, 6, 7, 10, 15)
 REFERENCES = {
     "lian6": [(eta, lian_fit(vo, LIAN6_GRID, vmax)) for eta, vo, vmax in (("0", 0.35, 2.0), ("0.01", 0.44, 3.0),
                                                                           ("0.1", 0.98, 8.0))],
     "lian7": [(key, lian_fit(vo, LIAN7_GRID, vmax))
-              for key, vo, vmax in (("0.001/0.025", 0.73, 2.0), ("0.01/0.025", 0.91, 5.0), ("0.01/0.05", 1.19, 5.0))],
+              for key, vo, vmax in (("0.001/0.025", 0.73, 2.0), ("0.01/0.025", 0.91, 5.0), ("0.01/0.05", 1.19, 5.0),
+                                   ("0.1/0.025", 2.29, 15.0))],
     "lian7_oblique": [("0.342 cos²θ", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
+    # D_o = log10(v / v_o) of his normal fits: 5 m/s, eta = 0.01 (0.740); 2 m/s, eta = 0.001 (0.438).
+    "lian7_oblique5": [("0.740 cos²θ", [(t, 0.740 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
+    "lian7_oblique001": [("0.438 cos²θ", [(t, 0.438 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
     "olsson": [
         ("dry", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
         ("0.01", [(1.5, 0), (2, 0.2), (2.5, 0.4), (3, 3.1), (5.2, 24.6)]),

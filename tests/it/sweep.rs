@@ -447,8 +447,8 @@ fn the_shipped_sweeps_expand() {
         ("lian6.sweep", 18, "v=2 eta=0.01 n=12500"),
         (
             "lian7.sweep",
-            21,
-            "v=2 theta=0 eta=0.01 gamma=0.025 v1x=1 v1y=0 v2x=-1 v2y=0",
+            44,
+            "v=2 theta=0 eta=0.1 gamma=0.025 n=50100 v1x=1 v1y=0 v2x=-1 v2y=0",
         ),
         ("timestep.sweep", 50, "tang=md frac=0.2 k=4 v=0.504 n=10016"),
         (
