@@ -536,6 +536,15 @@ def run_sweep(exe, work, script, todo, jobs):
     for r, sets in todo:
         if sorted(k for k in sets if k in used) != sorted(keys):
             sys.exit(f"run {run_name(r)}: other parameters than the first run ({keys})")
+    # The parameters in the order of the sweep already in the work directory (`trubal sweep`
+    # resumes only a sweep of the same parameters in the same order).
+    try:
+        with open(os.path.join(sweep_dir(work, script), "sweep.json")) as fh:
+            before = json.load(fh).get("params") or []
+        if sorted(before) == sorted(keys):
+            keys = list(before)
+    except (OSError, ValueError):
+        pass
     rows = sweep_dir(work, script) + ".rows.csv"
     with open(rows, "w") as f:
         f.write(",".join(["run"] + keys) + "\n")
