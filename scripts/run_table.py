@@ -915,6 +915,11 @@ def lian_fit(vo, grid, vmax):
     return [(vo, 0.0)] + [(v, math.log10(v / vo)) for v in sorted(set(grid) | {vmax}) if vo < v <= vmax]
 
 
+def lian_cos2(d_o):
+    """Lian's oblique law D_r = D_o cos²Θ (eq. 7.4) from his normal-impact D_o, 0-85°."""
+    return (f"{d_o:.3f} cos²θ", [(t, d_o * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])
+
+
 # The theses' results drawn dashed, by the key of the group of our runs they belong to
 # ("/".join of the group's values): Lian's D_r = log10(v / v_o), Olsson's Table 4:1.
 LIAN6_GRID = (0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 8)
@@ -925,10 +930,11 @@ REFERENCES = {
     "lian7": [(key, lian_fit(vo, LIAN7_GRID, vmax))
               for key, vo, vmax in (("0.001/0.025", 0.73, 2.0), ("0.01/0.025", 0.91, 5.0), ("0.01/0.05", 1.19, 5.0),
                                    ("0.1/0.025", 2.29, 15.0))],
-    "lian7_oblique": [("0.342 cos²θ", [(t, 0.342 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
-    # D_o = log10(v / v_o) of his normal fits: 5 m/s, eta = 0.01 (0.740); 2 m/s, eta = 0.001 (0.438).
-    "lian7_oblique5": [("0.740 cos²θ", [(t, 0.740 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
-    "lian7_oblique001": [("0.438 cos²θ", [(t, 0.438 * math.cos(math.radians(t)) ** 2) for t in range(0, 90, 5)])],
+    # D_o = log10(v / v_o) of his normal fits: 2 m/s, eta = 0.01 (0.342); 5 m/s, eta = 0.01
+    # (0.740); 2 m/s, eta = 0.001 (0.438).
+    "lian7_oblique": [lian_cos2(0.342)],
+    "lian7_oblique5": [lian_cos2(0.740)],
+    "lian7_oblique001": [lian_cos2(0.438)],
     "olsson": [
         ("dry", [(0.5, 0.025), (1, 2.6), (1.5, 27.3), (2, 38.5), (2.5, 65.1), (3, 69.5)]),
         ("0.01", [(1.5, 0), (2, 0.2), (2.5, 0.4), (3, 3.1), (5.2, 24.6)]),
