@@ -503,9 +503,39 @@ def sweep_dir(work, script):
     return os.path.join(work, "sweep_" + os.path.splitext(script)[0])
 
 
+def recorded_values(work, script, name):
+    """The --set values with which the sweep in the work directory ran (or will run) the
+    run `name` (its manifest, sweep.json), as {name: value}; {} when it has none."""
+    try:
+        with open(os.path.join(sweep_dir(work, script), "sweep.json")) as fh:
+            runs = json.load(fh).get("runs") or []
+    except (OSError, ValueError):
+        return {}
+    for r in runs:
+        if r.get("name") == name:
+            return {k: v for k, v in r.get("values") or []}
+    return {}
+
+
+def same_values(work, script, run):
+    """Refuses a run whose name the work directory already holds with other values: the
+    run names leave out n, wall, dx, frac and state (`run_name`), so a table run in the
+    work directory of another whose runs differ only in those would otherwise collect the
+    other table's results as its own."""
+    rec = recorded_values(work, script, run_name(run))
+    diff = [k for k, v in run.items() if k != "state" and k in rec and str(v) != rec[k]]
+    if diff:
+        sys.exit(f"{sweep_dir(work, script)}: run {run_name(run)} is there with "
+                 + ", ".join(f"{k} = {rec[k]}" for k in diff) + ", this table's has "
+                 + ", ".join(f"{k} = {run[k]}" for k in diff)
+                 + ": give the table a work directory of its own (\"work\" in TABLES)")
+
+
 def finished(work, script, run):
     """(JSON objects, wall-clock seconds) of a finished run, or None: the sweep's run
-    directory, or the log of an earlier run_table.py."""
+    directory, or the log of an earlier run_table.py. Stops if the work directory holds a
+    run of that name with other values (`same_values`)."""
+    same_values(work, script, run)
     d = os.path.join(sweep_dir(work, script), "runs", run_name(run))
     try:
         with open(os.path.join(d, "status.json")) as f:

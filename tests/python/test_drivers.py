@@ -76,3 +76,21 @@ def test_run_table_only_keeps_the_other_finished_rows(tmp_path, monkeypatch):
     with open(tmp_path / "fake.csv") as f:
         vs = [line.split(",")[0] for line in f.read().splitlines()[1:]]
     assert vs == ["1", "2"]
+
+
+def test_run_table_refuses_a_work_directory_whose_run_has_other_values(tmp_path):
+    """Run names leave out n: a table whose run of that name is in the work directory with
+    another n must not take that run's results as its own (the trap of issue 53)."""
+    import json
+
+    import pytest
+
+    sweep = tmp_path / "sweep_fake"
+    sweep.mkdir()
+    (sweep / "sweep.json").write_text(json.dumps({"runs": [
+        {"name": "v2_theta30", "values": [["state", "/x/a.sav"], ["v", "2"], ["theta", "30"], ["n", "12000"]]}]}))
+    same = {"state": "b.sav", "v": "2", "theta": "30", "n": "12000"}
+    run_table.same_values(str(tmp_path), "fake.tru", same)  # the same values (state aside)
+    run_table.same_values(str(tmp_path), "fake.tru", {"v": "3", "theta": "30", "n": "30000"})  # not there
+    with pytest.raises(SystemExit, match="n = 12000, this table's has n = 30000"):
+        run_table.finished(str(tmp_path), "fake.tru", dict(same, n="30000"))
