@@ -16,7 +16,10 @@ The runs themselves are a `trubal sweep` of the table's command file with one ro
 time (default 2: one per core, one thread each); the sweep never runs a finished run again
 (--force deletes the selected runs and the prepared states first). Runs finished by earlier
 versions of this script (WORK/logs/NAME.log ending with the final printout) are read and not
-run again. The measures are read from the JSON printouts (the last PRint BONds / CLUsters /
+run again. Run names leave out n, wall, dx, frac and state: a run whose name the work
+directory holds with other values (two tables sharing a work directory whose runs differ only
+in n) stops the script with both values, instead of collecting the other table's result. The
+measures are read from the JSON printouts (the last PRint BONds / CLUsters /
 ENErgy; the first PRint ENErgy, taken right after `PLot SAve`, is the reference for the energy
 split of the impact) into doc/data/TABLE.csv, and a line chart of the table's main measure is
 drawn with `trubal chart` (the points in target/charts/TABLE.csv) to doc/data/TABLE.png for the
