@@ -220,6 +220,18 @@ TABLES = {
         "runs": lian6_runs([("0", ["2"]), ("0.01", ["2", "3"]), ("0.1", ["8"])], "lian_ch6_big.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
+    # The worst case (eta = 0, 2 m/s) and eta = 0.01 at 2 m/s of lian6_debris with SET
+    # TANgential MD from the same state: is the tangential law what moves the main cluster and
+    # the debris's clusters from the older builds'?
+    "lian6_debris_md": {
+        "title": "Lian ch. 6, 6.2 mm work-space, SET TANgential MD: damage ratio at 2 m/s",
+        "script": "lian_ch6_impact_md.tru",
+        "prepare": lian6_big_prepare(),
+        "derive": "wall",
+        "work": "lian6_debris",  # (its state; the script's own sweep directory)
+        "runs": lian6_runs([("0", ["2"]), ("0.01", ["2"])], "lian_ch6_big.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True, "fit": False,
+    },
     # Lian's way (issue 53 item 5): a smooth elastic wall without particle-wall bridges,
     # counted once the impact's kinetic energy is dissipated (the stopping rule in
     # scripts/lian_ch6_impact_rest.tru); with wall bridges too, to separate the two.
@@ -332,6 +344,12 @@ TABLES = {
         "Lian ch. 7: oblique collision at 2 m/s, 60 deg, rerun",
         [r for r in lian7_oblique_runs() if r["theta"] == "60"],
     ),
+    # 45 and 75 deg of lian7_oblique with SET TANgential MD from the same state.
+    "lian7_oblique_md": dict(lian7_oblique_table(
+        "Lian ch. 7: oblique collisions at 2 m/s, SET TANgential MD",
+        [r for r in lian7_oblique_runs() if r["theta"] in ("45", "75")],
+        work="lian7",
+    ), script="lian_ch7_collision_md.tru"),
     # The 5 m/s oblique series (Lian's Figs. 7.12, 7.14), 442 us as the 2 m/s one.
     "lian7_oblique5": lian7_oblique_table(
         "Lian ch. 7: oblique collisions at 5 m/s",
@@ -386,6 +404,19 @@ TABLES = {
         # The step is 3.43 ns instead of 9.2: 4 x 32,200 steps = 442 us as the other runs.
         "runs": [{"v": "2", "theta": "0", "eta": "0.01", "gamma": "0.025", "smin": "3e-8", "n": "32200"}],
         "x": "v", "group": ("eta", "smin"), "y": "e_viscous", "logx": False,
+    },
+    # The energy split with the bridges' tangential viscous force (SET GOLdman ON; Lian's
+    # §8.2 says Goldman's equations were applied, §5.7.2 that they were not): is it what
+    # keeps our viscous share below his (issue 53)? The same state and steps as `lian7`.
+    "lian7_goldman": {
+        "title": "Lian ch. 7 with the tangential viscous force (SET GOLdman ON)",
+        "script": "lian_ch7_collision_goldman.tru",
+        "prepare": list(LIAN7_PREPARE),
+        "derive": "approach",
+        "work": "lian7",
+        "runs": [{"v": v, "theta": "0", "eta": "0.01", "gamma": "0.025"} for v in ["1", "2", "5"]]
+        + [{"v": "5", "theta": "0", "eta": "0.1", "gamma": "0.025", "n": "50100"}],
+        "x": "v", "group": "eta", "y": "e_viscous", "logx": False,
     },
     "olsson": {
         "figure": True,  # shown in doc/validation.md
