@@ -7,14 +7,22 @@ closed form of the simplified law (Pasha (A3.6), (A3.9), integrated independentl
 The table goes to doc/data/pasha_single.csv (with its provenance, scripts/provenance.py) when
 run with the default FRAction 0.05, the run of doc/validation.md.
 
-usage: scripts/pasha_single.py [--frac F]     (TRUBAL_BIN selects the binary)
+With --gamma G the interface energy is G instead of Table 4.1's 0.2 J/m^2 (COHesion G/2 on
+both materials): 0.4 reads Ning's 0.2 as the surface energy of each surface (Thornton's
+convention, P_c = 3 pi Gamma R*) instead of the work of adhesion (Pasha's (3.59)). The table
+then goes to doc/data/pasha_single_gamma<G>.csv.
+
+usage: scripts/pasha_single.py [--frac F] [--gamma G]     (TRUBAL_BIN selects the binary)
 """
+import atexit
 import csv
+import functools
 import json
 import math
 import os
 import subprocess
 import sys
+import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -51,9 +59,25 @@ def binary():
     return exe
 
 
+@functools.lru_cache(maxsize=None)
+def script():
+    """pasha_single.tru, or a copy with COHesion BIG_GAMMA / 2 when --gamma changed it."""
+    path = os.path.join(HERE, "pasha_single.tru")
+    if BIG_GAMMA == 0.2:
+        return path
+    with open(path) as fh:
+        text = fh.read()
+    assert text.count("cohesion 0.1 ") == 2
+    fd, tmp = tempfile.mkstemp(suffix=".tru")
+    atexit.register(os.remove, tmp)
+    with os.fdopen(fd, "w") as fh:
+        fh.write(text.replace("cohesion 0.1 ", f"cohesion {BIG_GAMMA / 2!r} "))
+    return tmp
+
+
 def run(law, v, frac):
     out = subprocess.run(
-        [binary(), os.path.join(HERE, "pasha_single.tru"), "--json", "--threads", "1",
+        [binary(), script(), "--json", "--threads", "1",
          "--set", f"v={v}", "--set", f"law={LAWS[law]}", "--set", f"frac={frac}",
          "--set", "n=4000"],
         capture_output=True, text=True, check=True).stdout
@@ -66,9 +90,12 @@ def run(law, v, frac):
 
 
 def main():
+    global BIG_GAMMA
     frac = 0.05
     if "--frac" in sys.argv:
         frac = float(sys.argv[sys.argv.index("--frac") + 1])
+    if "--gamma" in sys.argv:
+        BIG_GAMMA = float(sys.argv[sys.argv.index("--gamma") + 1])
     print(f"{'v (m/s)':>8} {'e Pasha (run)':>14} {'e Pasha (closed)':>17} {'e T-N (run)':>12}")
     rows = []
     for v in SPEEDS:
@@ -79,12 +106,13 @@ def main():
     if frac == 0.05:
         sys.path.insert(0, HERE)
         import provenance
-        out = os.path.join(ROOT, "doc", "data", "pasha_single.csv")
+        name = "pasha_single.csv" if BIG_GAMMA == 0.2 else f"pasha_single_gamma{BIG_GAMMA:g}.csv"
+        out = os.path.join(ROOT, "doc", "data", name)
         with open(out, "w", newline="") as fh:
             w = csv.DictWriter(fh, list(rows[0].keys()))
             w.writeheader()
             w.writerows({k: f"{x:.6g}" for k, x in r_.items()} for r_ in rows)
-        provenance.record(out, binary(), frac=frac)
+        provenance.record(out, binary(), frac=frac, gamma=BIG_GAMMA)
 
 
 if __name__ == "__main__":
