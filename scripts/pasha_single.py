@@ -2,7 +2,9 @@
 """Single-particle impact benchmark of Pasha (2013) Ch. 4 (§4.1.5): runs scripts/pasha_single.tru
 for a range of impact speeds with Pasha's simplified linear law (Table 4.2) and with
 Thornton-Ning (Table 4.1), and prints the coefficient of restitution of each next to the
-closed form of the simplified law (Pasha (A3.6), (A3.9), integrated independently here).
+closed form of the simplified law (Pasha (A3.6), (A3.9), integrated independently here), and
+Thornton's (1997) closed form for the same impact without adhesion (Thornton-Ning's limit at
+Gamma = 0).
 
 The table goes to doc/data/pasha_single.csv (with its provenance, scripts/provenance.py) when
 run with the default FRAction 0.05, the run of doc/validation.md.
@@ -52,6 +54,20 @@ def analytic(v):
     return math.sqrt(vr2) / v if vr2 > 0 else 0.0
 
 
+def thornton97(v, py=35.3e6):
+    """e of Thornton's (1997) elastic-perfectly plastic impact without adhesion (Thornton-Ning
+    at Gamma = 0), in closed form (Thornton 1997, J. Appl. Mech. 64: 383, eq. (30)) for
+    Table 4.1's sphere on the silicon wall: with x = v_y / v and the yield velocity
+    v_y = 1.56 (p_y^5 / (E*^4 rho))^(1/2),
+    e = (6 sqrt(3) / 5)^(1/2) (1 - x^2/6)^(1/2) (x / (x + 2 (6/5 - x^2/5)^(1/2)))^(1/4), 1 below v_y."""
+    e_star = 1.0 / ((1 - 0.3 ** 2) / 1.2e9 + (1 - 0.3 ** 2) / 182e9)
+    vy = 1.56 * math.sqrt(py ** 5 / (e_star ** 4 * RHO))
+    if v <= vy:
+        return 1.0
+    x = vy / v
+    return math.sqrt(6 * math.sqrt(3) / 5) * math.sqrt(1 - x * x / 6) * (x / (x + 2 * math.sqrt(1.2 - x * x / 5))) ** 0.25
+
+
 def binary():
     exe = os.environ.get("TRUBAL_BIN") or os.path.join(ROOT, "target", "release", "trubal")
     if not os.path.exists(exe):
@@ -96,12 +112,15 @@ def main():
         frac = float(sys.argv[sys.argv.index("--frac") + 1])
     if "--gamma" in sys.argv:
         BIG_GAMMA = float(sys.argv[sys.argv.index("--gamma") + 1])
-    print(f"{'v (m/s)':>8} {'e Pasha (run)':>14} {'e Pasha (closed)':>17} {'e T-N (run)':>12}")
+    print(f"{'v (m/s)':>8} {'e Pasha (run)':>14} {'e Pasha (closed)':>17} {'e T-N (run)':>12}"
+          f" {'e T97 (closed)':>13}")
     rows = []
     for v in SPEEDS:
-        row = {"v": v, "e_pasha": run("pasha", v, frac), "e_pasha_closed": analytic(v), "e_tning": run("tning", v, frac)}
+        row = {"v": v, "e_pasha": run("pasha", v, frac), "e_pasha_closed": analytic(v), "e_tning": run("tning", v, frac),
+               "e_thornton97_closed": thornton97(v)}
         rows.append(row)
-        print(f"{v:8.2f} {row['e_pasha']:14.4f} {row['e_pasha_closed']:17.4f} {row['e_tning']:12.4f}")
+        print(f"{v:8.2f} {row['e_pasha']:14.4f} {row['e_pasha_closed']:17.4f} {row['e_tning']:12.4f}"
+              f" {row['e_thornton97_closed']:13.4f}")
     print(f"asymptote (k_p/k_e)^1/2 = {math.sqrt(KP / KE):.4f}")
     if frac == 0.05:
         sys.path.insert(0, HERE)
