@@ -415,8 +415,10 @@ TABLES = {
         "derive": "approach",
         "work": "lian7",
         "runs": [{"v": v, "theta": "0", "eta": "0.01", "gamma": "0.025"} for v in ["1", "2", "5"]]
-        + [{"v": "5", "theta": "0", "eta": "0.1", "gamma": "0.025", "n": "50100"}],
-        "x": "v", "group": "eta", "y": "e_viscous", "logx": False,
+        + [{"v": "5", "theta": "0", "eta": "0.1", "gamma": "0.025", "n": "50100"}]
+        # (and the coalescence angle: 45 and 60 deg at 2 m/s for 1.1 ms, as lian7_oblique_long)
+        + [{"v": "2", "theta": t, "eta": "0.01", "gamma": "0.025", "n": "30000"} for t in ["45", "60"]],
+        "x": "v", "group": ("eta", "theta"), "y": "e_viscous", "logx": False,
     },
     "olsson": {
         "figure": True,  # shown in doc/validation.md
