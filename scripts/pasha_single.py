@@ -10,9 +10,10 @@ The table goes to doc/data/pasha_single.csv (with its provenance, scripts/proven
 run with the default FRAction 0.05, the run of doc/validation.md.
 
 With --gamma G the interface energy is G instead of Table 4.1's 0.2 J/m^2 (COHesion G/2 on
-both materials): 0.4 reads Ning's 0.2 as the surface energy of each surface (Thornton's
-convention, P_c = 3 pi Gamma R*) instead of the work of adhesion (Pasha's (3.59)). The table
-then goes to doc/data/pasha_single_gamma<G>.csv.
+both materials): 0.4 reads Ning's 0.2 as the energy gamma of each surface (P_c = 3 pi gamma R*,
+a work of adhesion of 2 gamma) instead of the work of adhesion Gamma (P_c = 3/2 pi Gamma R*, as
+Pasha's (3.59) and Lian's (2.3) write it). The table then goes to
+doc/data/pasha_single_gamma<G>.csv.
 
 usage: scripts/pasha_single.py [--frac F] [--gamma G]     (TRUBAL_BIN selects the binary)
 """
