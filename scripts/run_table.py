@@ -210,6 +210,18 @@ TABLES = {
         "runs": lian6_runs(LIAN6_V, "lian_ch6.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
     },
+    # Table 6.1's viscous rows near and above their thresholds with the bridges' tangential
+    # viscous force (SET GOLdman ON), from lian6's state: does ch. 6 move as ch. 7 does
+    # (lian7_goldman)?
+    "lian6_goldman": {
+        "title": "Lian ch. 6 with the tangential viscous force (SET GOLdman ON)",
+        "script": "lian_ch6_impact_goldman.tru",
+        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
+        "derive": "wall",
+        "work": "lian6",
+        "runs": lian6_runs([("0.01", ["0.6", "1", "2"]), ("0.1", ["2", "4"])], "lian_ch6.sav", LIAN6_N),
+        "x": "v", "group": "eta", "y": "damage_ratio", "logx": True, "fit": False,
+    },
     # The attrition cases again in a work-space large enough to keep all debris (for the
     # debris size distribution, Lian's Fig. 6.9).
     "lian6_debris": {
