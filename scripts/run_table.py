@@ -98,6 +98,10 @@ BIG_BOX = {"box": "6.2e-3", "nbox": "300000", "centre": "2.98778764305631e-3"}
 LIAN6_N = {"0": "12500", "0.01": "12500", "0.1": "21000"}
 
 
+# Lian ch. 6's agglomerate in the 2.2 mm work-space (SMALL_BOX; Table 6.1).
+LIAN6_PREPARE = [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")]
+
+
 def lian6_big_prepare(pvol=None):
     """The preparation of the agglomerate in the 6.2 mm work-space (BIG_BOX), with the bridge
     volume pvol (lian_ch6_prepare.tru's default when None)."""
@@ -205,7 +209,7 @@ TABLES = {
         "figure": True,  # shown in doc/validation.md
         "title": "Lian ch. 6: 4062-sphere BCC agglomerate on a wall, damage ratio against velocity",
         "script": "lian_ch6_impact.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
+        "prepare": LIAN6_PREPARE,
         "derive": "wall",
         "runs": lian6_runs(LIAN6_V, "lian_ch6.sav", LIAN6_N),
         "x": "v", "group": "eta", "y": "damage_ratio", "logx": True,
@@ -216,7 +220,7 @@ TABLES = {
     "lian6_goldman": {
         "title": "Lian ch. 6 with the tangential viscous force (SET GOLdman ON)",
         "script": "lian_ch6_impact_goldman.tru",
-        "prepare": [("lian_ch6_prepare.tru", dict(SMALL_BOX, ra="575e-6", state="lian_ch6.sav"), "lian_ch6.sav")],
+        "prepare": LIAN6_PREPARE,
         "derive": "wall",
         "work": "lian6",
         "runs": lian6_runs([("0.01", ["0.6", "1", "2"]), ("0.1", ["2", "4"])], "lian_ch6.sav", LIAN6_N),
