@@ -392,6 +392,18 @@ TABLES = {
         "runs": [dict(r, state="lian_ch7_lian.sav") for r in lian7_runs(full=False)],
         "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True,
     },
+    # lian7_goldman's 2 and 5 m/s (eta = 0.01) from Lian's preparation: does his denser
+    # agglomerate bring D_r up to his fit with the tangential viscous force on?
+    "lian7_lianprep_goldman": {
+        "title": "Lian ch. 7, Lian's preparation, SET GOLdman ON: normal collisions",
+        "script": "lian_ch7_collision_goldman.tru",
+        "prepare": list(LIAN7_PREPARE_LIAN),
+        "derive": "approach",
+        "work": "lian7_lianprep",
+        "runs": [{"v": v, "theta": "0", "eta": "0.01", "gamma": "0.025", "state": "lian_ch7_lian.sav"}
+                 for v in ["2", "5"]],
+        "x": "v", "group": ("eta", "gamma"), "y": "damage_ratio", "logx": True, "fit": False,
+    },
     # The oblique series (lian7_oblique, 442 us) from Lian's preparation (lian7_lianprep's
     # state, issue 53): does D_r = D_o cos^2 Theta close?
     "lian7_oblique_lianprep": lian7_oblique_table(
