@@ -26,6 +26,9 @@ drawn with `trubal chart` (the points in target/charts/TABLE.csv) to doc/data/TA
 tables the docs show, else to WORK/TABLE.png; `--chart-only` draws it again from
 doc/data/TABLE.csv without running or collecting anything.
 
+A few tables run a command file with one setting added (`VARIANTS`: e.g. SET GOLdman ON),
+written under target/variants/ from that command file whenever it is used.
+
 The same tables without Python: scripts/sweeps/*.sweep (`trubal sweep scripts/sweeps/lian6.sweep
 --out DIR`, doc/sweeps.md).
 
@@ -553,10 +556,41 @@ def complete(path):
     return bool(objs) and objs[-1].get("print") == "info"
 
 
+# Command files that are another one with one setting added (`SET TANgential MD`, `SET GOLdman
+# ON`): name -> (the command file, the line after which the setting goes, the setting). They
+# are written under target/variants from the command file each time they are used, so they
+# never drift from it; the sweep keeps the copy it ran.
+VARIANTS = {
+    "lian_ch6_impact_md.tru": ("lian_ch6_impact.tru", 'restart "$state"', "set tangential md"),
+    "lian_ch7_collision_md.tru": ("lian_ch7_collision.tru", 'restart "$state"', "set tangential md"),
+    "lian_ch6_impact_goldman.tru": ("lian_ch6_impact.tru", "liquid $pvol 0.025 0 $eta", "set goldman on"),
+    "lian_ch7_collision_goldman.tru": ("lian_ch7_collision.tru", "set smin $smin", "set goldman on"),
+}
+
+
+def script_path(script):
+    """The path of a table's command file: scripts/SCRIPT, or a variant (`VARIANTS`) written
+    from its command file."""
+    if script not in VARIANTS:
+        return os.path.join(SCRIPTS, script)
+    base, after, setting = VARIANTS[script]
+    with open(os.path.join(SCRIPTS, base)) as f:
+        lines = f.read().split("\n")
+    assert lines.count(after) == 1, f"{base}: no single line `{after}`"
+    k = lines.index(after) + 1
+    lines[k:k] = [setting]
+    text = f"; {script}: scripts/{base} with `{setting}` after `{after}` (scripts/run_table.py).\n"
+    path = os.path.join(ROOT, "target", "variants", script)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(text + "\n".join(lines))
+    return path
+
+
 def script_names(script):
     """The `$name`s a command file uses (outside comments)."""
     names = set()
-    with open(os.path.join(SCRIPTS, script)) as f:
+    with open(script_path(script)) as f:
         for line in f:
             line = re.split(r"[;#]", line, maxsplit=1)[0]
             names.update(a or b for a, b in re.findall(r"\$\{(\w+)\}|\$(\w+)", line))
@@ -646,14 +680,14 @@ def run_sweep(exe, work, script, todo, jobs):
             vals = [os.path.join(work, sets[k]) if k == "state" else str(sets[k]) for k in keys]
             f.write(",".join([run_name(r)] + vals) + "\n")
     # One thread per run (the results do not depend on it; the cores go to the runs).
-    cmd = [exe, "sweep", os.path.join(SCRIPTS, script), "--rows", rows, "--out", sweep_dir(work, script),
+    cmd = [exe, "sweep", script_path(script), "--rows", rows, "--out", sweep_dir(work, script),
            "--jobs", str(jobs), "--threads", "1"]
     print("$ " + " ".join(cmd), flush=True)
     return subprocess.run(cmd).returncode
 
 
 def trubal(exe, script, sets, work, log):
-    cmd = [exe, os.path.join(SCRIPTS, script), "--json", "--threads", "1"]
+    cmd = [exe, script_path(script), "--json", "--threads", "1"]
     for k, v in sets.items():
         cmd += ["--set", f"{k}={v}"]
     t0 = time.time()

@@ -94,3 +94,16 @@ def test_run_table_refuses_a_work_directory_whose_run_has_other_values(tmp_path)
     run_table.same_values(str(tmp_path), "fake.tru", {"v": "3", "theta": "30", "n": "30000"})  # not there
     with pytest.raises(SystemExit, match="n = 12000, this table's has n = 30000"):
         run_table.finished(str(tmp_path), "fake.tru", dict(same, n="30000"))
+
+
+def test_run_table_variants_are_their_command_file_with_one_line_added():
+    """The command-file variants of run_table (SET TANgential MD, SET GOLdman ON) are written
+    from the command file: the same lines with the setting after its anchor, and a header."""
+    for name, (base, after, setting) in run_table.VARIANTS.items():
+        with open(os.path.join(ROOT, "scripts", base)) as f:
+            want = f.read().split("\n")
+        k = want.index(after) + 1
+        want[k:k] = [setting]
+        with open(run_table.script_path(name)) as f:
+            got = f.read().split("\n")
+        assert got[0].startswith(f"; {name}: scripts/{base}") and got[1:] == want
