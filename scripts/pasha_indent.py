@@ -41,6 +41,7 @@ usage: scripts/pasha_indent.py [--scale S] [--soften K] [--d MM] [--rate 1/S] [-
   --Gamma G      Pasha's interface energy (work of adhesion) Gamma (0.5 J/m^2; COHesion
                  Gamma/2), scaled with --scale; 1.0 reads his 0.5 as EDEM's surface energy
   --gsettle K    settle under K g, then 5000 steps under g (a shorter fall)
+  --seed K       the K-th bed: K x 10^7 random numbers discarded before the generation (0)
   --ball-mur MU  rolling friction between the particles and the indenter (0; Pasha's indenter
                  is his material 1, whose rolling friction is 0.1)
   --settle-mu MU settle with the particles' sliding friction MU and no rolling friction (a
@@ -90,6 +91,11 @@ TABLE_5_1 = [(0.59, 0.33), (0.72, 3.84), (0.81, 11.24), (0.90, 21.00), (1.00, 27
 DIE, BED, N_PASHA = 39e-3, 13e-3, 16000
 RHO = 2456  # Table 5.2, material 1 (kg/m^3; scripts/pasha_indent.tru)
 G = 9.81
+# `--seed K` discards K x SEED_STRIDE random numbers before the generation (`RGEnerate
+# Seed`, TRUBAL's meaning: n numbers drawn and thrown away). Seeds a few numbers apart
+# give the same bed when the generator's first tries are rejected (seeds 0 and 3 of the
+# small case did, to the bit), so they lie 10^7 numbers apart, as in ci_tables.py.
+SEED_STRIDE = 10_000_000
 
 
 def steps_in(t, dt):
@@ -239,7 +245,7 @@ def main(argv=None):
         "np": np_, "nball": np_ + 10,
         "rnom": d_mean / 2, "rtab": " ".join(f"{d / 2:.6e} {f}" for d, f in diam),
         "E": 55e9 / soften, "Ew": 182e9 / soften, "gamma": gamma_w / 2, "frac": frac,
-        "seed": seed, "law": law, "mur": mur, "tang": tang,
+        "seed": seed * SEED_STRIDE, "law": law, "mur": mur, "tang": tang,
     }
     work = WORK
     os.makedirs(work, exist_ok=True)
@@ -322,6 +328,11 @@ def main(argv=None):
         info = tr.print("info")
         dt = info["dt"] or 0.0
         out["particles"] = info["balls"]
+        if not from_settled and info["balls"] < np_:
+            # RGEnerate gave up (its try limit, or the rate of placement showed it could not
+            # reach the target): a smaller bed than the case's, recorded and said.
+            out["particles_asked"] = np_
+            say(f"  WARNING: RGEnerate placed {info['balls']} of {np_} particles: a smaller bed than the case asks")
         mass = np_ * RHO * math.pi / 6 * d3
         if not from_settled:
             # 1. Settle: until the kinetic energy is below 1e-4 of m g d_p of the bed. With

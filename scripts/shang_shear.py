@@ -43,7 +43,7 @@ def run(exe, phi, npart, s, strain, work):
     l0, rc, nc = lun_shear.start(phi, npart, dt)
     n = int(strain / (s * dt))
     sets = {"l0": l0, "np": npart, "rc": rc, "nc": nc, "s": s, "n": n, "h": max(1, n // 400),
-            "gamma": GAMMA_SHANG / 2, "frac": FRAC, "seed": SEED}
+            "gamma": GAMMA_SHANG / 2, "frac": FRAC, "seed": SEED * lun_shear.SEED_STRIDE}
     objs = lun_shear.run_json(exe, "shang_shear.tru", sets, work)
     hist = next(o for o in objs if o["print"] == "history")
     cols = hist["columns"]

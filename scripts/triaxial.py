@@ -22,7 +22,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import provenance  # noqa: E402
 import run_table  # noqa: E402
-from lun_shear import no_other_options, option as arg  # noqa: E402
+from lun_shear import SEED_STRIDE, no_other_options, option as arg  # noqa: E402
 
 R_MEAN = 1.1e-4
 E, NU, RHO = 1e9, 0.3, 2600.0
@@ -45,7 +45,7 @@ def run(exe, opts, work, deck=None):
     n = int(o["strain"] / (rate * dt()))
     vols = sum(math.pi * 4 / 3 * rr ** 3 for rr in [1e-4] * (npart // 2) + [1.2e-4] * (npart // 2))
     sets = {"l": (vols / 0.2) ** (1 / 3), "np": npart, "half": npart // 2, "p": p, "rate": rate, "n": n,
-            "niso": int(o["niso"]), "h": max(1, n // 300), "mu0": o["mu0"], "seed": int(o["seed"]), "g": gain}
+            "niso": int(o["niso"]), "h": max(1, n // 300), "mu0": o["mu0"], "seed": int(o["seed"]) * SEED_STRIDE, "g": gain}
     args = [exe, "--json", deck or os.path.join(HERE, "triaxial.tru")]
     for k, v in sets.items():
         args += ["--set", f"{k}={v}"]

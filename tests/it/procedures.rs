@@ -78,8 +78,10 @@ const SMALL: &[(&str, &str)] = &[
     ("unload", "10"),
 ];
 
-/// The seeds of the reference runs (doc/data/pasha_indent_small_s{K}.json).
-const SEEDS: &[u32] = &[0, 1, 2, 3, 4];
+/// The seeds of the reference runs (doc/data/pasha_indent_small_s{K}.json; `--seed K`
+/// discards K x 10^7 random numbers). Seed 1's generation placed 147 of the 182 particles
+/// (RGEnerate gave up): another case, not a reference.
+const SEEDS: &[u32] = &[0, 2, 3, 4, 5, 6];
 
 /// The command file gives the hardness of `pasha_indent.py` on the same case: within three
 /// standard deviations of the scatter over the script's seeds (the two do not cycle in the
@@ -102,6 +104,7 @@ fn the_indentation_command_file_gives_the_script_s_hardness() {
         assert_eq!(r["rate"], 10.0);
         assert_eq!(r["law"], "mjkr edem");
         assert_eq!(r["hold"], 0);
+        assert_eq!(r["particles"], 182, "every reference bed has the case's particles");
     }
     let h: Vec<f64> = refs
         .iter()
