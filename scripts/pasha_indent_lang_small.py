@@ -39,8 +39,11 @@ def shows(text):
 
 
 def main():
+    if sys.argv[1:] in (["--help"], ["-h"]):
+        print(__doc__)
+        return
     if len(sys.argv) > 1:
-        sys.exit(__doc__)
+        sys.exit(f"{sys.argv[1]}: this script takes no arguments\n{__doc__}")
     exe = run_table.trubal_binary()
     args = [exe, os.path.join(HERE, "pasha_indent_lang.tru"), "--json"]
     for k, v in SETS:
