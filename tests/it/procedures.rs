@@ -104,7 +104,10 @@ fn the_indentation_command_file_gives_the_script_s_hardness() {
         assert_eq!(r["rate"], 10.0);
         assert_eq!(r["law"], "mjkr edem");
         assert_eq!(r["hold"], 0);
-        assert_eq!(r["particles"], 182, "every reference bed has the case's particles");
+        assert_eq!(
+            r["particles"], 182,
+            "every reference bed has the case's particles"
+        );
     }
     let h: Vec<f64> = refs
         .iter()

@@ -95,11 +95,25 @@ fn ci_runs_the_readme_test_command() {
         .find(|l| l.contains("# the tests (what CI runs)"))
         .expect("the README's test line");
     let command = line.split('#').next().unwrap().trim();
-    // The README names .ci/run itself (it installs the VTK reader first), or a line it runs.
-    let checks = "cargo fmt --check && cargo clippy --profile ci --all-targets -- -D warnings && cargo test --profile ci";
+    // The README names .ci/run itself (it installs the VTK reader first), which runs the
+    // checks one a line (under `set -e` a failure inside an `a && b` list would not stop it),
+    // or a line it runs.
+    let checks = [
+        "cargo fmt --check",
+        "cargo clippy --profile ci --all-targets -- -D warnings",
+        "cargo test --profile ci",
+    ];
+    let runs = |c: &str| ci.lines().any(|l| l.trim() == c);
     assert!(
-        (command == ".ci/run" && ci.lines().any(|l| l.trim() == checks))
-            || ci.lines().any(|l| l.trim() == command),
+        (command == ".ci/run"
+            && checks.iter().all(|c| runs(c))
+            && ci.contains("set -euo pipefail"))
+            || runs(command),
         ".ci/run does not run `{command}`"
+    );
+    assert!(
+        !ci.lines()
+            .any(|l| !l.trim_start().starts_with('#') && l.contains("&& cargo")),
+        ".ci/run chains its checks with &&, which `set -e` does not stop on"
     );
 }
