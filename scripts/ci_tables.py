@@ -94,15 +94,12 @@ def lian6(exe, work, k):
     return table_measures(objs, {"v": v}, ["damage_ratio", "new_ratio", "e_viscous", "e_friction"])
 
 
-# `RGenerate SEed n` draws and discards n numbers (TRUBAL's meaning), so seeds k and k + 3
-# give the same assembly shifted by one particle (each placement takes 3 numbers): sample k
-# starts SEED_STRIDE x k numbers on, beyond what any reduced case draws.
-SEED_STRIDE = 10_000_000
-
-
 def seed(k):
-    """The `RGenerate SEed` of sample k: disjoint stretches of the one random stream."""
-    return SEED_STRIDE * k
+    """The `RGenerate SEed` of sample k: disjoint stretches of the one random stream, k x
+    lun_shear.SEED_STRIDE numbers on (seeds a few numbers apart give the same assembly,
+    shifted by a particle: each placement takes 3 numbers). The drivers' `--seed k` (lun_shear,
+    shang_shear, pasha_indent, triaxial) discard the same seed(k) numbers themselves."""
+    return lun_shear.SEED_STRIDE * k
 
 
 def lian7(exe, work, k):
@@ -162,16 +159,16 @@ def olsson(exe, work, k):
 
 def lun(exe, work, k):
     """The Lun simple shear reduced: phi = 0.3, 250 smooth spheres, 40 strain units (the table:
-    400 spheres, 60 units), random seed seed(k); the measures over Lun's theory."""
-    r = lun_shear.run(exe, 0.3, 250, 40.0, work, seed=seed(k))
+    400 spheres, 60 units), random seed k (`--seed k`: seed(k) numbers discarded); the measures over Lun's theory."""
+    r = lun_shear.run(exe, 0.3, 250, 40.0, work, seed=k)
     t = lun_shear.lun(r["phi"])
     return {f"{m}_over_lun": r[m] / t[m] for m in ("pxy", "pyy", "3T")}
 
 
 def shang(exe, work, k):
     """Shang's cohesive shear reduced: phi = 0.45, 300 spheres, s = 12000 1/s, 20 strain units
-    (the table: 480 spheres, 30 units), random seed seed(k)."""
-    shang_shear.SEED = seed(k)
+    (the table: 480 spheres, 30 units), random seed k (seed(k) numbers discarded)."""
+    shang_shear.SEED = k
     r = shang_shear.run(exe, 0.45, 300, 12000.0, 20.0, work)
     return {m: r[m] for m in ("pxy", "pyy", "3T")}
 
@@ -191,7 +188,7 @@ def pasha5(exe, work, k):
     to 10 kPa at 20/s, unload at 1/s, indent at 20/s to h/r = 0.6) on a tiny bed: particles
     twice Pasha's size (Table 5.1 x 2, d_p = 2 mm), E/1000, MJKR EDEM with mu_r = 0.1, an
     18 mm die (9 d_p), a 12 mm bed of 346 particles (6 d_p), a 10 mm ball (5 d_p), settling
-    for at most about 30,000 steps; random seed `seed(k)`. The measures:
+    for at most about 30,000 steps; random seed k (`--seed k`: seed(k) numbers discarded). The measures:
     the settled solids fraction, the compaction by the piston (1 - consolidated / settled
     height) and the hardness over h/r 0.35-0.6 (the table: 20 d_p beds of 12,800-30,300
     particles, balls of 13-22 d_p)."""
@@ -201,7 +198,7 @@ def pasha5(exe, work, k):
     pasha_indent.CHARTS = False
     o = pasha_indent.main(["--scale", "2", "--die", "18", "--bed", "12", "--d", "10", "--law", "mjkr edem",
                            "--mur", "0.1", "--rate", "20", "--hold", "0", "--unload-rate", "1", "--gsettle", "5",
-                           "--settle-cap", "30000", "--seed", str(seed(k)), "--tag", "_ci"])
+                           "--settle-cap", "30000", "--seed", str(k), "--tag", "_ci"])
     return {"solids_fraction": o["solids_fraction"], "compaction": 1 - o["consolidated_height"] / o["bed_height"],
             "hardness_kpa": o["hardness_plateau_kpa"]}
 
@@ -210,10 +207,10 @@ def triaxial_case(exe, work, k):
     """The triaxial test reduced: scripts/triaxial.tru with 200 spheres instead of 600-1000,
     the dense sample (friction 0 during the isotropic compression, 40,000 cycles instead of
     80,000, then 10,000 at rest instead of 20,000), compressed axially to 5 % instead of 25 %
-    at 5/s, random seed seed(k). The measures: the solid fraction at 100 kPa, the mobilised friction
+    at 5/s, random seed k (seed(k) numbers discarded). The measures: the solid fraction at 100 kPa, the mobilised friction
     angle's peak and its mean over the last fifth, and the volumetric strain at the end."""
     deck = reduce_deck("triaxial.tru", [("cycle 20000 s0 $p", "cycle 10000 s0 $p")], work)
-    _, s = triaxial.run(exe, {"np": 200, "mu0": 0.0, "gain": 5e-3, "strain": 0.05, "niso": 40000, "seed": seed(k)},
+    _, s = triaxial.run(exe, {"np": 200, "mu0": 0.0, "gain": 5e-3, "strain": 0.05, "niso": 40000, "seed": k},
                         work, deck)
     return {"solid_fraction_at_p": s["solid_fraction_at_p"], "peak_phi_deg": s["peak_phi_deg"],
             "phi_last_fifth_deg": s["critical_phi_deg"], "final_volumetric_strain": s["final_volumetric_strain"]}

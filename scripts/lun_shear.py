@@ -28,7 +28,7 @@ SIGMA, RHO, E, NU, S, ECOEF = 2e-5, 2600.0, 6e8, 0.25, 1e4, 0.95
 # `--seed K` discards K x SEED_STRIDE random numbers before the generation (`RGEnerate Seed`
 # discards n numbers, TRUBAL's meaning): seeds a few numbers apart can give the same
 # assembly (the first tries rejected), so the seeds of the drivers lie 10^7 numbers apart
-# (lun_shear, shang_shear, triaxial, pasha_indent; ci_tables.py's samples too).
+# (lun_shear, shang_shear, triaxial, pasha_indent and ci_tables.py's samples: this one value).
 SEED_STRIDE = 10_000_000
 
 

@@ -107,3 +107,23 @@ def test_run_table_variants_are_their_command_file_with_one_line_added():
         with open(run_table.script_path(name)) as f:
             got = f.read().split("\n")
         assert got[0].startswith(f"; {name}: scripts/{base}") and got[1:] == want
+
+
+def test_a_ci_sample_and_a_driver_seed_discard_the_same_numbers(monkeypatch):
+    """Sample k of ci_tables.py and a driver's `--seed k` both start k x 10^7 numbers on: the
+    CI samples hand the drivers k, not seed(k) (which the drivers would stretch again, to
+    10^14 numbers)."""
+    import ci_tables
+    import lun_shear
+    sent = {}
+
+    def fake(exe, tru, sets, work):
+        sent.update(sets)
+        raise RuntimeError("stop")
+
+    monkeypatch.setattr(lun_shear, "run_json", fake)
+    try:
+        ci_tables.lun("trubal", "/nonexistent", 2)
+    except RuntimeError:
+        pass
+    assert sent["seed"] == ci_tables.seed(2) == 20_000_000
